@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages cdm builds with, if any is missing. Idempotent.
+set -euo pipefail
+pkgs=(cmake g++ make pkg-config
+      libeigen3-dev libsundials-dev libgsl-dev libgtest-dev
+      libtomlplusplus-dev libcli11-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#pkgs[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

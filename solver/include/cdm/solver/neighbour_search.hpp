@@ -1,0 +1,32 @@
+#pragma once
+/// @file neighbour_search.hpp
+/// @brief Particle–particle contact detection. CellListSearch is O(N) (cell-linked
+/// lists, cell edge = largest diameter + margin); AllPairsSearch is the O(N^2)
+/// reference the tests compare it with. Both return pairs i < j sorted by (i, j).
+#include <cstdint>
+#include <vector>
+
+#include "cdm/solver/particle_store.hpp"
+
+namespace cdm {
+
+struct ContactPair {
+  std::uint32_t i, j;
+  double overlap;  // r_i + r_j - |X_j - X_i| [m]; >= -margin
+};
+
+/// Pairs with |X_j - X_i| < r_i + r_j + margin.
+class AllPairsSearch {
+ public:
+  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out) const;
+};
+
+class CellListSearch {
+ public:
+  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out);
+
+ private:
+  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
+};
+
+}  // namespace cdm

@@ -1,0 +1,44 @@
+#pragma once
+/// @file output.hpp
+/// @brief Plain whitespace-separated tables: a '#' header naming each column with its
+/// unit, then full-precision rows (%.16e).
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace cdm {
+
+class TableWriter {
+ public:
+  /// Opens @p path for writing; throws std::runtime_error if it cannot.
+  TableWriter(const std::string& path, const std::vector<std::string>& columns,
+              const std::vector<std::string>& comments = {});
+  ~TableWriter();
+  TableWriter(const TableWriter&) = delete;
+  TableWriter& operator=(const TableWriter&) = delete;
+  void row(const std::vector<double>& values);
+  void flush();
+
+ private:
+  std::FILE* f_ = nullptr;
+  std::size_t ncol_;
+  std::string path_;
+};
+
+class Simulation;
+
+/// Writes every particle's state at the scene's output interval: one row per particle
+/// per sample (t id x y z vx vy vz [wx wy wz]).
+class ParticleTableObserver {
+ public:
+  ParticleTableObserver(const std::string& path, const Simulation& sim);
+  void operator()(const Simulation& sim);
+
+ private:
+  TableWriter table_;
+  double interval_;
+  double next_ = 0.0;
+  bool rot_;
+};
+
+}  // namespace cdm

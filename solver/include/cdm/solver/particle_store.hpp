@@ -1,0 +1,50 @@
+#pragma once
+/// @file particle_store.hpp
+/// @brief Particle data as structure of arrays: one contiguous array per quantity, so
+/// hot loops vectorise. Rotational fields exist only when a module needs them
+/// (tangential friction); a frictionless scene carries none.
+#include <cstddef>
+#include <vector>
+
+#include "cdm/solver/vec3.hpp"
+
+namespace cdm {
+
+struct ParticleStore {
+  // Translational state [SI].
+  std::vector<double> x, y, z;     // centre position [m]
+  std::vector<double> vx, vy, vz;  // velocity [m/s]
+  std::vector<double> fx, fy, fz;  // force accumulated this step [N]
+  std::vector<double> radius;      // [m]
+  std::vector<double> mass;        // [kg]
+  std::vector<double> inv_mass;    // [1/kg]
+  std::vector<int> material;       // index into Simulation::materials
+
+  // Rotational state, allocated only when has_rotation().
+  std::vector<double> wx, wy, wz;  // angular velocity [rad/s]
+  std::vector<double> tx, ty, tz;  // torque accumulated this step [N m]
+  std::vector<double> inv_inertia; // 1/I, I = m d^2/10 (solid sphere) [1/(kg m^2)]
+
+  std::size_t size() const { return x.size(); }
+  bool has_rotation() const { return rotation_enabled_; }
+
+  /// Switch on the rotational fields (called when a module that produces torque is built).
+  void enable_rotation();
+  /// Append one particle; rotational fields get zero angular velocity if enabled.
+  void add(Vec3 position, Vec3 velocity, double radius, double density, int material);
+  void set_angular_velocity(std::size_t i, Vec3 w);
+
+  Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
+  Vec3 velocity(std::size_t i) const { return {vx[i], vy[i], vz[i]}; }
+  Vec3 angular_velocity(std::size_t i) const {
+    return has_rotation() ? Vec3{wx[i], wy[i], wz[i]} : Vec3{};
+  }
+  void add_force(std::size_t i, Vec3 f) { fx[i] += f.x; fy[i] += f.y; fz[i] += f.z; }
+  void add_torque(std::size_t i, Vec3 t) { tx[i] += t.x; ty[i] += t.y; tz[i] += t.z; }
+  void clear_forces();
+
+ private:
+  bool rotation_enabled_ = false;
+};
+
+}  // namespace cdm

@@ -1,0 +1,59 @@
+#pragma once
+/// @file scene.hpp
+/// @brief SceneSpec: a scene file loaded and validated, every value in SI units.
+/// The loader (scene_loader.hpp) is the only place that reads TOML or converts units.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/materials.hpp"
+#include "cdm/solver/vec3.hpp"
+#include "cdm/solver/walls.hpp"
+
+namespace cdm {
+
+enum class NormalContactModel { none, linear_spring_dashpot };
+enum class TangentialModel { none, spring_coulomb };
+enum class IntegratorScheme { paper_euler, velocity_verlet };
+
+const char* to_string(IntegratorScheme s);
+
+struct ParticleSpec {
+  Vec3 position;          // [m]
+  Vec3 velocity;          // [m/s]
+  Vec3 angular_velocity;  // [rad/s]
+  double radius = 0.0;    // [m]
+  int material = 0;
+  std::string source;     // scene key it came from, for error messages
+};
+
+struct SceneSpec {
+  std::string file;   // path it was loaded from
+  std::string units;  // as written in the file ("SI" or "cgs")
+
+  // Modules: only what is named here is built.
+  bool gravity = false;
+  Vec3 g;                                          // [m/s^2]
+  NormalContactModel normal_contact = NormalContactModel::none;
+  TangentialModel tangential = TangentialModel::none;
+
+  std::vector<Material> materials;
+  PairTable pairs;
+  std::vector<PlaneWall> walls;
+  std::vector<ParticleSpec> particles;
+
+  IntegratorScheme integrator = IntegratorScheme::paper_euler;
+  bool dt_auto = true;
+  double dt_divisor = 50.0;  // dt = t_col,min / dt_divisor when dt_auto
+  double dt = 0.0;           // [s], explicit or resolved from auto
+  double t_col_min = 0.0;    // [s], smallest collision time among pairs that can meet (0 if none)
+  double end_time = 0.0;     // [s]
+
+  double output_interval = 0.0;  // [s] between rows of the particle table
+  bool output_particles = true;
+
+  bool allow_initial_overlap = false;
+  double max_overlap_fraction = 1.0;  // stop when overlap / radius reaches this [-]
+};
+
+}  // namespace cdm

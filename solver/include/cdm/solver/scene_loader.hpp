@@ -1,0 +1,42 @@
+#pragma once
+/// @file scene_loader.hpp
+/// @brief Load a TOML scene file into a validated SceneSpec (SI units).
+///
+/// Every error names the file, the key, the value and what was expected, and is
+/// thrown as SceneError before anything is built or written. The accepted keys are
+/// listed once, in scene_schema(); docs/scene-reference.md documents each of them and a
+/// unit test keeps the two in step.
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cdm/solver/scene.hpp"
+
+namespace cdm {
+
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A "path=value" override applied to the scene before validation, in the scene's own
+/// units, e.g. {"contacts[0].kn", "1e7"} or {"integrator.scheme", "\"velocity_verlet\""}.
+/// The value is TOML syntax.
+struct SceneOverride {
+  std::string path;
+  std::string value;
+};
+
+/// Parse "path=value" (as given on the command line).
+SceneOverride parse_override(const std::string& text);
+
+SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides = {});
+SceneSpec load_scene_from_string(const std::string& toml_text, const std::string& name,
+                                 const std::vector<SceneOverride>& overrides = {});
+
+/// Every key the loader accepts, as dotted paths with [] for array elements
+/// (e.g. "materials[].density").
+std::vector<std::string> scene_schema_keys();
+
+}  // namespace cdm

@@ -1,0 +1,64 @@
+#include "cdm/solver/output.hpp"
+
+#include <stdexcept>
+
+#include "cdm/solver/simulation.hpp"
+
+namespace cdm {
+
+TableWriter::TableWriter(const std::string& path, const std::vector<std::string>& columns,
+                         const std::vector<std::string>& comments)
+    : ncol_(columns.size()), path_(path) {
+  f_ = std::fopen(path.c_str(), "w");
+  if (!f_) throw std::runtime_error("cannot open '" + path + "' for writing");
+  for (const auto& c : comments) std::fprintf(f_, "# %s\n", c.c_str());
+  std::fputs("#", f_);
+  for (const auto& c : columns) std::fprintf(f_, " %s", c.c_str());
+  std::fputs("\n", f_);
+}
+
+TableWriter::~TableWriter() {
+  if (f_) std::fclose(f_);
+}
+
+void TableWriter::row(const std::vector<double>& v) {
+  if (v.size() != ncol_) throw std::logic_error("table '" + path_ + "': row has the wrong number of columns");
+  for (std::size_t k = 0; k < v.size(); ++k) std::fprintf(f_, k ? " %.16e" : "%.16e", v[k]);
+  std::fputs("\n", f_);
+}
+
+void TableWriter::flush() { std::fflush(f_); }
+
+namespace {
+std::vector<std::string> particle_columns(bool rot) {
+  std::vector<std::string> c = {"t[s]", "id[-]", "x[m]", "y[m]", "z[m]", "vx[m/s]", "vy[m/s]", "vz[m/s]"};
+  if (rot) c.insert(c.end(), {"wx[rad/s]", "wy[rad/s]", "wz[rad/s]"});
+  return c;
+}
+}  // namespace
+
+ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim)
+    : table_(path, particle_columns(sim.particles().has_rotation()),
+             {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"}),
+      interval_(sim.spec().output_interval),
+      rot_(sim.particles().has_rotation()) {}
+
+void ParticleTableObserver::operator()(const Simulation& sim) {
+  // Sample at the first step at or after each multiple of the interval (rows carry the
+  // step's exact time), and always at the last step.
+  const bool last = sim.steps() == sim.total_steps();
+  if (sim.time() + 1e-12 * sim.dt() < next_ && !last) return;
+  while (next_ <= sim.time() + 1e-12 * sim.dt()) next_ += interval_;
+  const ParticleStore& p = sim.particles();
+  std::vector<double> r(rot_ ? 11 : 8);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    r[0] = sim.time(); r[1] = static_cast<double>(i);
+    r[2] = p.x[i]; r[3] = p.y[i]; r[4] = p.z[i];
+    r[5] = p.vx[i]; r[6] = p.vy[i]; r[7] = p.vz[i];
+    if (rot_) { r[8] = p.wx[i]; r[9] = p.wy[i]; r[10] = p.wz[i]; }
+    table_.row(r);
+  }
+  if (last) table_.flush();
+}
+
+}  // namespace cdm

@@ -1,0 +1,53 @@
+#include "cdm/solver/particle_store.hpp"
+
+#include <algorithm>
+#include <numbers>
+
+namespace cdm {
+
+void ParticleStore::enable_rotation() {
+  rotation_enabled_ = true;
+  const std::size_t n = size();
+  wx.assign(n, 0.0); wy.assign(n, 0.0); wz.assign(n, 0.0);
+  tx.assign(n, 0.0); ty.assign(n, 0.0); tz.assign(n, 0.0);
+  inv_inertia.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = 2.0 * radius[i];
+    inv_inertia[i] = 10.0 / (mass[i] * d * d);
+  }
+}
+
+void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
+  const double d = 2.0 * r;
+  const double m = density * std::numbers::pi * d * d * d / 6.0;
+  x.push_back(p.x); y.push_back(p.y); z.push_back(p.z);
+  vx.push_back(v.x); vy.push_back(v.y); vz.push_back(v.z);
+  fx.push_back(0.0); fy.push_back(0.0); fz.push_back(0.0);
+  radius.push_back(r);
+  mass.push_back(m);
+  inv_mass.push_back(1.0 / m);
+  material.push_back(mat);
+  if (rotation_enabled_) {
+    wx.push_back(0.0); wy.push_back(0.0); wz.push_back(0.0);
+    tx.push_back(0.0); ty.push_back(0.0); tz.push_back(0.0);
+    inv_inertia.push_back(10.0 / (m * d * d));
+  }
+}
+
+void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {
+  if (!rotation_enabled_) return;
+  wx[i] = w.x; wy[i] = w.y; wz[i] = w.z;
+}
+
+void ParticleStore::clear_forces() {
+  std::fill(fx.begin(), fx.end(), 0.0);
+  std::fill(fy.begin(), fy.end(), 0.0);
+  std::fill(fz.begin(), fz.end(), 0.0);
+  if (rotation_enabled_) {
+    std::fill(tx.begin(), tx.end(), 0.0);
+    std::fill(ty.begin(), ty.end(), 0.0);
+    std::fill(tz.begin(), tz.end(), 0.0);
+  }
+}
+
+}  // namespace cdm

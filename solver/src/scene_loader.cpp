@@ -1,0 +1,663 @@
+/// @file scene_loader.cpp
+/// @brief TOML scene → validated SceneSpec in SI units. The only place in solver/ that
+/// reads TOML or converts units (cgs → SI, once, here).
+#include "cdm/solver/scene_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "cdm/solver/neighbour_search.hpp"
+
+namespace cdm {
+
+const char* to_string(IntegratorScheme s) {
+  switch (s) {
+    case IntegratorScheme::paper_euler: return "paper_euler";
+    case IntegratorScheme::velocity_verlet: return "velocity_verlet";
+  }
+  return "?";
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------
+// Schema: every table the loader reads and the keys it accepts there. Keys not listed
+// are errors; docs/scene-reference.md documents each and a test keeps them in step.
+// ---------------------------------------------------------------------------------
+const std::map<std::string, std::vector<std::string>>& schema() {
+  static const std::map<std::string, std::vector<std::string>> s = {
+      {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
+            "lattices", "integrator", "output", "checks"}},
+      {"modules", {"gravity", "normal_contact", "tangential"}},
+      {"gravity", {"g"}},
+      {"materials[]", {"name", "density"}},
+      {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
+      {"walls[]", {"name", "point", "normal", "material"}},
+      {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
+      {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity"}},
+      {"integrator", {"scheme", "dt", "dt_divisor", "end_time"}},
+      {"output", {"interval", "particles"}},
+      {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
+  };
+  return s;
+}
+
+// Physical dimension of a value, for cgs → SI conversion.
+enum class Dim { none, length, time, density, velocity, acceleration, stiffness, angular_velocity };
+
+constexpr std::size_t max_particles = 50'000'000;  // refuse scenes that would allocate without bound
+
+std::string show(const toml::node& n) {
+  std::ostringstream os;
+  if (n.is_table()) os << "{table}";
+  else if (auto a = n.as_array()) os << *a;
+  else if (auto s = n.as_string()) os << '"' << s->get() << '"';
+  else if (auto i = n.as_integer()) os << i->get();
+  else if (auto f = n.as_floating_point()) os << f->get();
+  else if (auto b = n.as_boolean()) os << (b->get() ? "true" : "false");
+  else os << "(value)";
+  std::string r = os.str();
+  if (r.size() > 80) r = r.substr(0, 77) + "...";
+  return r;
+}
+
+class Loader {
+ public:
+  Loader(std::string file, toml::table root) : file_(std::move(file)), root_(std::move(root)) {}
+
+  SceneSpec load();
+
+ private:
+  std::string file_;
+  toml::table root_;
+  SceneSpec spec_;
+  bool cgs_ = false;
+
+  [[noreturn]] void fail_value(const std::string& key, const toml::node& n, const std::string& expected) const {
+    throw SceneError(file_ + ": key '" + key + "' = " + show(n) + ": expected " + expected);
+  }
+  [[noreturn]] void fail_missing(const std::string& key, const std::string& expected) const {
+    throw SceneError(file_ + ": key '" + key + "' is missing: expected " + expected);
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(file_ + ": key '" + key + "': " + what);
+  }
+
+  double factor(Dim d) const {
+    if (!cgs_) return 1.0;
+    switch (d) {
+      case Dim::none: case Dim::time: case Dim::angular_velocity: return 1.0;
+      case Dim::length: case Dim::velocity: case Dim::acceleration: return 1e-2;  // cm → m
+      case Dim::density: return 1e3;    // g/cm^3 → kg/m^3
+      case Dim::stiffness: return 1e-3; // dyn/cm → N/m
+    }
+    return 1.0;
+  }
+
+  static std::string join(const std::string& a, const std::string& b) { return a.empty() ? b : a + "." + b; }
+
+  void check_keys(const toml::table& t, const std::string& schema_path, const std::string& key_path) const {
+    const auto& allowed = schema().at(schema_path);
+    for (auto&& [k, v] : t) {
+      const std::string key(k.str());
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        throw SceneError(file_ + ": key '" + join(key_path, key) + "' is not a known key; expected one of: " + list);
+      }
+    }
+  }
+
+  const toml::table* table(const toml::table& parent, const std::string& key, const std::string& path, bool required) const {
+    const toml::node* n = parent.get(key);
+    if (!n) {
+      if (required) fail_missing(join(path, key), "a table [" + join(path, key) + "]");
+      return nullptr;
+    }
+    if (!n->is_table()) fail_value(join(path, key), *n, "a table");
+    return n->as_table();
+  }
+
+  const toml::array* array_of_tables(const toml::table& parent, const std::string& key) const {
+    const toml::node* n = parent.get(key);
+    if (!n) return nullptr;
+    if (!n->is_array_of_tables()) fail_value(key, *n, "an array of tables [[" + key + "]]");
+    return n->as_array();
+  }
+
+  std::optional<double> number(const toml::table& t, const std::string& key, const std::string& path, Dim dim) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    double v = 0.0;
+    if (auto i = n->as_integer()) v = static_cast<double>(i->get());
+    else if (auto f = n->as_floating_point()) v = f->get();
+    else fail_value(join(path, key), *n, "a number");
+    if (!std::isfinite(v)) fail_value(join(path, key), *n, "a finite number");
+    return v * factor(dim);
+  }
+
+  // Number with a range check made in the file's own units (so the message shows what was written).
+  double number_in(const toml::table& t, const std::string& key, const std::string& path, Dim dim,
+                   bool required, double dflt, double lo, bool lo_open, double hi, bool hi_open,
+                   const std::string& range_text) const {
+    const toml::node* n = t.get(key);
+    if (!n) {
+      if (required) fail_missing(join(path, key), "a number " + range_text);
+      return dflt;
+    }
+    const double si = *number(t, key, path, dim);
+    const double v = si / factor(dim);
+    const bool ok_lo = lo_open ? v > lo : v >= lo;
+    const bool ok_hi = hi_open ? v < hi : v <= hi;
+    if (!ok_lo || !ok_hi) fail_value(join(path, key), *n, "a number " + range_text);
+    return si;
+  }
+
+  double positive(const toml::table& t, const std::string& key, const std::string& path, Dim dim, bool required,
+                  double dflt = 0.0) const {
+    return number_in(t, key, path, dim, required, dflt, 0.0, true, std::numeric_limits<double>::infinity(), false,
+                     "> 0");
+  }
+
+  std::optional<Vec3> vec3(const toml::table& t, const std::string& key, const std::string& path, Dim dim) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    const auto* a = n->as_array();
+    if (!a || a->size() != 3) fail_value(join(path, key), *n, "an array of 3 numbers");
+    double c[3];
+    for (int i = 0; i < 3; ++i) {
+      const toml::node& e = *a->get(i);
+      if (auto iv = e.as_integer()) c[i] = static_cast<double>(iv->get());
+      else if (auto fv = e.as_floating_point()) c[i] = fv->get();
+      else fail_value(join(path, key), *n, "an array of 3 numbers");
+      if (!std::isfinite(c[i])) fail_value(join(path, key), *n, "an array of 3 finite numbers");
+    }
+    const double f = factor(dim);
+    return Vec3{c[0] * f, c[1] * f, c[2] * f};
+  }
+
+  Vec3 vec3_required(const toml::table& t, const std::string& key, const std::string& path, Dim dim) const {
+    auto v = vec3(t, key, path, dim);
+    if (!v) fail_missing(join(path, key), "an array of 3 numbers");
+    return *v;
+  }
+
+  std::optional<std::string> string(const toml::table& t, const std::string& key, const std::string& path) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_string()) fail_value(join(path, key), *n, "a string");
+    return n->as_string()->get();
+  }
+
+  std::optional<bool> boolean(const toml::table& t, const std::string& key, const std::string& path) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_boolean()) fail_value(join(path, key), *n, "true or false");
+    return n->as_boolean()->get();
+  }
+
+  int material_index(const toml::table& t, const std::string& key, const std::string& path) const {
+    auto name = string(t, key, path);
+    if (!name) fail_missing(join(path, key), "the name of a material in [[materials]]");
+    for (std::size_t i = 0; i < spec_.materials.size(); ++i)
+      if (spec_.materials[i].name == *name) return static_cast<int>(i);
+    fail_value(join(path, key), *t.get(key), "the name of a material in [[materials]]");
+  }
+
+  // Reject a key that exists but belongs to a module the scene does not build.
+  void reject_unused(const toml::table& t, const std::string& key, const std::string& path, const std::string& why) const {
+    if (const toml::node* n = t.get(key))
+      throw SceneError(file_ + ": key '" + join(path, key) + "' = " + show(*n) + " is not used: " + why);
+  }
+
+  void read_units();
+  void read_modules();
+  void read_materials();
+  void read_contacts();
+  void read_walls();
+  void read_particles();
+  void read_integrator();
+  void read_output_and_checks();
+  void check_initial_state();
+  void resolve_dt(const toml::table* integ);
+};
+
+void Loader::read_units() {
+  const toml::node* n = root_.get("units");
+  if (!n) fail_missing("units", "\"SI\" or \"cgs\"");
+  if (!n->is_string()) fail_value("units", *n, "\"SI\" or \"cgs\"");
+  const std::string u = n->as_string()->get();
+  if (u != "SI" && u != "cgs") fail_value("units", *n, "\"SI\" or \"cgs\"");
+  cgs_ = u == "cgs";
+  spec_.units = u;
+}
+
+void Loader::read_modules() {
+  const toml::table* m = table(root_, "modules", "", true);
+  check_keys(*m, "modules", "modules");
+  spec_.gravity = boolean(*m, "gravity", "modules").value_or(false);
+  const std::string nc = string(*m, "normal_contact", "modules").value_or("none");
+  if (nc == "none") spec_.normal_contact = NormalContactModel::none;
+  else if (nc == "linear_spring_dashpot") spec_.normal_contact = NormalContactModel::linear_spring_dashpot;
+  else fail_value("modules.normal_contact", *m->get("normal_contact"), "\"none\" or \"linear_spring_dashpot\"");
+  const std::string tg = string(*m, "tangential", "modules").value_or("none");
+  if (tg == "none") spec_.tangential = TangentialModel::none;
+  else if (tg == "spring_coulomb") spec_.tangential = TangentialModel::spring_coulomb;
+  else fail_value("modules.tangential", *m->get("tangential"), "\"none\" or \"spring_coulomb\"");
+  if (spec_.tangential != TangentialModel::none && spec_.normal_contact == NormalContactModel::none)
+    fail_value("modules.tangential", *m->get("tangential"),
+               "\"none\" while modules.normal_contact is \"none\" (friction is bounded by the normal force)");
+
+  const toml::table* g = table(root_, "gravity", "", spec_.gravity);
+  if (g && !spec_.gravity)
+    throw SceneError(file_ + ": table [gravity] is not used: modules.gravity is not true");
+  if (g) {
+    check_keys(*g, "gravity", "gravity");
+    spec_.g = vec3_required(*g, "g", "gravity", Dim::acceleration);
+  }
+}
+
+void Loader::read_materials() {
+  const toml::array* mats = array_of_tables(root_, "materials");
+  if (!mats) fail_missing("materials", "at least one [[materials]] entry");
+  for (std::size_t i = 0; i < mats->size(); ++i) {
+    const toml::table& t = *mats->get(i)->as_table();
+    const std::string path = "materials[" + std::to_string(i) + "]";
+    check_keys(t, "materials[]", path);
+    Material m;
+    auto name = string(t, "name", path);
+    if (!name || name->empty()) fail_missing(path + ".name", "a non-empty material name");
+    for (const auto& other : spec_.materials)
+      if (other.name == *name) fail_value(path + ".name", *t.get("name"), "a name not used by another material");
+    m.name = *name;
+    m.density = positive(t, "density", path, Dim::density, false, 0.0);
+    spec_.materials.push_back(m);
+  }
+  spec_.pairs = PairTable(spec_.materials.size());
+}
+
+void Loader::read_contacts() {
+  const toml::array* cs = array_of_tables(root_, "contacts");
+  if (spec_.normal_contact == NormalContactModel::none) {
+    if (cs) throw SceneError(file_ + ": [[contacts]] is not used: modules.normal_contact is \"none\"");
+    return;
+  }
+  if (!cs) return;  // missing pairs are reported where they are needed (check_initial_state)
+  for (std::size_t i = 0; i < cs->size(); ++i) {
+    const toml::table& t = *cs->get(i)->as_table();
+    const std::string path = "contacts[" + std::to_string(i) + "]";
+    check_keys(t, "contacts[]", path);
+    const toml::node* pn = t.get("pair");
+    if (!pn) fail_missing(path + ".pair", "an array of two material names");
+    const toml::array* pa = pn->as_array();
+    if (!pa || pa->size() != 2 || !pa->get(0)->is_string() || !pa->get(1)->is_string())
+      fail_value(path + ".pair", *pn, "an array of two material names");
+    int idx[2];
+    for (int k = 0; k < 2; ++k) {
+      const std::string nm = pa->get(k)->as_string()->get();
+      idx[k] = -1;
+      for (std::size_t m = 0; m < spec_.materials.size(); ++m)
+        if (spec_.materials[m].name == nm) idx[k] = static_cast<int>(m);
+      if (idx[k] < 0) fail_value(path + ".pair", *pn, "two names of materials in [[materials]]");
+    }
+    if (spec_.pairs.get(idx[0], idx[1]).defined)
+      fail_value(path + ".pair", *pn, "a pair not already given by an earlier [[contacts]] entry");
+    PairParams p;
+    p.kn = positive(t, "kn", path, Dim::stiffness, true);
+    p.en = number_in(t, "en", path, Dim::none, true, 1.0, 0.0, true, 1.0, false, "in (0, 1]");
+    if (spec_.tangential == TangentialModel::none) {
+      const std::string why = "modules.tangential is \"none\"";
+      reject_unused(t, "kt_factor", path, why);
+      reject_unused(t, "etat_factor", path, why);
+      reject_unused(t, "mu", path, why);
+    } else {
+      p.kt_factor = positive(t, "kt_factor", path, Dim::none, false, 0.4);
+      p.etat_factor = number_in(t, "etat_factor", path, Dim::none, false, 0.5, 0.0, false,
+                                std::numeric_limits<double>::infinity(), false, ">= 0");
+      p.mu = number_in(t, "mu", path, Dim::none, true, 0.0, 0.0, false, std::numeric_limits<double>::infinity(),
+                       false, ">= 0");
+    }
+    spec_.pairs.set(idx[0], idx[1], p);
+  }
+}
+
+void Loader::read_walls() {
+  const toml::array* ws = array_of_tables(root_, "walls");
+  if (!ws) return;
+  if (spec_.normal_contact == NormalContactModel::none)
+    throw SceneError(file_ + ": [[walls]] is not used: modules.normal_contact is \"none\", so nothing touches a wall");
+  for (std::size_t i = 0; i < ws->size(); ++i) {
+    const toml::table& t = *ws->get(i)->as_table();
+    const std::string path = "walls[" + std::to_string(i) + "]";
+    check_keys(t, "walls[]", path);
+    PlaneWall w;
+    w.name = string(t, "name", path).value_or("wall" + std::to_string(i));
+    w.point = vec3_required(t, "point", path, Dim::length);
+    const Vec3 n = vec3_required(t, "normal", path, Dim::none);
+    const double len = norm(n);
+    if (!(len > 0.0)) fail_value(path + ".normal", *t.get("normal"), "a non-zero vector (pointing into the domain)");
+    w.normal = (1.0 / len) * n;
+    w.material = material_index(t, "material", path);
+    spec_.walls.push_back(w);
+  }
+}
+
+void Loader::read_particles() {
+  auto particle_material = [&](const toml::table& t, const std::string& path) {
+    const int m = material_index(t, "material", path);
+    if (!(spec_.materials[m].density > 0.0))
+      fail_value(path + ".material", *t.get("material"),
+                 "a material with a density (materials entry '" + spec_.materials[m].name + "' has none)");
+    return m;
+  };
+  if (const toml::array* ps = array_of_tables(root_, "particles")) {
+    for (std::size_t i = 0; i < ps->size(); ++i) {
+      const toml::table& t = *ps->get(i)->as_table();
+      const std::string path = "particles[" + std::to_string(i) + "]";
+      check_keys(t, "particles[]", path);
+      ParticleSpec p;
+      p.material = particle_material(t, path);
+      p.radius = positive(t, "radius", path, Dim::length, true);
+      p.position = vec3_required(t, "position", path, Dim::length);
+      p.velocity = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
+      if (spec_.tangential == TangentialModel::none)
+        reject_unused(t, "angular_velocity", path, "modules.tangential is \"none\", so nothing makes particles rotate");
+      p.angular_velocity = vec3(t, "angular_velocity", path, Dim::angular_velocity).value_or(Vec3{});
+      p.source = path;
+      spec_.particles.push_back(p);
+    }
+  }
+  if (const toml::array* ls = array_of_tables(root_, "lattices")) {
+    for (std::size_t i = 0; i < ls->size(); ++i) {
+      const toml::table& t = *ls->get(i)->as_table();
+      const std::string path = "lattices[" + std::to_string(i) + "]";
+      check_keys(t, "lattices[]", path);
+      const int mat = particle_material(t, path);
+      const double r = positive(t, "radius", path, Dim::length, true);
+      const Vec3 origin = vec3_required(t, "origin", path, Dim::length);
+      const Vec3 spacing = vec3_required(t, "spacing", path, Dim::length);
+      if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0))
+        fail_value(path + ".spacing", *t.get("spacing"), "3 numbers > 0");
+      const Vec3 vel = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
+      const toml::node* cn = t.get("count");
+      if (!cn) fail_missing(path + ".count", "an array of 3 integers >= 1");
+      const toml::array* ca = cn->as_array();
+      long long c[3] = {0, 0, 0};
+      if (!ca || ca->size() != 3) fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
+      for (int k = 0; k < 3; ++k) {
+        auto iv = ca->get(k)->as_integer();
+        if (!iv || iv->get() < 1) fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
+        c[k] = iv->get();
+      }
+      if (static_cast<double>(c[0]) * c[1] * c[2] + spec_.particles.size() > max_particles)
+        fail_value(path + ".count", *cn, "at most " + std::to_string(max_particles) + " particles in the scene");
+      for (long long kz = 0; kz < c[2]; ++kz)
+        for (long long ky = 0; ky < c[1]; ++ky)
+          for (long long kx = 0; kx < c[0]; ++kx) {
+            ParticleSpec p;
+            p.material = mat;
+            p.radius = r;
+            p.position = origin + Vec3{kx * spacing.x, ky * spacing.y, kz * spacing.z};
+            p.velocity = vel;
+            p.source = path + " (lattice site " + std::to_string(kx) + "," + std::to_string(ky) + "," +
+                       std::to_string(kz) + ")";
+            spec_.particles.push_back(p);
+          }
+    }
+  }
+  if (spec_.particles.empty()) fail_missing("particles", "at least one [[particles]] or [[lattices]] entry");
+}
+
+void Loader::read_integrator() {
+  const toml::table* t = table(root_, "integrator", "", true);
+  check_keys(*t, "integrator", "integrator");
+  const std::string scheme = string(*t, "scheme", "integrator").value_or("");
+  if (scheme == "paper_euler") spec_.integrator = IntegratorScheme::paper_euler;
+  else if (scheme == "velocity_verlet") spec_.integrator = IntegratorScheme::velocity_verlet;
+  else if (!t->get("scheme")) fail_missing("integrator.scheme", "\"paper_euler\" or \"velocity_verlet\"");
+  else fail_value("integrator.scheme", *t->get("scheme"), "\"paper_euler\" or \"velocity_verlet\"");
+  spec_.end_time = positive(*t, "end_time", "integrator", Dim::time, true);
+}
+
+void Loader::resolve_dt(const toml::table* t) {
+  // Smallest collision time over every pair of materials that can meet (eq 28).
+  double t_col = std::numeric_limits<double>::infinity();
+  std::string t_col_pair;
+  if (spec_.normal_contact != NormalContactModel::none) {
+    const std::size_t nm = spec_.materials.size();
+    std::vector<double> m_min(nm, std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> count(nm, 0);
+    std::vector<std::string> first_source(nm);
+    for (const auto& p : spec_.particles) {
+      const double d = 2.0 * p.radius;
+      const double m = spec_.materials[p.material].density * std::numbers::pi * d * d * d / 6.0;
+      m_min[p.material] = std::min(m_min[p.material], m);
+      if (count[p.material]++ == 0) first_source[p.material] = p.source;
+    }
+    auto need = [&](int a, int b, const std::string& what) -> const PairParams& {
+      const PairParams& pp = spec_.pairs.get(a, b);
+      if (!pp.defined)
+        throw SceneError(file_ + ": key 'contacts' has no entry for pair [\"" + spec_.materials[a].name + "\", \"" +
+                         spec_.materials[b].name + "\"]: expected a [[contacts]] entry, because " + what);
+      return pp;
+    };
+    for (std::size_t a = 0; a < nm; ++a) {
+      if (!count[a]) continue;
+      for (std::size_t b = a; b < nm; ++b) {
+        if (!count[b] || (a == b && count[a] < 2)) continue;
+        const PairParams& pp = need(static_cast<int>(a), static_cast<int>(b),
+                                    "particles of both materials are in the scene");
+        const double me = m_min[a] * m_min[b] / (m_min[a] + m_min[b]);
+        const double tc = collision_time(pp, me);
+        if (tc < t_col) { t_col = tc; t_col_pair = spec_.materials[a].name + "-" + spec_.materials[b].name; }
+      }
+      for (const auto& w : spec_.walls) {
+        const PairParams& pp = need(static_cast<int>(a), w.material, "wall '" + w.name + "' can touch particles of material '" + spec_.materials[a].name + "'");
+        const double tc = collision_time(pp, m_min[a]);
+        if (tc < t_col) { t_col = tc; t_col_pair = spec_.materials[a].name + "-wall '" + w.name + "'"; }
+      }
+    }
+  }
+  spec_.t_col_min = std::isfinite(t_col) ? t_col : 0.0;
+
+  const toml::node* dtn = t->get("dt");
+  if (!dtn) fail_missing("integrator.dt", "\"auto\" or a time step > 0 [s]");
+  if (dtn->is_string()) {
+    if (dtn->as_string()->get() != "auto") fail_value("integrator.dt", *dtn, "\"auto\" or a time step > 0 [s]");
+    if (!std::isfinite(t_col))
+      fail_value("integrator.dt", *dtn,
+                 "an explicit time step: \"auto\" derives dt from the collision time, and this scene has no contacts");
+    spec_.dt_auto = true;
+    spec_.dt_divisor = number_in(*t, "dt_divisor", "integrator", Dim::none, false, 50.0, 10.0, false,
+                                 std::numeric_limits<double>::infinity(), false,
+                                 ">= 10 (dt = t_col/dt_divisor; fewer than 10 steps per collision is not resolved)");
+    spec_.dt = t_col / spec_.dt_divisor;
+  } else {
+    reject_unused(*t, "dt_divisor", "integrator", "integrator.dt is not \"auto\"");
+    spec_.dt_auto = false;
+    spec_.dt = positive(*t, "dt", "integrator", Dim::time, true);
+    if (std::isfinite(t_col) && spec_.dt > t_col / 10.0) {
+      std::ostringstream os;
+      os << "a time step <= t_col/10 = " << t_col / 10.0 << " s: the shortest collision (" << t_col_pair
+         << ") lasts t_col = " << t_col << " s, and with fewer than 10 steps per collision the spring-dashpot "
+         << "force is not resolved (overlaps and restitution come out wrong, or the run blows up); "
+         << "use dt = \"auto\" (t_col/50, as Garg et al. 2012) or a smaller dt";
+      fail_value("integrator.dt", *dtn, os.str());
+    }
+  }
+  if (spec_.dt > spec_.end_time) fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");
+}
+
+void Loader::read_output_and_checks() {
+  if (const toml::table* o = table(root_, "output", "", false)) {
+    check_keys(*o, "output", "output");
+    spec_.output_particles = boolean(*o, "particles", "output").value_or(true);
+    spec_.output_interval = positive(*o, "interval", "output", Dim::time, true);
+  } else {
+    spec_.output_particles = false;
+  }
+  if (const toml::table* c = table(root_, "checks", "", false)) {
+    check_keys(*c, "checks", "checks");
+    spec_.allow_initial_overlap = boolean(*c, "allow_initial_overlap", "checks").value_or(false);
+    spec_.max_overlap_fraction = number_in(*c, "max_overlap_fraction", "checks", Dim::none, false, 1.0, 0.0, true,
+                                           1.0, false, "in (0, 1]");
+  }
+}
+
+void Loader::check_initial_state() {
+  // A centre outside a wall is always an error; touching a wall or another particle
+  // only when the scene says the initial overlap is intended.
+  for (const auto& p : spec_.particles) {
+    for (const auto& w : spec_.walls) {
+      const double d = w.distance(p.position);
+      if (d < 0.0 || (!spec_.allow_initial_overlap && d < p.radius)) {
+        std::ostringstream os;
+        os << file_ << ": key '" << p.source << ".position' = [" << p.position.x << ", " << p.position.y << ", "
+           << p.position.z << "] (SI) lies " << (d < 0.0 ? "outside" : "across") << " wall '" << w.name
+           << "' (centre distance " << d << " m, radius " << p.radius << " m): expected a particle inside the domain"
+           << (d < 0.0 ? "" : " and clear of the wall (or checks.allow_initial_overlap = true)");
+        throw SceneError(os.str());
+      }
+    }
+  }
+  if (spec_.allow_initial_overlap || spec_.particles.size() < 2) return;
+  ParticleStore tmp;
+  for (const auto& p : spec_.particles) tmp.add(p.position, {}, p.radius, 1.0, p.material);
+  std::vector<ContactPair> pairs;
+  CellListSearch search;
+  search.find_contacts(tmp, 0.0, pairs);
+  if (!pairs.empty()) {
+    const auto& c = pairs.front();
+    std::ostringstream os;
+    os << file_ << ": key '" << spec_.particles[c.j].source << ".position' overlaps '" << spec_.particles[c.i].source
+       << "' by " << c.overlap << " m at the start: expected particles that do not overlap"
+       << " (or checks.allow_initial_overlap = true if the compression is intended); " << pairs.size()
+       << " overlapping pair(s) in all";
+    throw SceneError(os.str());
+  }
+}
+
+SceneSpec Loader::load() {
+  spec_.file = file_;
+  check_keys(root_, "", "");
+  read_units();
+  read_modules();
+  read_materials();
+  read_contacts();
+  read_walls();
+  read_particles();
+  read_integrator();
+  read_output_and_checks();
+  resolve_dt(root_.get("integrator")->as_table());
+  check_initial_state();
+  return spec_;
+}
+
+// Walk "a.b[2].c" inside a table and set the final key to value.
+void apply_override(toml::table& root, const SceneOverride& o, const std::string& file) {
+  auto bad = [&](const std::string& why) {
+    throw SceneError(file + ": override '" + o.path + "=" + o.value + "': " + why);
+  };
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + o.value);
+  } catch (const toml::parse_error& e) {
+    bad("the value is not TOML (" + std::string(e.description()) + "); strings need quotes");
+  }
+  toml::node* value = parsed.get("v");
+  std::vector<std::pair<std::string, long>> segs;  // key, index (-1 for none)
+  std::string rest = o.path;
+  while (!rest.empty()) {
+    const auto dot = rest.find('.');
+    std::string seg = rest.substr(0, dot);
+    rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
+    long idx = -1;
+    if (auto b = seg.find('['); b != std::string::npos) {
+      const auto e = seg.find(']', b);
+      if (e == std::string::npos) bad("unbalanced [ in the path");
+      try { idx = std::stol(seg.substr(b + 1, e - b - 1)); } catch (...) { bad("array index is not a number"); }
+      if (idx < 0) bad("negative array index");
+      seg = seg.substr(0, b);
+    }
+    if (seg.empty()) bad("empty key in the path");
+    segs.emplace_back(seg, idx);
+  }
+  if (segs.empty()) bad("empty path");
+  toml::table* cur = &root;
+  for (std::size_t s = 0; s < segs.size(); ++s) {
+    const bool last = s + 1 == segs.size();
+    const auto& [key, idx] = segs[s];
+    if (last && idx < 0) { cur->insert_or_assign(key, *value); return; }
+    toml::node* n = cur->get(key);
+    if (!n) {
+      if (idx >= 0) bad("no array '" + key + "' in the scene");
+      cur->insert_or_assign(key, toml::table{});
+      n = cur->get(key);
+    }
+    if (idx >= 0) {
+      toml::array* a = n->as_array();
+      if (!a || static_cast<std::size_t>(idx) >= a->size()) bad("no element " + std::to_string(idx) + " in '" + key + "'");
+      if (last) { a->replace(a->begin() + idx, *value); return; }
+      n = a->get(static_cast<std::size_t>(idx));
+    }
+    cur = n->as_table();
+    if (!cur) bad("'" + key + "' is not a table");
+  }
+}
+
+SceneSpec load_table(toml::table root, const std::string& name, const std::vector<SceneOverride>& overrides) {
+  for (const auto& o : overrides) apply_override(root, o, name);
+  return Loader(name, std::move(root)).load();
+}
+
+}  // namespace
+
+SceneOverride parse_override(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError("override '" + text + "': expected path=value, e.g. contacts[0].kn=1e7");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+SceneSpec load_scene_from_string(const std::string& text, const std::string& name,
+                                 const std::vector<SceneOverride>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << name << ":" << e.source().begin.line << ":" << e.source().begin.column
+       << ": does not parse as TOML: " << e.description();
+    throw SceneError(os.str());
+  }
+  return load_table(std::move(root), name, overrides);
+}
+
+SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return load_scene_from_string(ss.str(), path, overrides);
+}
+
+std::vector<std::string> scene_schema_keys() {
+  std::vector<std::string> keys;
+  for (const auto& [table, ks] : schema())
+    for (const auto& k : ks) {
+      // Sub-tables are listed by their own entries; list only leaf keys.
+      const std::string full = table.empty() ? k : table + "." + k;
+      const bool is_table = schema().count(k) || schema().count(k + "[]");
+      if (!(table.empty() && is_table)) keys.push_back(full);
+    }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+}  // namespace cdm
