@@ -9,6 +9,7 @@ namespace cdm {
 TableWriter::TableWriter(const std::string& path, const std::vector<std::string>& columns,
                          const std::vector<std::string>& comments)
     : ncol_(columns.size()), path_(path) {
+  if (path.empty()) return;  // a table nobody asked for: rows are discarded
   f_ = std::fopen(path.c_str(), "w");
   if (!f_) throw std::runtime_error("cannot open '" + path + "' for writing");
   for (const auto& c : comments) std::fprintf(f_, "# %s\n", c.c_str());
@@ -23,11 +24,14 @@ TableWriter::~TableWriter() {
 
 void TableWriter::row(const std::vector<double>& v) {
   if (v.size() != ncol_) throw std::logic_error("table '" + path_ + "': row has the wrong number of columns");
+  if (!f_) return;
   for (std::size_t k = 0; k < v.size(); ++k) std::fprintf(f_, k ? " %.16e" : "%.16e", v[k]);
   std::fputs("\n", f_);
 }
 
-void TableWriter::flush() { std::fflush(f_); }
+void TableWriter::flush() {
+  if (f_) std::fflush(f_);
+}
 
 namespace {
 std::vector<std::string> particle_columns(bool rot) {

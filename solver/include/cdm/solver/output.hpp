@@ -10,7 +10,8 @@ namespace cdm {
 
 class TableWriter {
  public:
-  /// Opens @p path for writing; throws std::runtime_error if it cannot.
+  /// Opens @p path for writing; throws std::runtime_error if it cannot. An empty path
+  /// makes a writer that discards its rows.
   TableWriter(const std::string& path, const std::vector<std::string>& columns,
               const std::vector<std::string>& comments = {});
   ~TableWriter();
