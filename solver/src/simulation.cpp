@@ -42,7 +42,9 @@ void Simulation::step() {
   switch (spec_.integrator) {
     case IntegratorScheme::paper_euler: {
       // Garg et al. (2012) eqs A.1–A.3: V += F(t)/m Δt; X += V(t+Δt) Δt; ω += T(t)/I Δt.
-      compute_forces();
+      // F(t) was evaluated at the end of the previous step, so the guards below always
+      // see the forces and overlaps of the state just reached.
+      if (!forces_valid_) compute_forces();
       for (std::size_t i = 0; i < n; ++i) {
         const double a = dt * p.inv_mass[i];
         p.vx[i] += a * p.fx[i]; p.vy[i] += a * p.fy[i]; p.vz[i] += a * p.fz[i];
@@ -53,6 +55,7 @@ void Simulation::step() {
           const double b = dt * p.inv_inertia[i];
           p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
         }
+      compute_forces();
       break;
     }
     case IntegratorScheme::velocity_verlet: {

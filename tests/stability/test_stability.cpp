@@ -54,8 +54,10 @@ TEST(Stability, FreeFallSoftToStiffContacts) {
       const cdm::oracles::FreeFall oracle(p, 0.5);
       double min_y = p.h0;
       for (const auto& st : oracle.stages())
-        if (st.contact)
-          for (int k = 0; k <= 2000; ++k) min_y = std::min(min_y, oracle.position(st.t_start + k * (st.t_end - st.t_start) / 2000));
+        if (st.contact) {
+          const double te = std::min(st.t_end, 0.5);
+          for (int k = 0; k <= 2000; ++k) min_y = std::min(min_y, oracle.position(st.t_start + k * (te - st.t_start) / 2000));
+        }
       const double max_overlap = p.radius - min_y;
       const cdm::SceneSpec spec = cdm::load_scene_from_string(
           free_fall_scene, "free_fall.toml",
@@ -63,7 +65,7 @@ TEST(Stability, FreeFallSoftToStiffContacts) {
       cdm::Simulation sim(spec);
       const double e0 = free_fall_energy(sim, spec.pairs.get(0, 1).kn);
       SCOPED_TRACE(std::string(scheme) + " kn = " + fmt(kn_cgs) + " dyn/cm, exact max overlap / r = " + fmt(max_overlap / p.radius));
-      if (max_overlap >= 0.99 * p.radius) {
+      if (max_overlap >= p.radius) {
         try {
           sim.run();
           FAIL() << "the ball went through the wall without a diagnostic";
@@ -71,13 +73,20 @@ TEST(Stability, FreeFallSoftToStiffContacts) {
           EXPECT_NE(std::string(e.what()).find("overlap"), std::string::npos) << e.what();
           EXPECT_NE(std::string(e.what()).find("particle 0"), std::string::npos) << e.what();
         }
-      } else if (max_overlap <= 0.9 * p.radius) {
+      } else {
+        // Below the radius the run must finish; within 5 % of it (kn = 1e7: 0.983 r) the
+        // discrete overlap may still reach r, and then the diagnostic is the right outcome.
+        const bool may_stop = max_overlap > 0.95 * p.radius;
         double e_max = e0;
-        sim.run([&](const cdm::Simulation& s) {
-          ASSERT_TRUE(std::isfinite(s.particles().y[0]));
-          ASSERT_GT(s.particles().y[0], 0.0) << "centre crossed the wall";
-          e_max = std::max(e_max, free_fall_energy(s, spec.pairs.get(0, 1).kn));
-        });
+        try {
+          sim.run([&](const cdm::Simulation& s) {
+            ASSERT_TRUE(std::isfinite(s.particles().y[0]));
+            ASSERT_GT(s.particles().y[0], 0.0) << "centre crossed the wall";
+            e_max = std::max(e_max, free_fall_energy(s, spec.pairs.get(0, 1).kn));
+          });
+        } catch (const cdm::SimulationError& e) {
+          EXPECT_TRUE(may_stop) << "stopped although the spring holds the ball: " << e.what();
+        }
         // Symplectic schemes keep a modified energy: the true energy may exceed E0 by
         // O(dt) inside a contact, bounded here by 2 % at t_col/50.
         EXPECT_LE(e_max, 1.02 * e0);
