@@ -89,6 +89,9 @@ int main(int argc, char** argv) {
   verify->add_option("cases", only, "case names (default: all)");
   verify->add_option("--cases", cases_dir, "folder holding one folder per case")->capture_default_str();
   verify->add_option("-o,--out", verify_out, "output directory for tables")->capture_default_str();
+  bool sweep = false;
+  verify->add_flag("--sweep", sweep,
+                   "run each case over the dense dt sweep (t_col/12.5 ... /1600) and write work-precision tables");
 
   try {
     app.parse(argc, argv);
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
       vo.cases_dir = cases_dir;
       vo.out_dir = verify_out;
       vo.only = only;
+      vo.sweep = sweep;
       vo.provenance = provenance();
       return cdm::verification::verify(vo);
     }

@@ -32,7 +32,8 @@ struct CaseDef {
   std::string scene;      // scene file path
   std::string title;
   std::vector<std::string> integrators;
-  std::vector<double> dt_divisors;
+  std::vector<double> dt_divisors;        // the paper's sweep (default run)
+  std::vector<double> sweep_dt_divisors;  // the denser sweep of `cdm verify --sweep`
   std::vector<Variant> variants;
   std::map<std::string, std::string> options;
 };
@@ -87,6 +88,7 @@ struct VerifyOptions {
   std::string out_dir;
   std::vector<std::string> only;  // case names; empty = all
   double min_timing_seconds = 0.2;  // repeat a run until this much solver time is timed
+  bool sweep = false;  // run sweep_dt_divisors and write work-precision tables
   /// Written to provenance.dat beside the tables (commit, compiler, flags, machine...).
   std::vector<std::pair<std::string, std::string>> provenance;
 };
