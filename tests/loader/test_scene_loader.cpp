@@ -1,0 +1,251 @@
+// Bad scene input gets a clear error — the file, the key, the value and what was
+// expected — and is refused before anything is built (SceneError; `cdm run` exits 2).
+// Good input is converted to SI once, at load.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <regex>
+#include <string>
+
+#include "cdm/solver/scene_loader.hpp"
+#include "cdm/solver/simulation.hpp"
+
+namespace {
+
+const std::string base = R"(
+units = "cgs"
+
+[modules]
+gravity = true
+normal_contact = "linear_spring_dashpot"
+
+[gravity]
+g = [0.0, -980.0, 0.0]
+
+[[materials]]
+name = "ball"
+density = 2.6
+
+[[materials]]
+name = "floor"
+
+[[contacts]]
+pair = ["ball", "floor"]
+kn = 5.0e7
+en = 0.9
+
+[[walls]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "floor"
+
+[[particles]]
+material = "ball"
+radius = 10.0
+position = [0.0, 50.0, 0.0]
+
+[integrator]
+scheme = "paper_euler"
+dt = "auto"
+end_time = 0.5
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto pos = s.find(from);
+  if (pos == std::string::npos) throw std::logic_error("test scene has no '" + from + "'");
+  return s.replace(pos, from.size(), to);
+}
+
+// Loads @p text and expects a SceneError whose message contains every fragment.
+void expect_refused(const std::string& text, std::vector<std::string> fragments) {
+  fragments.push_back("bad.toml");
+  try {
+    cdm::load_scene_from_string(text, "bad.toml");
+    FAIL() << "accepted a bad scene; expected an error with '" << fragments.front() << "'";
+  } catch (const cdm::SceneError& e) {
+    const std::string msg = e.what();
+    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "message lacks '" << f << "': " << msg;
+  }
+}
+
+TEST(SceneLoader, BaseSceneLoads) { EXPECT_NO_THROW(cdm::load_scene_from_string(base, "good.toml")); }
+
+TEST(SceneLoader, DoesNotParse) {
+  expect_refused(replace(base, "kn = 5.0e7", "kn = = 5.0e7"), {"does not parse", "bad.toml:"});
+}
+
+TEST(SceneLoader, UnknownKeyTopLevel) {
+  expect_refused("colour = \"red\"\n" + base, {"'colour'", "not a known key", "expected one of"});
+}
+
+TEST(SceneLoader, UnknownKeyInTable) {
+  expect_refused(replace(base, "en = 0.9", "en = 0.9\nrestitution = 0.9"),
+                 {"contacts[0].restitution", "not a known key", "expected one of"});
+}
+
+TEST(SceneLoader, WrongTypeStringForNumber) {
+  expect_refused(replace(base, "kn = 5.0e7", "kn = \"stiff\""), {"contacts[0].kn", "\"stiff\"", "expected a number"});
+}
+
+TEST(SceneLoader, WrongTypeNumberForArray) {
+  expect_refused(replace(base, "position = [0.0, 50.0, 0.0]", "position = 50.0"),
+                 {"particles[0].position", "50", "expected an array of 3 numbers"});
+}
+
+TEST(SceneLoader, MissingValues) {
+  expect_refused(replace(base, "units = \"cgs\"", ""), {"'units'", "missing", "expected"});
+  expect_refused(replace(base, "kn = 5.0e7", ""), {"contacts[0].kn", "missing", "expected a number > 0"});
+  expect_refused(replace(base, "radius = 10.0", ""), {"particles[0].radius", "missing", "expected"});
+  expect_refused(replace(base, "end_time = 0.5", ""), {"integrator.end_time", "missing", "expected"});
+}
+
+TEST(SceneLoader, OutOfRange) {
+  expect_refused(replace(base, "radius = 10.0", "radius = 0.0"), {"particles[0].radius", "= 0", "expected a number > 0"});
+  expect_refused(replace(base, "radius = 10.0", "radius = -1.0"), {"particles[0].radius", "-1", "expected a number > 0"});
+  expect_refused(replace(base, "density = 2.6", "density = -2.6"), {"materials[0].density", "-2.6", "expected a number > 0"});
+  expect_refused(replace(base, "kn = 5.0e7", "kn = 0"), {"contacts[0].kn", "= 0", "expected a number > 0"});
+  expect_refused(replace(base, "en = 0.9", "en = 0.0"), {"contacts[0].en", "= 0", "expected a number in (0, 1]"});
+  expect_refused(replace(base, "en = 0.9", "en = 1.5"), {"contacts[0].en", "1.5", "expected a number in (0, 1]"});
+  const std::string friction = replace(base, "normal_contact = \"linear_spring_dashpot\"",
+                                       "normal_contact = \"linear_spring_dashpot\"\ntangential = \"spring_coulomb\"");
+  expect_refused(replace(friction, "en = 0.9", "en = 0.9\nmu = -0.1"), {"contacts[0].mu", "-0.1", "expected a number >= 0"});
+}
+
+TEST(SceneLoader, ExplicitDtAboveTenthOfCollisionTimeIsExplained) {
+  // t_col at kn = 5e7 dyn/cm, m = 10.9 kg, en = 0.9 is 46 ms; 10 ms > t_col/10.
+  expect_refused(replace(base, "dt = \"auto\"", "dt = 0.01"),
+                 {"integrator.dt", "0.01", "expected a time step <= t_col/10", "t_col ="});
+}
+
+TEST(SceneLoader, ParticlesOverlappingAtStart) {
+  expect_refused(base + R"(
+[[contacts]]
+pair = ["ball", "ball"]
+kn = 5.0e7
+en = 0.9
+
+[[particles]]
+material = "ball"
+radius = 10.0
+position = [15.0, 50.0, 0.0]
+)",
+                 {"particles[1].position", "overlaps 'particles[0]'", "expected particles that do not overlap"});
+}
+
+TEST(SceneLoader, ParticleOutsideWall) {
+  expect_refused(replace(base, "position = [0.0, 50.0, 0.0]", "position = [0.0, -5.0, 0.0]"),
+                 {"particles[0].position", "outside wall 'floor'", "expected a particle inside the domain"});
+  expect_refused(replace(base, "position = [0.0, 50.0, 0.0]", "position = [0.0, 5.0, 0.0]"),
+                 {"particles[0].position", "across wall 'floor'", "expected"});
+}
+
+TEST(SceneLoader, UnusedKeysAreErrors) {
+  expect_refused(replace(base, "en = 0.9", "en = 0.9\nmu = 0.3"), {"contacts[0].mu", "0.3", "not used", "tangential"});
+  expect_refused(replace(base, "gravity = true", "gravity = false"), {"[gravity]", "not used"});
+}
+
+TEST(SceneLoader, MissingContactPair) {
+  expect_refused(replace(base, "pair = [\"ball\", \"floor\"]", "pair = [\"ball\", \"ball\"]"),
+                 {"\"ball\", \"floor\"", "expected a [[contacts]] entry"});
+}
+
+TEST(SceneLoader, CgsIsConvertedToSiOnce) {
+  const cdm::SceneSpec s = cdm::load_scene_from_string(base, "good.toml");
+  EXPECT_DOUBLE_EQ(s.particles[0].radius, 0.1);
+  EXPECT_DOUBLE_EQ(s.particles[0].position.y, 0.5);
+  EXPECT_DOUBLE_EQ(s.materials[0].density, 2600.0);
+  EXPECT_DOUBLE_EQ(s.pairs.get(0, 1).kn, 50000.0);
+  EXPECT_DOUBLE_EQ(s.g.y, -9.8);
+}
+
+TEST(SceneLoader, AutoDtIsCollisionTimeOver50) {
+  const cdm::SceneSpec s = cdm::load_scene_from_string(base, "good.toml");
+  const double m = 2600.0 * std::numbers::pi * 0.2 * 0.2 * 0.2 / 6.0, kn = 5e4, pi = std::numbers::pi;
+  const double l = std::log(0.9), eta = 2.0 * std::sqrt(m * kn) * std::abs(l) / std::sqrt(pi * pi + l * l);
+  const double t_col = pi / std::sqrt(kn / m - eta * eta / (4.0 * m * m));  // eq 28
+  EXPECT_NEAR(s.t_col_min, t_col, 1e-14 * t_col);
+  EXPECT_NEAR(s.dt, t_col / 50.0, 1e-14 * t_col);
+}
+
+TEST(SceneLoader, OverridesApplyBeforeValidation) {
+  const cdm::SceneSpec s = cdm::load_scene_from_string(
+      base, "good.toml", {cdm::parse_override("contacts[0].kn=1e7"), cdm::parse_override("integrator.scheme=\"velocity_verlet\"")});
+  EXPECT_DOUBLE_EQ(s.pairs.get(0, 1).kn, 1e4);
+  EXPECT_EQ(s.integrator, cdm::IntegratorScheme::velocity_verlet);
+  EXPECT_THROW(cdm::load_scene_from_string(base, "good.toml", {cdm::parse_override("contacts[0].en=2")}), cdm::SceneError);
+  EXPECT_THROW(cdm::parse_override("no-equals-sign"), cdm::SceneError);
+}
+
+TEST(SceneLoader, LatticeExpands) {
+  const std::string lat = replace(base, R"([[particles]]
+material = "ball"
+radius = 10.0
+position = [0.0, 50.0, 0.0]
+)", R"([[lattices]]
+material = "ball"
+radius = 1.0
+origin = [0.0, 10.0, 0.0]
+spacing = [2.5, 3.0, 2.5]
+count = [4, 3, 2]
+
+[[contacts]]
+pair = ["ball", "ball"]
+kn = 5.0e7
+en = 0.9
+)");
+  const cdm::SceneSpec s = cdm::load_scene_from_string(lat, "good.toml");
+  ASSERT_EQ(s.particles.size(), 24u);
+  EXPECT_DOUBLE_EQ(s.particles[23].position.x, 0.075);
+  EXPECT_DOUBLE_EQ(s.particles[23].position.y, 0.16);
+  EXPECT_DOUBLE_EQ(s.particles[23].position.z, 0.025);
+}
+
+// "Only what a scene names is built": a frictionless scene keeps no rotation and no
+// tangential history; the same scene with friction does, while in contact.
+TEST(SceneLoader, FrictionlessSceneKeepsNoTangentialHistory) {
+  const std::string touching = replace(base, "position = [0.0, 50.0, 0.0]", "position = [0.0, 9.9, 0.0]\nvelocity = [10.0, 0.0, 0.0]") +
+                               "\n[checks]\nallow_initial_overlap = true\n";
+  {
+    cdm::Simulation sim(cdm::load_scene_from_string(touching, "good.toml"));
+    for (int k = 0; k < 20; ++k) sim.step();
+    EXPECT_FALSE(sim.particles().has_rotation());
+    EXPECT_TRUE(sim.particles().wx.empty());
+    EXPECT_EQ(sim.contact()->history_size(), 0u);
+    EXPECT_EQ(sim.contact()->active_contacts(), 1u);
+  }
+  {
+    std::string fr = replace(touching, "normal_contact = \"linear_spring_dashpot\"",
+                             "normal_contact = \"linear_spring_dashpot\"\ntangential = \"spring_coulomb\"");
+    fr = replace(fr, "en = 0.9", "en = 0.9\nmu = 0.3");
+    cdm::Simulation sim(cdm::load_scene_from_string(fr, "good.toml"));
+    for (int k = 0; k < 20; ++k) sim.step();
+    EXPECT_TRUE(sim.particles().has_rotation());
+    EXPECT_EQ(sim.contact()->history_size(), 1u);
+  }
+  // No gravity and no contact named: no modules at all.
+  const cdm::SceneSpec bare = cdm::load_scene_from_string(R"(
+units = "SI"
+[modules]
+[[materials]]
+name = "a"
+density = 1000.0
+[[particles]]
+material = "a"
+radius = 0.01
+position = [0.0, 0.0, 0.0]
+velocity = [1.0, 0.0, 0.0]
+[integrator]
+scheme = "velocity_verlet"
+dt = 0.001
+end_time = 0.1
+)", "good.toml");
+  cdm::Simulation sim(bare);
+  EXPECT_TRUE(sim.module_names().empty());
+  EXPECT_EQ(sim.contact(), nullptr);
+  sim.run();
+  EXPECT_NEAR(sim.particles().x[0], 0.1, 1e-12);
+}
+
+}  // namespace

@@ -1,0 +1,31 @@
+// docs/scene-reference.md documents every key the loader accepts, and nothing else:
+// the first column of each reference table must equal scene_schema_keys().
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <string>
+
+#include "cdm/solver/scene_loader.hpp"
+
+TEST(SceneReference, EveryKeyIsDocumented) {
+  std::ifstream in(std::string(CDM_SOURCE_DIR) + "/docs/scene-reference.md");
+  ASSERT_TRUE(in) << "docs/scene-reference.md is missing";
+  std::set<std::string> documented;
+  const std::regex row(R"(^\|\s*`([A-Za-z_\[\]\.]+)`\s*\|)");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (std::regex_search(line, m, row)) documented.insert(m[1]);
+  }
+  const auto keys = cdm::scene_schema_keys();
+  const std::set<std::string> accepted(keys.begin(), keys.end());
+  std::string missing, extra;
+  for (const auto& k : accepted)
+    if (!documented.count(k)) missing += " " + k;
+  for (const auto& k : documented)
+    if (!accepted.count(k)) extra += " " + k;
+  EXPECT_TRUE(missing.empty()) << "keys the loader accepts but the reference does not document:" << missing;
+  EXPECT_TRUE(extra.empty()) << "keys documented but not accepted by the loader:" << extra;
+}
