@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
@@ -40,7 +41,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
       {"walls[]", {"name", "point", "normal", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
-      {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity"}},
+      {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "end_time"}},
       {"output", {"interval", "particles"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
@@ -385,6 +386,18 @@ void Loader::read_particles() {
       if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0))
         fail_value(path + ".spacing", *t.get("spacing"), "3 numbers > 0");
       const Vec3 vel = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
+      const double jitter = number_in(t, "velocity_jitter", path, Dim::velocity, false, 0.0, 0.0, false,
+                                      std::numeric_limits<double>::infinity(), false, ">= 0");
+      long long seed = 1;
+      if (const toml::node* sn = t.get("seed")) {
+        if (!sn->is_integer() || sn->as_integer()->get() < 0) fail_value(path + ".seed", *sn, "an integer >= 0");
+        if (!(jitter > 0.0)) reject_unused(t, "seed", path, "velocity_jitter is 0");
+        seed = sn->as_integer()->get();
+      }
+      // Uniform in [-jitter, jitter] per component from a 64-bit Mersenne twister with a
+      // fixed mapping to doubles, so a scene gives the same particles on every platform.
+      std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
+      auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53 * 2.0 - 1.0; };
       const toml::node* cn = t.get("count");
       if (!cn) fail_missing(path + ".count", "an array of 3 integers >= 1");
       const toml::array* ca = cn->as_array();
@@ -405,6 +418,10 @@ void Loader::read_particles() {
             p.radius = r;
             p.position = origin + Vec3{kx * spacing.x, ky * spacing.y, kz * spacing.z};
             p.velocity = vel;
+            if (jitter > 0.0) {
+              const double a = uniform(), b = uniform(), c2 = uniform();
+              p.velocity += Vec3{jitter * a, jitter * b, jitter * c2};
+            }
             p.source = path + " (lattice site " + std::to_string(kx) + "," + std::to_string(ky) + "," +
                        std::to_string(kz) + ")";
             spec_.particles.push_back(p);

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "cdm/solver/materials.hpp"
@@ -44,30 +43,48 @@ struct OverlapRecord {
 
 /// Linear spring–dashpot normal contact, with the tangential spring, history and
 /// Coulomb friction when @p with_friction (only then is tangential history kept).
+///
+/// Contacts are found through a Verlet list: the cell-list search collects every pair
+/// closer than r_i + r_j + skin, and the list is rebuilt only once some particle has
+/// moved more than skin/2 since the last build — until then no pair outside the list
+/// can touch. Tangential history lives beside each listed pair (and per particle and
+/// wall), and is carried across rebuilds, so the hot loop does no hashing.
 class LinearContactModule final : public ForceModule {
  public:
-  LinearContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction);
+  /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
+  LinearContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
 
   const OverlapRecord& worst_overlap() const { return worst_; }
   std::size_t active_contacts() const { return n_active_; }
-  /// Tangential history entries (zero when frictionless).
-  std::size_t history_size() const { return history_.size(); }
+  /// Contacts carrying tangential history (zero when frictionless).
+  std::size_t history_size() const { return friction_ ? n_active_ : 0; }
+  std::size_t list_builds() const { return builds_; }
   const std::vector<PlaneWall>& walls() const { return walls_; }
 
  private:
   template <bool Friction>
   void add_forces_impl(ParticleStore& p, double dt);
+  bool needs_rebuild(const ParticleStore& p) const;
+  void rebuild(const ParticleStore& p);
 
   PairTable pairs_;
   std::vector<PlaneWall> walls_;
   bool friction_;
+  double skin_;
   CellListSearch search_;
   std::vector<ContactPair> candidates_;
-  // Tangential displacement per contact, keyed (i << 32 | j) for pairs and
-  // (i << 32 | (0xFFFFFFFF - wall)) for walls.
-  std::unordered_map<std::uint64_t, Vec3> history_, next_history_;
+  // Verlet list in compressed rows: the partners j > i of particle i are
+  // nbr_j_[nbr_start_[i] .. nbr_start_[i+1]), sorted by j.
+  std::vector<std::uint32_t> nbr_start_, nbr_j_;
+  std::vector<Vec3> nbr_hist_;            // tangential displacement per listed pair [m]
+  std::vector<std::uint8_t> nbr_touch_;   // in contact at the previous evaluation
+  std::vector<Vec3> wall_hist_;           // per particle and wall (i * walls + w)
+  std::vector<std::uint8_t> wall_touch_;
+  std::vector<double> x0_, y0_, z0_;      // positions at the last build
+  bool built_ = false;
+  std::size_t builds_ = 0;
   OverlapRecord worst_;
   std::size_t n_active_ = 0;
 };
