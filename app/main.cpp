@@ -1,12 +1,21 @@
 /// @file main.cpp
 /// @brief The `cdm` command: thin wiring of the solver and the verification harness.
-///   cdm run SCENE [-o DIR] [--set path=value ...]
+///   cdm run SCENE [-o DIR] [--set path=value ...] [--restart CHECKPOINT] [--max-steps N] [-q]
 ///   cdm verify [CASE ...] [--cases DIR] [--out DIR]
 #include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <unistd.h>
 #include <filesystem>
 #include <iostream>
 
+#include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/output.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
@@ -47,25 +56,112 @@ std::vector<std::pair<std::string, std::string>> provenance() {
           {"host", shell_line("uname -srm")}};
 }
 
-int run_scene(const std::string& scene, const std::string& out_dir, const std::vector<std::string>& sets) {
-  std::vector<cdm::SceneOverride> ov;
-  for (const auto& s : sets) ov.push_back(cdm::parse_override(s));
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int sig) { g_signal.store(sig); }
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw cdm::SceneError(path + ": cannot open the scene file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Progress on the terminal (stderr) for runs longer than a few seconds: simulated time,
+/// steps, particle-steps per second and the time left. Never in the data files.
+class Progress {
+ public:
+  explicit Progress(bool on) : on_(on), start_(clock::now()), last_(start_) {}
+  void operator()(const cdm::Simulation& s) {
+    if (!on_ || (s.steps() & 63) != 0) return;
+    const auto now = clock::now();
+    if (now - last_ < std::chrono::seconds(1) || now - start_ < std::chrono::seconds(3)) return;
+    last_ = now;
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    const double done = static_cast<double>(s.steps() - s0_), total = static_cast<double>(s.total_steps() - s0_);
+    const double rate = done * static_cast<double>(s.particles().size()) / wall;
+    const double left = done > 0 ? wall * (total - done) / done : 0.0;
+    std::fprintf(stderr, "\r  t = %.4g s  step %llu/%llu  %.3g particle-steps/s  %.0f s left   ", s.time(),
+                 static_cast<unsigned long long>(s.steps()), static_cast<unsigned long long>(s.total_steps()), rate, left);
+    shown_ = true;
+  }
+  void start_at(std::uint64_t steps) { s0_ = steps; }
+  ~Progress() {
+    if (shown_) std::fputs("\n", stderr);
+  }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  bool on_, shown_ = false;
+  clock::time_point start_, last_;
+  std::uint64_t s0_ = 0;
+};
+
+int run_scene(const std::string& scene, const std::string& out_dir, const std::vector<std::string>& sets,
+              const std::string& restart, std::uint64_t max_steps, bool quiet) {
+  cdm::RunOrigin origin;
+  origin.scene_name = scene;
+  origin.scene_text = read_file(scene);
+  for (const auto& s : sets) origin.overrides.push_back(cdm::parse_override(s));
   // Everything is validated before anything is written.
-  const cdm::SceneSpec spec = cdm::load_scene(scene, ov);
+  const cdm::SceneSpec spec = cdm::load_scene_from_string(origin.scene_text, scene, origin.overrides);
   cdm::Simulation sim(spec);
+  if (!restart.empty()) {
+    const cdm::CheckpointData ck = cdm::read_checkpoint(restart);
+    bool same = ck.origin.scene_text == origin.scene_text && ck.origin.overrides.size() == origin.overrides.size();
+    for (std::size_t k = 0; same && k < origin.overrides.size(); ++k)
+      same = ck.origin.overrides[k].path == origin.overrides[k].path &&
+             ck.origin.overrides[k].value == origin.overrides[k].value;
+    if (!same)
+      throw cdm::CheckpointError(restart + ": written from scene '" + ck.origin.scene_name +
+                                 "' with other contents or --set overrides than '" + scene +
+                                 "' now has; restart with the scene and overrides the run started with");
+    cdm::restore_checkpoint(ck, sim, restart);
+  }
   std::cout << "cdm run: " << scene << ": " << sim.particles().size() << " particles, modules:";
   for (const auto& m : sim.module_names()) std::cout << ' ' << m;
   std::cout << "; integrator " << cdm::to_string(spec.integrator) << ", dt = " << spec.dt << " s";
   if (spec.t_col_min > 0) std::cout << " (t_col/" << spec.t_col_min / spec.dt << ")";
-  std::cout << ", " << sim.total_steps() << " steps\n";
+  std::cout << ", " << sim.total_steps() << " steps";
+  if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
+  std::cout << "\n" << std::flush;
   fs::create_directories(out_dir);
-  if (spec.output_particles) {
-    const std::string path = (fs::path(out_dir) / "particles.dat").string();
-    cdm::ParticleTableObserver obs(path, sim);
-    sim.run([&](const cdm::Simulation& s) { obs(s); });
-    std::cout << "wrote " << path << "\n";
-  } else {
-    sim.run();
+  const std::string ckpt = (fs::path(out_dir) / "checkpoint.cdmck").string();
+
+  std::optional<cdm::ParticleTableObserver> table;
+  if (spec.output_particles) table.emplace((fs::path(out_dir) / "particles.dat").string(), sim);
+  Progress progress(!quiet && isatty(STDERR_FILENO));
+  progress.start_at(sim.steps());
+  long long last_ck = spec.checkpoint_interval > 0
+                          ? static_cast<long long>(std::floor(sim.time() / spec.checkpoint_interval + 1e-9))
+                          : 0;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const std::uint64_t stop_at = max_steps ? std::min(sim.total_steps(), sim.steps() + max_steps) : sim.total_steps();
+  sim.run(
+      [&](const cdm::Simulation& s) {
+        if (table) (*table)(s);
+        progress(s);
+        if (spec.checkpoint_interval > 0) {
+          const auto k = static_cast<long long>(std::floor(s.time() / spec.checkpoint_interval + 1e-9));
+          if (k > last_ck) {
+            last_ck = k;
+            cdm::write_checkpoint(ckpt, s, origin);
+          }
+        }
+      },
+      [&] { return g_signal.load() != 0 || sim.steps() >= stop_at; });
+  table.reset();  // flush the rows before anything else is said
+  const int sig = g_signal.load();
+  if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
+    cdm::write_checkpoint(ckpt, sim, origin);
+    std::cout << "wrote checkpoint " << ckpt << " at step " << sim.steps() << " (t = " << sim.time() << " s)\n";
+  }
+  if (spec.output_particles) std::cout << "wrote " << (fs::path(out_dir) / "particles.dat").string() << "\n";
+  if (sig != 0) {
+    std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << scene << " --restart " << ckpt
+              << " -o " << out_dir << "\n";
+    return 128 + sig;
   }
   return 0;
 }
@@ -82,6 +178,12 @@ int main(int argc, char** argv) {
   run->add_option("scene", scene, "scene file (TOML)")->required();
   run->add_option("-o,--out", out_dir, "output directory")->capture_default_str();
   run->add_option("--set", sets, "override a scene value before validation: path=value (TOML syntax, scene units)");
+  std::string restart;
+  std::uint64_t max_steps = 0;
+  bool quiet = false;
+  run->add_option("--restart", restart, "continue from a checkpoint written by a run of the same scene and overrides");
+  run->add_option("--max-steps", max_steps, "stop after this many steps (writing a checkpoint to continue from)");
+  run->add_flag("-q,--quiet", quiet, "no progress display");
 
   std::vector<std::string> only;
   std::string cases_dir = std::string(CDM_SOURCE_DIR) + "/verification/cases", verify_out = "verification-out";
@@ -100,7 +202,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return run_scene(scene, out_dir, sets);
+    if (*run) return run_scene(scene, out_dir, sets, restart, max_steps, quiet);
     if (*verify) {
       cdm::verification::VerifyOptions vo;
       vo.cases_dir = cases_dir;
@@ -111,6 +213,9 @@ int main(int argc, char** argv) {
       return cdm::verification::verify(vo);
     }
   } catch (const cdm::SceneError& e) {
+    std::cerr << "cdm: error: " << e.what() << "\n";
+    return 2;
+  } catch (const cdm::CheckpointError& e) {
     std::cerr << "cdm: error: " << e.what() << "\n";
     return 2;
   } catch (const cdm::SimulationError& e) {

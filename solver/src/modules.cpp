@@ -28,6 +28,36 @@ void LinearContactModule::add_forces(ParticleStore& p, double dt) {
   else add_forces_impl<false>(p, dt);
 }
 
+void LinearContactModule::save_state(OutArchive& a) const {
+  a.put(static_cast<std::uint8_t>(built_));
+  a.put(static_cast<std::uint64_t>(builds_));
+  a.put(static_cast<std::uint64_t>(n_active_));
+  a.put(worst_);
+  a.put(nbr_start_); a.put(nbr_j_); a.put(nbr_hist_); a.put(nbr_touch_);
+  a.put(wall_hist_); a.put(wall_touch_);
+  a.put(x0_); a.put(y0_); a.put(z0_);
+}
+
+void LinearContactModule::load_state(InArchive& a) {
+  std::uint8_t built = 0;
+  std::uint64_t builds = 0, active = 0;
+  a.get(built); a.get(builds); a.get(active); a.get(worst_);
+  a.get(nbr_start_); a.get(nbr_j_); a.get(nbr_hist_); a.get(nbr_touch_);
+  a.get(wall_hist_); a.get(wall_touch_);
+  a.get(x0_); a.get(y0_); a.get(z0_);
+  const std::size_t n = x0_.size();
+  const bool rows_ok = nbr_start_.empty() || (nbr_start_.size() == n + 1 && nbr_start_.back() == nbr_j_.size());
+  bool j_ok = true;
+  for (auto j : nbr_j_) j_ok = j_ok && j < n;
+  const bool hist_ok = !friction_ || (nbr_hist_.size() == nbr_j_.size() && nbr_touch_.size() == nbr_j_.size() &&
+                                      wall_hist_.size() == wall_touch_.size());
+  if (!rows_ok || !j_ok || !hist_ok || y0_.size() != n || z0_.size() != n)
+    throw ArchiveError("the contact list is inconsistent");
+  built_ = built != 0;
+  builds_ = builds;
+  n_active_ = active;
+}
+
 bool LinearContactModule::needs_rebuild(const ParticleStore& p) const {
   if (skin_ <= 0.0 || p.size() != x0_.size()) return true;
   const double lim2 = 0.25 * skin_ * skin_;

@@ -1,5 +1,6 @@
 #include "cdm/solver/output.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "cdm/solver/simulation.hpp"
@@ -7,11 +8,12 @@
 namespace cdm {
 
 TableWriter::TableWriter(const std::string& path, const std::vector<std::string>& columns,
-                         const std::vector<std::string>& comments)
+                         const std::vector<std::string>& comments, bool append)
     : ncol_(columns.size()), path_(path) {
   if (path.empty()) return;  // a table nobody asked for: rows are discarded
-  f_ = std::fopen(path.c_str(), "w");
+  f_ = std::fopen(path.c_str(), append ? "a" : "w");
   if (!f_) throw std::runtime_error("cannot open '" + path + "' for writing");
+  if (append) return;  // continuing a table: its header is there already
   for (const auto& c : comments) std::fprintf(f_, "# %s\n", c.c_str());
   std::fputs("#", f_);
   for (const auto& c : columns) std::fprintf(f_, " %s", c.c_str());
@@ -43,16 +45,22 @@ std::vector<std::string> particle_columns(bool rot) {
 
 ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim)
     : table_(path, particle_columns(sim.particles().has_rotation()),
-             {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"}),
+             {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"},
+             sim.restarted()),
       interval_(sim.spec().output_interval),
-      rot_(sim.particles().has_rotation()) {}
+      rot_(sim.particles().has_rotation()) {
+  if (sim.restarted()) last_ = sample_index(sim.time());  // that row was written before the checkpoint
+}
+
+long long ParticleTableObserver::sample_index(double t) const {
+  return static_cast<long long>(std::floor(t / interval_ + 1e-9));
+}
 
 void ParticleTableObserver::operator()(const Simulation& sim) {
-  // Sample at the first step at or after each multiple of the interval (rows carry the
-  // step's exact time), and always at the last step.
   const bool last = sim.steps() == sim.total_steps();
-  if (sim.time() + 1e-12 * sim.dt() < next_ && !last) return;
-  while (next_ <= sim.time() + 1e-12 * sim.dt()) next_ += interval_;
+  const long long k = sample_index(sim.time());
+  if (k <= last_ && !last) return;
+  last_ = k;
   const ParticleStore& p = sim.particles();
   std::vector<double> r(rot_ ? 11 : 8);
   for (std::size_t i = 0; i < p.size(); ++i) {

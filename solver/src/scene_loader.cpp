@@ -43,7 +43,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "end_time"}},
-      {"output", {"interval", "particles"}},
+      {"output", {"interval", "particles", "checkpoint_interval"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
   return s;
@@ -516,6 +516,7 @@ void Loader::read_output_and_checks() {
     check_keys(*o, "output", "output");
     spec_.output_particles = boolean(*o, "particles", "output").value_or(true);
     spec_.output_interval = positive(*o, "interval", "output", Dim::time, true);
+    spec_.checkpoint_interval = positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
   } else {
     spec_.output_particles = false;
   }

@@ -142,12 +142,67 @@ void Simulation::check_state() const {
   }
 }
 
-void Simulation::run(const std::function<void(const Simulation&)>& observer) {
-  if (observer) observer(*this);
+void Simulation::run(const std::function<void(const Simulation&)>& observer, const std::function<bool()>& stop) {
+  if (observer && !restarted_) observer(*this);
   while (steps_ < total_steps_) {
     step();
     if (observer) observer(*this);
+    if (stop && stop()) break;
   }
+}
+
+void Simulation::save_state(OutArchive& a) const {
+  const ParticleStore& p = particles_;
+  a.put(static_cast<std::uint64_t>(p.size()));
+  a.put(steps_);
+  a.put(time_);
+  a.put(static_cast<std::uint8_t>(forces_valid_));
+  a.put(p.x); a.put(p.y); a.put(p.z);
+  a.put(p.vx); a.put(p.vy); a.put(p.vz);
+  a.put(p.fx); a.put(p.fy); a.put(p.fz);
+  a.put(p.wx); a.put(p.wy); a.put(p.wz);
+  a.put(p.tx); a.put(p.ty); a.put(p.tz);
+  a.put(static_cast<std::uint64_t>(modules_.size()));
+  for (const auto& m : modules_) {
+    a.put(m->name());
+    m->save_state(a);
+  }
+}
+
+void Simulation::load_state(InArchive& a) {
+  ParticleStore& p = particles_;
+  const std::uint64_t n0 = p.size();
+  std::uint64_t n = 0;
+  a.get(n);
+  if (n != n0)
+    throw ArchiveError("it holds " + std::to_string(n) + " particles, the scene " + std::to_string(n0));
+  std::uint64_t steps = 0;
+  double time = 0.0;
+  std::uint8_t fv = 0;
+  a.get(steps); a.get(time); a.get(fv);
+  auto arr = [&](std::vector<double>& v, std::size_t want) {
+    a.get(v, want);
+    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
+  };
+  const std::size_t nr = p.has_rotation() ? n0 : 0;
+  for (auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz}) arr(*v, n0);
+  for (auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz}) arr(*v, nr);
+  std::uint64_t nm = 0;
+  a.get(nm);
+  if (nm != modules_.size()) throw ArchiveError("its modules differ from the scene's");
+  for (auto& m : modules_) {
+    std::string name;
+    a.get(name);
+    if (name != m->name()) throw ArchiveError("it has module '" + name + "' where the scene has '" + m->name() + "'");
+    m->load_state(a);
+  }
+  if (!a.done()) throw ArchiveError("it has data after the last module");
+  if (steps > total_steps_ || !std::isfinite(time))
+    throw ArchiveError("its step count " + std::to_string(steps) + " is beyond the scene's " + std::to_string(total_steps_));
+  steps_ = steps;
+  time_ = time;
+  forces_valid_ = fv != 0;
+  restarted_ = true;
 }
 
 }  // namespace cdm

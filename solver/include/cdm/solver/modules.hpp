@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 #include "cdm/solver/particle_store.hpp"
@@ -21,6 +22,9 @@ class ForceModule {
   /// Add this module's forces for the particles' current positions and velocities.
   /// @p dt is the step the contact history advances by.
   virtual void add_forces(ParticleStore& p, double dt) = 0;
+  /// State carried from step to step (contact history...), for checkpoints.
+  virtual void save_state(OutArchive&) const {}
+  virtual void load_state(InArchive&) {}
 };
 
 /// Uniform gravity: F = m g.
@@ -61,6 +65,8 @@ class LinearContactModule final : public ForceModule {
   /// Contacts carrying tangential history (zero when frictionless).
   std::size_t history_size() const { return friction_ ? n_active_ : 0; }
   std::size_t list_builds() const { return builds_; }
+  void save_state(OutArchive& a) const override;
+  void load_state(InArchive& a) override;
   const std::vector<PlaneWall>& walls() const { return walls_; }
 
  private:

@@ -13,7 +13,7 @@ class TableWriter {
   /// Opens @p path for writing; throws std::runtime_error if it cannot. An empty path
   /// makes a writer that discards its rows.
   TableWriter(const std::string& path, const std::vector<std::string>& columns,
-              const std::vector<std::string>& comments = {});
+              const std::vector<std::string>& comments = {}, bool append = false);
   ~TableWriter();
   TableWriter(const TableWriter&) = delete;
   TableWriter& operator=(const TableWriter&) = delete;
@@ -29,16 +29,20 @@ class TableWriter {
 class Simulation;
 
 /// Writes every particle's state at the scene's output interval: one row per particle
-/// per sample (t id x y z vx vy vz [wx wy wz]).
+/// per sample (t id x y z vx vy vz [wx wy wz]). A sample is taken at the first step
+/// whose time reaches each multiple k·interval, and at the last step. After a restart
+/// the rows continue the table the first run wrote (appended, same grid), so a
+/// restarted run's table equals an uninterrupted run's.
 class ParticleTableObserver {
  public:
   ParticleTableObserver(const std::string& path, const Simulation& sim);
   void operator()(const Simulation& sim);
 
  private:
+  long long sample_index(double t) const;
   TableWriter table_;
   double interval_;
-  double next_ = 0.0;
+  long long last_ = -1;
   bool rot_;
 };
 

@@ -51,6 +51,7 @@ struct SceneSpec {
 
   double output_interval = 0.0;  // [s] between rows of the particle table
   bool output_particles = true;
+  double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
 
   bool allow_initial_overlap = false;
   double max_overlap_fraction = 1.0;  // stop when overlap / radius reaches this [-]

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/modules.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/scene.hpp"
@@ -40,8 +41,17 @@ class Simulation {
 
   /// Advance one time step (throws SimulationError if the state goes bad).
   void step();
-  /// Run to end_time, calling @p observer at t = 0 and after every step.
-  void run(const std::function<void(const Simulation&)>& observer = {});
+  /// Run to end_time, calling @p observer at t = 0 (not after a restart) and after every
+  /// step; @p stop is polled after each step and ends the run early when it returns true.
+  void run(const std::function<void(const Simulation&)>& observer = {},
+           const std::function<bool()>& stop = {});
+
+  /// Everything that changes from step to step, for checkpoints (archive.hpp).
+  void save_state(OutArchive& a) const;
+  /// Restore a saved state into a Simulation built from the same scene; throws
+  /// ArchiveError if the state does not fit this scene.
+  void load_state(InArchive& a);
+  bool restarted() const { return restarted_; }
 
  private:
   void compute_forces();
@@ -54,6 +64,7 @@ class Simulation {
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   bool forces_valid_ = false;
+  bool restarted_ = false;
   // Velocity Verlet keeps v(t+Δt/2) between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
 };

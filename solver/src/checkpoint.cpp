@@ -1,0 +1,123 @@
+#include "cdm/solver/checkpoint.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/simulation.hpp"
+
+namespace cdm {
+
+namespace {
+
+constexpr char magic[8] = {'C', 'D', 'M', 'C', 'K', 'P', 'T', '\n'};
+constexpr std::uint64_t max_payload = std::uint64_t{1} << 36;  // 64 GiB: refuse absurd lengths before allocating
+
+std::uint64_t fnv1a64(const char* p, std::size_t n) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin) {
+  OutArchive state;
+  sim.save_state(state);
+  OutArchive payload;
+  payload.put(origin.scene_name);
+  payload.put(origin.scene_text);
+  payload.put(static_cast<std::uint64_t>(origin.overrides.size()));
+  for (const auto& o : origin.overrides) {
+    payload.put(o.path);
+    payload.put(o.value);
+  }
+  payload.put(state.bytes());
+  const auto& body = payload.bytes();
+
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw CheckpointError(path + ": cannot open '" + tmp + "' for writing");
+    const std::uint32_t version = checkpoint_format_version;
+    const std::uint64_t len = body.size(), sum = fnv1a64(body.data(), body.size());
+    out.write(magic, sizeof magic);
+    out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    out.write(reinterpret_cast<const char*>(&len), sizeof len);
+    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+    out.write(body.data(), static_cast<std::streamsize>(body.size()));
+    out.flush();
+    if (!out) throw CheckpointError(path + ": writing '" + tmp + "' failed (disk full?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);  // atomic on POSIX: the old checkpoint stays until this succeeds
+  if (ec) throw CheckpointError(path + ": cannot rename the new checkpoint into place: " + ec.message());
+}
+
+CheckpointData read_checkpoint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
+  auto refuse = [&](const std::string& why) -> CheckpointError {
+    return CheckpointError(path + ": not a usable checkpoint: " + why);
+  };
+  char m[8];
+  std::uint32_t version = 0;
+  std::uint64_t len = 0, sum = 0;
+  in.read(m, sizeof m);
+  if (!in || std::memcmp(m, magic, sizeof m) != 0) throw refuse("it does not start with the cdm checkpoint marker");
+  in.read(reinterpret_cast<char*>(&version), sizeof version);
+  in.read(reinterpret_cast<char*>(&len), sizeof len);
+  in.read(reinterpret_cast<char*>(&sum), sizeof sum);
+  if (!in) throw refuse("its header is truncated");
+  if (version != checkpoint_format_version)
+    throw refuse("format version " + std::to_string(version) + ", this cdm reads version " +
+                 std::to_string(checkpoint_format_version));
+  const auto here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto file_end = in.tellg();
+  in.seekg(here);
+  if (len > max_payload || static_cast<std::uint64_t>(file_end - here) != len)
+    throw refuse("its header announces " + std::to_string(len) + " bytes of data and the file holds " +
+                 std::to_string(static_cast<std::uint64_t>(file_end - here)) + " (truncated or corrupted)");
+  std::vector<char> body(len);
+  in.read(body.data(), static_cast<std::streamsize>(len));
+  if (!in) throw refuse("reading its data failed");
+  if (fnv1a64(body.data(), body.size()) != sum) throw refuse("its checksum does not match (corrupted)");
+  CheckpointData d;
+  try {
+    InArchive a(body.data(), body.size());
+    a.get(d.origin.scene_name);
+    a.get(d.origin.scene_text);
+    std::uint64_t no = 0;
+    a.get(no);
+    if (no > 100000) throw ArchiveError("too many overrides");
+    for (std::uint64_t k = 0; k < no; ++k) {
+      SceneOverride o;
+      a.get(o.path);
+      a.get(o.value);
+      d.origin.overrides.push_back(o);
+    }
+    a.get(d.state);
+    if (!a.done()) throw ArchiveError("it has data after the state");
+  } catch (const ArchiveError& e) {
+    throw refuse(e.what());
+  }
+  return d;
+}
+
+void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::string& path) {
+  try {
+    InArchive a(data.state.data(), data.state.size());
+    sim.load_state(a);
+  } catch (const ArchiveError& e) {
+    throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());
+  }
+}
+
+}  // namespace cdm
