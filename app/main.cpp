@@ -1,13 +1,15 @@
 /// @file main.cpp
 /// @brief The `cdm` command: thin wiring of the solver and the verification harness.
 ///   cdm run SCENE [-o DIR] [--set path=value ...] [--restart CHECKPOINT] [--max-steps N] [-q]
-///   cdm verify [CASE ...] [--cases DIR] [--out DIR]
+///   cdm verify [CASE ...] [--cases DIR] [--out DIR] [--sweep]
+///   cdm report [--in DIR] [--out DIR]
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -195,6 +197,11 @@ int main(int argc, char** argv) {
   verify->add_flag("--sweep", sweep,
                    "run each case over the dense dt sweep (t_col/12.5 ... /1600) and write work-precision tables");
 
+  std::string report_in = "verification-out", report_out = "report";
+  auto* report = app.add_subcommand("report", "Build the HTML verification report from the tables of cdm verify");
+  report->add_option("--in", report_in, "folder written by cdm verify (and cdm verify --sweep)")->capture_default_str();
+  report->add_option("-o,--out", report_out, "report folder")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -203,6 +210,19 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) return run_scene(scene, out_dir, sets, restart, max_steps, quiet);
+    if (*report) {
+      // The report is built from the tables alone, by reports/make_report.py with
+      // Debian's python3-matplotlib (the interpreter on PATH may not see it).
+      const std::string py = "/usr/bin/python3", script = std::string(CDM_SOURCE_DIR) + "/reports/make_report.py";
+      if (!fs::exists(py) || !fs::exists(script)) {
+        std::cerr << "cdm report: needs " << py << " with python3-matplotlib (scripts/install-deps.sh installs it) and "
+                  << script << "\n";
+        return 1;
+      }
+      const std::string cmd = "'" + py + "' '" + script + "' --in '" + report_in + "' --out '" + report_out + "'";
+      const int rc = std::system(cmd.c_str());
+      return rc == 0 ? 0 : 1;
+    }
     if (*verify) {
       cdm::verification::VerifyOptions vo;
       vo.cases_dir = cases_dir;

@@ -63,35 +63,41 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
 CheckpointData read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  if (size > max_payload + 64) throw CheckpointError(path + ": not a usable checkpoint: larger than any checkpoint");
+  in.seekg(0);
+  std::vector<char> bytes(size);
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (!in) throw CheckpointError(path + ": reading the checkpoint failed");
+  return read_checkpoint_bytes(bytes, path);
+}
+
+CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {
   auto refuse = [&](const std::string& why) -> CheckpointError {
     return CheckpointError(path + ": not a usable checkpoint: " + why);
   };
-  char m[8];
+  constexpr std::size_t header = sizeof magic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+  if (bytes.size() < sizeof magic || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+    throw refuse("it does not start with the cdm checkpoint marker");
+  if (bytes.size() < header) throw refuse("its header is truncated");
   std::uint32_t version = 0;
   std::uint64_t len = 0, sum = 0;
-  in.read(m, sizeof m);
-  if (!in || std::memcmp(m, magic, sizeof m) != 0) throw refuse("it does not start with the cdm checkpoint marker");
-  in.read(reinterpret_cast<char*>(&version), sizeof version);
-  in.read(reinterpret_cast<char*>(&len), sizeof len);
-  in.read(reinterpret_cast<char*>(&sum), sizeof sum);
-  if (!in) throw refuse("its header is truncated");
+  std::memcpy(&version, bytes.data() + 8, sizeof version);
+  std::memcpy(&len, bytes.data() + 12, sizeof len);
+  std::memcpy(&sum, bytes.data() + 20, sizeof sum);
   if (version != checkpoint_format_version)
     throw refuse("format version " + std::to_string(version) + ", this cdm reads version " +
                  std::to_string(checkpoint_format_version));
-  const auto here = in.tellg();
-  in.seekg(0, std::ios::end);
-  const auto file_end = in.tellg();
-  in.seekg(here);
-  if (len > max_payload || static_cast<std::uint64_t>(file_end - here) != len)
+  const std::uint64_t have = bytes.size() - header;
+  if (len != have)
     throw refuse("its header announces " + std::to_string(len) + " bytes of data and the file holds " +
-                 std::to_string(static_cast<std::uint64_t>(file_end - here)) + " (truncated or corrupted)");
-  std::vector<char> body(len);
-  in.read(body.data(), static_cast<std::streamsize>(len));
-  if (!in) throw refuse("reading its data failed");
-  if (fnv1a64(body.data(), body.size()) != sum) throw refuse("its checksum does not match (corrupted)");
+                 std::to_string(have) + " (truncated or corrupted)");
+  const char* body = bytes.data() + header;
+  if (fnv1a64(body, have) != sum) throw refuse("its checksum does not match (corrupted)");
   CheckpointData d;
   try {
-    InArchive a(body.data(), body.size());
+    InArchive a(body, have);
     a.get(d.origin.scene_name);
     a.get(d.origin.scene_text);
     std::uint64_t no = 0;

@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <numbers>
-#include <regex>
 #include <string>
 
 #include "cdm/solver/scene_loader.hpp"

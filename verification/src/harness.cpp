@@ -307,7 +307,7 @@ int verify(const VerifyOptions& opt) {
 
   const double suite_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - suite_start).count();
-  const std::string summary_path = (fs::path(opt.out_dir) / "summary.dat").string();
+  const std::string summary_path = (fs::path(opt.out_dir) / (opt.sweep ? "summary_sweep.dat" : "summary.dat")).string();
   if (std::FILE* f = std::fopen(summary_path.c_str(), "w")) {
     std::fprintf(f, "# cdm verify summary; suite wall time %.3f s (solver and oracles)\n", suite_wall);
     std::fprintf(f, "# case passed[-] failed[-] worst_error_over_tolerance[-] solver_wall[s]\n");
@@ -315,7 +315,7 @@ int verify(const VerifyOptions& opt) {
       std::fprintf(f, "%s %d %d %.6e %.6e\n", s.name.c_str(), s.pass, s.fail, s.worst_ratio, s.wall);
     std::fclose(f);
   }
-  const std::string prov_path = (fs::path(opt.out_dir) / "provenance.dat").string();
+  const std::string prov_path = (fs::path(opt.out_dir) / (opt.sweep ? "provenance_sweep.dat" : "provenance.dat")).string();
   if (std::FILE* f = std::fopen(prov_path.c_str(), "w")) {
     std::fprintf(f, "# cdm verify provenance: key value\n");
     for (const auto& [k, v] : opt.provenance) std::fprintf(f, "%s %s\n", k.c_str(), v.c_str());

@@ -39,6 +39,8 @@ struct CheckpointData {
   std::vector<char> state;
 };
 CheckpointData read_checkpoint(const std::string& path);
+/// The same, from bytes already in memory (@p name is used in messages).
+CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& name);
 
 /// Restore @p sim (built from the same scene) to the checkpointed state.
 void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::string& path);
