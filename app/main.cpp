@@ -140,6 +140,8 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const std::uint64_t stop_at = max_steps ? std::min(sim.total_steps(), sim.steps() + max_steps) : sim.total_steps();
+  const std::uint64_t steps_before = sim.steps();
+  const auto loop_start = std::chrono::steady_clock::now();
   sim.run(
       [&](const cdm::Simulation& s) {
         if (table) (*table)(s);
@@ -153,7 +155,12 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
         }
       },
       [&] { return g_signal.load() != 0 || sim.steps() >= stop_at; });
+  const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   table.reset();  // flush the rows before anything else is said
+  const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
+  std::printf("loop time %.3f s for %llu steps of %zu particles: %.4g particle-steps/s\n", loop_s,
+              static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
+              loop_s > 0 ? psteps / loop_s : 0.0);
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
     cdm::write_checkpoint(ckpt, sim, origin);
