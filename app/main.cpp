@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <omp.h>
 #include <optional>
 #include <sstream>
 #include <unistd.h>
@@ -106,8 +107,8 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   origin.scene_text = read_file(scene);
   for (const auto& s : sets) origin.overrides.push_back(cdm::parse_override(s));
   // Everything is validated before anything is written.
-  const cdm::SceneSpec spec = cdm::load_scene_from_string(origin.scene_text, scene, origin.overrides);
-  cdm::Simulation sim(spec);
+  cdm::Simulation sim(cdm::load_scene_from_string(origin.scene_text, scene, origin.overrides));
+  const cdm::SceneSpec& spec = sim.spec();
   if (!restart.empty()) {
     const cdm::CheckpointData ck = cdm::read_checkpoint(restart);
     bool same = ck.origin.scene_text == origin.scene_text && ck.origin.overrides.size() == origin.overrides.size();
@@ -158,9 +159,9 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   table.reset();  // flush the rows before anything else is said
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
-  std::printf("loop time %.3f s for %llu steps of %zu particles: %.4g particle-steps/s\n", loop_s,
+  std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s\n", loop_s,
               static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
-              loop_s > 0 ? psteps / loop_s : 0.0);
+              omp_get_max_threads(), loop_s > 0 ? psteps / loop_s : 0.0);
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
     cdm::write_checkpoint(ckpt, sim, origin);
@@ -193,6 +194,10 @@ int main(int argc, char** argv) {
   run->add_option("--restart", restart, "continue from a checkpoint written by a run of the same scene and overrides");
   run->add_option("--max-steps", max_steps, "stop after this many steps (writing a checkpoint to continue from)");
   run->add_flag("-q,--quiet", quiet, "no progress display");
+  int threads = 0;
+  run->add_option("-j,--threads", threads,
+                  "OpenMP threads (default: OMP_NUM_THREADS or all cores); results are bit-identical for any count")
+      ->check(CLI::Range(1, 1024));
 
   std::vector<std::string> only;
   std::string cases_dir = std::string(CDM_SOURCE_DIR) + "/verification/cases", verify_out = "verification-out";
@@ -216,6 +221,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (threads > 0) omp_set_num_threads(threads);
     if (*run) return run_scene(scene, out_dir, sets, restart, max_steps, quiet);
     if (*report) {
       // The report is built from the tables alone, by reports/make_report.py with

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Side-by-side throughput of cdm, LAMMPS and LIGGGHTS on the settle problems of
 # ../../shared/bench-peers (decks copied to bench/peers/, cdm's scene in bench/scenes/).
-# Runs alternate between codes, REPS repetitions each; prints per code and problem:
+# Runs alternate between codes (cdm on 1 thread, LAMMPS, LIGGGHTS, cdm on 2 threads),
+# REPS repetitions each; prints per code and problem:
 # particles, steps, loop wall time (median), particle-steps/s per core, peak RSS per
 # particle, and the ratio cdm/peer. Installs the peers (Debian lammps, liggghts) if missing.
 #   bench/run_bench.sh [PROBLEM ...]     PROBLEM in settle1e4 settle1e5 settle1e6 (default: all)
@@ -40,10 +41,11 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
   rm -rf "$dir"; mkdir -p "$dir"
   local n=$((nx * ny * 25)) loop
   case $code in
-    cdm)
+    cdm|cdm2)
+      local threads=1; [ "$code" = cdm2 ] && threads=2
       local lx ly
       lx=$(awk -v n="$nx" 'BEGIN{printf "%.6g", n*1.1e-3}'); ly=$(awk -v n="$ny" 'BEGIN{printf "%.6g", n*1.1e-3}')
-      /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" -o "$dir" -q \
+      OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" -o "$dir" -q \
         --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" --set "walls[4].point=[0.0,$ly,0.0]" \
         --set output.particles=false --set integrator.end_time=1.0 --max-steps "$steps" > "$dir/log.txt"
       rm -f "$dir/checkpoint.cdmck"
@@ -63,7 +65,7 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
 : > "$out/runs.txt"
 for prob in "${problems[@]}"; do
   for rep in $(seq 1 "$reps"); do
-    for code in cdm lammps liggghts; do run_one "$code" "$prob" "$rep"; done
+    for code in cdm lammps liggghts cdm2; do run_one "$code" "$prob" "$rep"; done
   done
 done
 
@@ -74,15 +76,17 @@ runs = defaultdict(list)
 for line in open(sys.argv[1]):
     code, prob, n, steps, loop, rss = line.split()
     runs[(prob, code)].append((float(loop), int(rss), int(n), int(steps)))
-print("| problem | code | N | steps | loop wall s (median of %d) | particle-steps/s per core | peak RSS bytes/particle | cdm speed / code |" % max(len(v) for v in runs.values()))
-print("|---|---|---|---|---|---|---|---|")
+print("| problem | code | threads | N | steps | loop wall s (median of %d) | particle-steps/s per core | peak RSS bytes/particle | 1-thread cdm speed / code |" % max(len(v) for v in runs.values()))
+print("|---|---|---|---|---|---|---|---|---|")
 for prob in sorted({p for p, _ in runs}):
     med = {c: statistics.median(r[0] for r in runs[(prob, c)]) for (p, c) in runs if p == prob}
-    for code in ("cdm", "lammps", "liggghts"):
+    for code in ("cdm", "cdm2", "lammps", "liggghts"):
         if (prob, code) not in runs: continue
         r = runs[(prob, code)]
         n, steps = r[0][2], r[0][3]
+        threads = 2 if code == "cdm2" else 1
         rss = statistics.median(x[1] for x in r) * 1024 / n
         ratio = "-" if code == "cdm" else "%.2f" % (med[code] / med["cdm"])
-        print(f"| {prob} | {code} | {n} | {steps} | {med[code]:.2f} | {n*steps/med[code]:.3g} | {rss:.0f} | {ratio} |")
+        name = "cdm" if code == "cdm2" else code
+        print(f"| {prob} | {name} | {threads} | {n} | {steps} | {med[code]:.2f} | {n*steps/med[code]/threads:.3g} | {rss:.0f} | {ratio} |")
 PY

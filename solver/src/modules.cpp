@@ -1,16 +1,20 @@
 #include "cdm/solver/modules.hpp"
 
 #include "cdm/solver/contact/linear_spring_dashpot.hpp"
+#include "cdm/solver/parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace cdm {
 
 void GravityModule::add_forces(ParticleStore& p, double /*dt*/) {
   const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  parallel_for(n, [&](std::size_t i) {
     p.fx[i] += p.mass[i] * g_.x;
     p.fy[i] += p.mass[i] * g_.y;
     p.fz[i] += p.mass[i] * g_.z;
-  }
+  });
 }
 
 LinearContactModule::LinearContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin)
@@ -32,8 +36,8 @@ void LinearContactModule::save_state(OutArchive& a) const {
   a.put(static_cast<std::uint8_t>(built_));
   a.put(static_cast<std::uint64_t>(builds_));
   a.put(static_cast<std::uint64_t>(n_active_));
-  a.put(worst_);
-  a.put(nbr_start_); a.put(nbr_j_); a.put(nbr_hist_); a.put(nbr_touch_);
+  a.put(worst_.ratio); a.put(worst_.particle); a.put(worst_.partner);  // field by field: no padding bytes
+  a.put(pi_); a.put(pj_); a.put(slab_start_); a.put(hist_); a.put(touch_);
   a.put(wall_hist_); a.put(wall_touch_);
   a.put(x0_); a.put(y0_); a.put(z0_);
 }
@@ -41,18 +45,19 @@ void LinearContactModule::save_state(OutArchive& a) const {
 void LinearContactModule::load_state(InArchive& a) {
   std::uint8_t built = 0;
   std::uint64_t builds = 0, active = 0;
-  a.get(built); a.get(builds); a.get(active); a.get(worst_);
-  a.get(nbr_start_); a.get(nbr_j_); a.get(nbr_hist_); a.get(nbr_touch_);
+  a.get(built); a.get(builds); a.get(active);
+  a.get(worst_.ratio); a.get(worst_.particle); a.get(worst_.partner);
+  a.get(pi_); a.get(pj_); a.get(slab_start_); a.get(hist_); a.get(touch_);
   a.get(wall_hist_); a.get(wall_touch_);
   a.get(x0_); a.get(y0_); a.get(z0_);
   const std::size_t n = x0_.size();
-  const bool rows_ok = nbr_start_.empty() || (nbr_start_.size() == n + 1 && nbr_start_.back() == nbr_j_.size());
-  bool j_ok = true;
-  for (auto j : nbr_j_) j_ok = j_ok && j < n;
-  const bool hist_ok = !friction_ || (nbr_hist_.size() == nbr_j_.size() && nbr_touch_.size() == nbr_j_.size() &&
-                                      wall_hist_.size() == wall_touch_.size());
-  if (!rows_ok || !j_ok || !hist_ok || y0_.size() != n || z0_.size() != n)
-    throw ArchiveError("the contact list is inconsistent");
+  bool ok = pi_.size() == pj_.size() && y0_.size() == n && z0_.size() == n;
+  ok = ok && (slab_start_.empty() ? pi_.empty() : slab_start_.front() == 0 && slab_start_.back() == pi_.size());
+  for (std::size_t s = 1; ok && s < slab_start_.size(); ++s) ok = slab_start_[s - 1] <= slab_start_[s];
+  for (std::size_t k = 0; ok && k < pi_.size(); ++k) ok = pi_[k] < pj_[k] && pj_[k] < n;
+  if (friction_) ok = ok && hist_.size() == pi_.size() && touch_.size() == pi_.size() &&
+                      wall_hist_.size() == wall_touch_.size() && wall_hist_.size() == n * walls_.size();
+  if (!ok) throw ArchiveError("the contact list is inconsistent");
   built_ = built != 0;
   builds_ = builds;
   n_active_ = active;
@@ -62,54 +67,115 @@ bool LinearContactModule::needs_rebuild(const ParticleStore& p) const {
   if (skin_ <= 0.0 || p.size() != x0_.size()) return true;
   const double lim2 = 0.25 * skin_ * skin_;
   const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  const double worst = parallel_max(n, [&](std::size_t i) {
     const double dx = p.x[i] - x0_[i], dy = p.y[i] - y0_[i], dz = p.z[i] - z0_[i];
-    if (dx * dx + dy * dy + dz * dz > lim2) return true;
-  }
-  return false;
+    return dx * dx + dy * dy + dz * dz;
+  });
+  return worst > lim2;
 }
 
 void LinearContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
   search_.find_contacts(p, skin_, candidates_);  // sorted by (i, j)
-  std::vector<std::uint32_t> start(n + 1, 0), js(candidates_.size());
-  for (const auto& c : candidates_) ++start[c.i + 1];
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-  for (std::size_t k = 0; k < candidates_.size(); ++k) js[k] = candidates_[k].j;
+
+  // Slabs along the longest side of the particles' bounding box, each at least one
+  // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
+  // neighbouring slab. The slab count depends on the geometry only, never on threads.
+  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, rmax = 0.0;
+  if (n) {
+    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = (*axis_data[a])[0];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], (*axis_data[a])[i]);
+        hi[a] = std::max(hi[a], (*axis_data[a])[i]);
+      }
+      rmax = std::max(rmax, p.radius[i]);
+    }
+  }
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  const double range = 2.0 * rmax + skin_, extent = hi[axis] - lo[axis];
+  const std::size_t nslab =
+      range > 0.0 ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / range))) : 1;
+  const double width = nslab > 1 ? extent / static_cast<double>(nslab) : 1.0;
+  const std::vector<double>& c = *axis_data[axis];
+  auto slab_of = [&](std::uint32_t i) {
+    if (nslab == 1) return std::size_t{0};
+    return std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo[axis]) / width));
+  };
+
+  // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.
+  std::vector<std::uint32_t> start(nslab + 1, 0), owner(candidates_.size());
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    owner[k] = static_cast<std::uint32_t>(std::min(slab_of(candidates_[k].i), slab_of(candidates_[k].j)));
+    ++start[owner[k] + 1];
+  }
+  for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
+  std::vector<std::uint32_t> pi(candidates_.size()), pj(candidates_.size());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < candidates_.size(); ++k) {
+      const std::uint32_t at = fill[owner[k]]++;
+      pi[at] = candidates_[k].i;
+      pj[at] = candidates_[k].j;
+    }
+  }
   if (friction_) {
-    // Carry the history of pairs listed before and after (both rows sorted by j);
-    // every pair in contact is in both lists.
-    std::vector<Vec3> hist(js.size());
-    std::vector<std::uint8_t> touch(js.size(), 0);
-    if (built_)
-      for (std::size_t i = 0; i < n; ++i) {
-        std::uint32_t a = nbr_start_[i];
-        const std::uint32_t a_end = nbr_start_[i + 1];
-        for (std::uint32_t b = start[i]; b < start[i + 1] && a < a_end; ++b) {
-          while (a < a_end && nbr_j_[a] < js[b]) ++a;
-          if (a < a_end && nbr_j_[a] == js[b]) { hist[b] = nbr_hist_[a]; touch[b] = nbr_touch_[a]; }
+    // Carry the history of every pair listed before and after (every pair in contact
+    // is in both lists), looked up by (i, j) in the old list.
+    std::vector<Vec3> hist(pi.size());
+    std::vector<std::uint8_t> touch(pi.size(), 0);
+    if (built_ && !pi_.empty()) {
+      std::vector<std::uint64_t> keys(pi_.size());
+      std::vector<std::uint32_t> order(pi_.size());
+      for (std::size_t k = 0; k < pi_.size(); ++k) {
+        keys[k] = (std::uint64_t{pi_[k]} << 32) | pj_[k];
+        order[k] = static_cast<std::uint32_t>(k);
+      }
+      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+      for (std::size_t k = 0; k < pi.size(); ++k) {
+        const std::uint64_t key = (std::uint64_t{pi[k]} << 32) | pj[k];
+        auto it = std::lower_bound(order.begin(), order.end(), key,
+                                   [&](std::uint32_t a, std::uint64_t v) { return keys[a] < v; });
+        if (it != order.end() && keys[*it] == key && touch_[*it]) {
+          hist[k] = hist_[*it];
+          touch[k] = 1;
         }
       }
-    nbr_hist_.swap(hist);
-    nbr_touch_.swap(touch);
+    }
+    hist_.swap(hist);
+    touch_.swap(touch);
     if (wall_hist_.size() != n * walls_.size()) {
       wall_hist_.assign(n * walls_.size(), Vec3{});
       wall_touch_.assign(n * walls_.size(), 0);
     }
   }
-  nbr_start_.swap(start);
-  nbr_j_.swap(js);
+  pi_.swap(pi);
+  pj_.swap(pj);
+  slab_start_.swap(start);
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   built_ = true;
   ++builds_;
 }
 
+namespace {
+/// The larger overlap, ties broken by the lower particle then partner index, so the
+/// record does not depend on the order threads report in.
+bool worse(const OverlapRecord& a, const OverlapRecord& b) {
+  if (a.ratio != b.ratio) return a.ratio > b.ratio;
+  if (a.particle != b.particle) return a.particle < b.particle;
+  return a.partner < b.partner;
+}
+}  // namespace
+
 template <bool Friction>
 void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
   // Force on i for one contact (j's force is its negative); j may be a wall.
   // @p hist and @p touch are the contact's tangential history slot.
-  auto resolve = [&](double overlap, Vec3 eta, Vec3 vrel, const PairParams& pp, double m_eff, Vec3& hist,
-                     std::uint8_t& touch, Vec3& f_out, Vec3& ft_out) {
+  auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, const PairParams& pp, double m_eff, Vec3& hist,
+                      std::uint8_t& touch, Vec3& f_out, Vec3& ft_out) {
     const double eta_n = normal_damping(pp, m_eff);
     const double vn_mag = dot(vrel, eta);
     const Vec3 vn = vn_mag * eta;
@@ -124,32 +190,33 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
       ft_out = contact::tangential_force(kt, eta_t, pp.mu, norm(fn), hist, vt);
       f_out += ft_out;
     } else {
-      (void)hist; (void)touch;
+      (void)hist; (void)touch; (void)dt;
       ft_out = Vec3{};
     }
   };
-  Vec3 no_hist;
-  std::uint8_t no_touch = 0;
 
-  // Particle–particle, over the Verlet list.
+  // Particle–particle, slab by slab: even slabs in parallel, then odd ones.
+  const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
   const std::size_t n = p.size();
-  for (std::size_t ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::uint32_t>(ii);
-    const Vec3 xi = p.position(i);
-    const double ri = p.radius[i];
-    for (std::uint32_t k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
-      const std::uint32_t j = nbr_j_[k];
-      const Vec3 d = p.position(j) - xi;
-      const double rj = p.radius[j];
+  const bool threads = n > parallel_threshold;
+  std::size_t active = 0;
+  OverlapRecord worst;
+  auto pair_range = [&](std::uint32_t k0, std::uint32_t k1, std::size_t& my_active, OverlapRecord& my_worst) {
+    Vec3 no_hist;
+    std::uint8_t no_touch = 0;
+    for (std::uint32_t k = k0; k < k1; ++k) {
+      const std::uint32_t i = pi_[k], j = pj_[k];
+      const Vec3 d = p.position(j) - p.position(i);
+      const double ri = p.radius[i], rj = p.radius[j];
       const double reach = ri + rj;
       const double d2 = dot(d, d);
       if (d2 >= reach * reach) {
-        if constexpr (Friction) nbr_touch_[k] = 0;  // contact over: history forgotten
+        if constexpr (Friction) touch_[k] = 0;  // contact over: history forgotten
         continue;
       }
       const double dist = std::sqrt(d2);
       const double overlap = reach - dist;
-      ++n_active_;
+      ++my_active;
       const Vec3 eta = (1.0 / dist) * d;
       const double Li = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
       const double Lj = dist - Li;
@@ -158,47 +225,96 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const PairParams& pp = pairs_.get(p.material[i], p.material[j]);
       const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
       Vec3 f, ft;
-      if constexpr (Friction) resolve(overlap, eta, vrel, pp, m_eff, nbr_hist_[k], nbr_touch_[k], f, ft);
+      if constexpr (Friction) resolve(overlap, eta, vrel, pp, m_eff, hist_[k], touch_[k], f, ft);
       else resolve(overlap, eta, vrel, pp, m_eff, no_hist, no_touch, f, ft);
       p.add_force(i, f);
       p.add_force(j, -f);
       if constexpr (Friction) {
-        const Vec3 t = cross(eta, ft);  // T_i = L_i η × F_t, T_j = L_j η × F_t
-        p.add_torque(i, Li * t);
-        p.add_torque(j, Lj * t);
+        const Vec3 tq = cross(eta, ft);  // T_i = L_i η × F_t, T_j = L_j η × F_t
+        p.add_torque(i, Li * tq);
+        p.add_torque(j, Lj * tq);
       }
-      const double ratio = overlap / std::min(ri, rj);
-      if (ratio > worst_.ratio) worst_ = {ratio, ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
+      const OverlapRecord rec{overlap / std::min(ri, rj), ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
+      if (worse(rec, my_worst)) my_worst = rec;
+    }
+  };
+  if (!threads) {
+    // Same order as the threaded path: even slabs, then odd slabs.
+    for (std::size_t pass = 0; pass < 2; ++pass)
+      for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start_[s], slab_start_[s + 1], active, worst);
+  } else {
+    for (std::size_t pass = 0; pass < 2; ++pass) {
+      const long jobs = static_cast<long>((nslab + 1 - pass) / 2);
+#pragma omp parallel
+      {
+        std::size_t my_active = 0;
+        OverlapRecord my_worst;
+#pragma omp for schedule(dynamic, 1)
+        for (long t = 0; t < jobs; ++t) {
+          const std::size_t s = pass + 2 * static_cast<std::size_t>(t);
+          pair_range(slab_start_[s], slab_start_[s + 1], my_active, my_worst);
+        }
+#pragma omp critical(cdm_contact_reduce)
+        {
+          active += my_active;
+          if (worse(my_worst, worst)) worst = my_worst;
+        }
+      }
     }
   }
 
-  // Particle–wall: the wall is a body of infinite mass at rest; m_eff = m_i.
+  // Particle–wall: the wall is a body of infinite mass at rest; m_eff = m_i. Each
+  // particle only touches its own force, so particles run in parallel.
   const std::size_t nw = walls_.size();
-  for (std::size_t w = 0; w < nw; ++w) {
-    const PlaneWall& wall = walls_[w];
-    for (std::size_t ii = 0; ii < n; ++ii) {
+  auto wall_range = [&](std::size_t i0, std::size_t i1, std::size_t& my_active, OverlapRecord& my_worst) {
+    Vec3 no_hist;
+    std::uint8_t no_touch = 0;
+    for (std::size_t ii = i0; ii < i1; ++ii) {
       const auto i = static_cast<std::uint32_t>(ii);
-      const double dist = wall.distance(p.position(i));
-      const double overlap = p.radius[i] - dist;
-      if (overlap <= 0.0) {
-        if constexpr (Friction) wall_touch_[ii * nw + w] = 0;
-        continue;
+      for (std::size_t w = 0; w < nw; ++w) {
+        const PlaneWall& wall = walls_[w];
+        const double dist = wall.distance(p.position(i));
+        const double overlap = p.radius[i] - dist;
+        if (overlap <= 0.0) {
+          if constexpr (Friction) wall_touch_[ii * nw + w] = 0;
+          continue;
+        }
+        ++my_active;
+        const Vec3 eta = -wall.normal;  // from the particle towards the wall
+        const double Li = dist;         // centre to contact point on the plane
+        Vec3 vrel = p.velocity(i);
+        if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
+        const PairParams& pp = pairs_.get(p.material[i], wall.material);
+        Vec3 f, ft;
+        if constexpr (Friction)
+          resolve(overlap, eta, vrel, pp, p.mass[i], wall_hist_[ii * nw + w], wall_touch_[ii * nw + w], f, ft);
+        else resolve(overlap, eta, vrel, pp, p.mass[i], no_hist, no_touch, f, ft);
+        p.add_force(i, f);
+        if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
+        const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
+        if (worse(rec, my_worst)) my_worst = rec;
       }
-      ++n_active_;
-      const Vec3 eta = -wall.normal;  // from the particle towards the wall
-      const double Li = dist;         // centre to contact point on the plane
-      Vec3 vrel = p.velocity(i);
-      if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
-      const PairParams& pp = pairs_.get(p.material[i], wall.material);
-      Vec3 f, ft;
-      if constexpr (Friction) resolve(overlap, eta, vrel, pp, p.mass[i], wall_hist_[ii * nw + w], wall_touch_[ii * nw + w], f, ft);
-      else resolve(overlap, eta, vrel, pp, p.mass[i], no_hist, no_touch, f, ft);
-      p.add_force(i, f);
-      if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
-      const double ratio = overlap / p.radius[i];
-      if (ratio > worst_.ratio) worst_ = {ratio, i, -1 - static_cast<long>(w)};
+    }
+  };
+  if (nw && !threads) {
+    wall_range(0, n, active, worst);
+  } else if (nw) {
+#pragma omp parallel
+    {
+      std::size_t my_active = 0;
+      OverlapRecord my_worst;
+      const std::size_t chunk = 1024, nchunk = (n + chunk - 1) / chunk;
+#pragma omp for schedule(static)
+      for (std::size_t c = 0; c < nchunk; ++c) wall_range(c * chunk, std::min(n, (c + 1) * chunk), my_active, my_worst);
+#pragma omp critical(cdm_contact_reduce)
+      {
+        active += my_active;
+        if (worse(my_worst, worst)) worst = my_worst;
+      }
     }
   }
+  n_active_ = active;
+  worst_ = worst;
 }
 
 }  // namespace cdm

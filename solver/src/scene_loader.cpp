@@ -17,6 +17,17 @@
 
 namespace cdm {
 
+std::string particle_source(const SceneSpec& spec, std::size_t i) {
+  for (const auto& g : spec.groups)
+    if (i >= g.first && i < g.first + g.count) {
+      if (g.nx == 0) return g.key;
+      const auto k = static_cast<long long>(i - g.first);
+      return g.key + " (lattice site " + std::to_string(k % g.nx) + "," + std::to_string((k / g.nx) % g.ny) + "," +
+             std::to_string(k / (g.nx * g.ny)) + ")";
+    }
+  return "particle " + std::to_string(i);
+}
+
 const char* to_string(IntegratorScheme s) {
   switch (s) {
     case IntegratorScheme::paper_euler: return "paper_euler";
@@ -370,7 +381,7 @@ void Loader::read_particles() {
       if (spec_.tangential == TangentialModel::none)
         reject_unused(t, "angular_velocity", path, "modules.tangential is \"none\", so nothing makes particles rotate");
       p.angular_velocity = vec3(t, "angular_velocity", path, Dim::angular_velocity).value_or(Vec3{});
-      p.source = path;
+      spec_.groups.push_back({path, spec_.particles.size(), 1, 0, 0});
       spec_.particles.push_back(p);
     }
   }
@@ -410,6 +421,8 @@ void Loader::read_particles() {
       }
       if (static_cast<double>(c[0]) * c[1] * c[2] + spec_.particles.size() > max_particles)
         fail_value(path + ".count", *cn, "at most " + std::to_string(max_particles) + " particles in the scene");
+      spec_.groups.push_back({path, spec_.particles.size(), static_cast<std::size_t>(c[0] * c[1] * c[2]), c[0], c[1]});
+      spec_.particles.reserve(spec_.particles.size() + static_cast<std::size_t>(c[0] * c[1] * c[2]));
       for (long long kz = 0; kz < c[2]; ++kz)
         for (long long ky = 0; ky < c[1]; ++ky)
           for (long long kx = 0; kx < c[0]; ++kx) {
@@ -422,8 +435,6 @@ void Loader::read_particles() {
               const double a = uniform(), b = uniform(), c2 = uniform();
               p.velocity += Vec3{jitter * a, jitter * b, jitter * c2};
             }
-            p.source = path + " (lattice site " + std::to_string(kx) + "," + std::to_string(ky) + "," +
-                       std::to_string(kz) + ")";
             spec_.particles.push_back(p);
           }
     }
@@ -450,12 +461,11 @@ void Loader::resolve_dt(const toml::table* t) {
     const std::size_t nm = spec_.materials.size();
     std::vector<double> m_min(nm, std::numeric_limits<double>::infinity());
     std::vector<std::size_t> count(nm, 0);
-    std::vector<std::string> first_source(nm);
     for (const auto& p : spec_.particles) {
       const double d = 2.0 * p.radius;
       const double m = spec_.materials[p.material].density * std::numbers::pi * d * d * d / 6.0;
       m_min[p.material] = std::min(m_min[p.material], m);
-      if (count[p.material]++ == 0) first_source[p.material] = p.source;
+      ++count[p.material];
     }
     auto need = [&](int a, int b, const std::string& what) -> const PairParams& {
       const PairParams& pp = spec_.pairs.get(a, b);
@@ -531,12 +541,13 @@ void Loader::read_output_and_checks() {
 void Loader::check_initial_state() {
   // A centre outside a wall is always an error; touching a wall or another particle
   // only when the scene says the initial overlap is intended.
-  for (const auto& p : spec_.particles) {
+  for (std::size_t i = 0; i < spec_.particles.size(); ++i) {
+    const ParticleSpec& p = spec_.particles[i];
     for (const auto& w : spec_.walls) {
       const double d = w.distance(p.position);
       if (d < 0.0 || (!spec_.allow_initial_overlap && d < p.radius)) {
         std::ostringstream os;
-        os << file_ << ": key '" << p.source << ".position' = [" << p.position.x << ", " << p.position.y << ", "
+        os << file_ << ": key '" << particle_source(spec_, i) << ".position' = [" << p.position.x << ", " << p.position.y << ", "
            << p.position.z << "] (SI) lies " << (d < 0.0 ? "outside" : "across") << " wall '" << w.name
            << "' (centre distance " << d << " m, radius " << p.radius << " m): expected a particle inside the domain"
            << (d < 0.0 ? "" : " and clear of the wall (or checks.allow_initial_overlap = true)");
@@ -553,7 +564,7 @@ void Loader::check_initial_state() {
   if (!pairs.empty()) {
     const auto& c = pairs.front();
     std::ostringstream os;
-    os << file_ << ": key '" << spec_.particles[c.j].source << ".position' overlaps '" << spec_.particles[c.i].source
+    os << file_ << ": key '" << particle_source(spec_, c.j) << ".position' overlaps '" << particle_source(spec_, c.i)
        << "' by " << c.overlap << " m at the start: expected particles that do not overlap"
        << " (or checks.allow_initial_overlap = true if the compression is intended); " << pairs.size()
        << " overlapping pair(s) in all";

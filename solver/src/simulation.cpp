@@ -1,12 +1,15 @@
 #include "cdm/solver/simulation.hpp"
 
+#include "cdm/solver/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace cdm {
 
-Simulation::Simulation(const SceneSpec& spec) : spec_(spec) {
+Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Build only the modules the scene names. Rotation exists only with friction.
   if (spec_.tangential != TangentialModel::none) particles_.enable_rotation();
   for (const auto& ps : spec_.particles) {
@@ -24,6 +27,9 @@ Simulation::Simulation(const SceneSpec& spec) : spec_(spec) {
     modules_.push_back(std::move(c));
   }
   total_steps_ = static_cast<std::uint64_t>(std::ceil(spec_.end_time / spec_.dt - 1e-9));
+  // The particles live in the store now; the scene keeps only where they came from.
+  spec_.particles.clear();
+  spec_.particles.shrink_to_fit();
 }
 
 std::vector<std::string> Simulation::module_names() const {
@@ -49,16 +55,16 @@ void Simulation::step() {
       // F(t) was evaluated at the end of the previous step, so the guards below always
       // see the forces and overlaps of the state just reached.
       if (!forces_valid_) compute_forces();
-      for (std::size_t i = 0; i < n; ++i) {
+      parallel_for(n, [&](std::size_t i) {
         const double a = dt * p.inv_mass[i];
         p.vx[i] += a * p.fx[i]; p.vy[i] += a * p.fy[i]; p.vz[i] += a * p.fz[i];
         p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];
-      }
+      });
       if (rot)
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
           const double b = dt * p.inv_inertia[i];
           p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
-        }
+        });
       compute_forces();
       break;
     }
@@ -70,30 +76,30 @@ void Simulation::step() {
       if (!forces_valid_) compute_forces();
       hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
       const double h = 0.5 * dt;
-      for (std::size_t i = 0; i < n; ++i) {
+      parallel_for(n, [&](std::size_t i) {
         const double a = h * p.inv_mass[i];
         hvx_[i] = p.vx[i] + a * p.fx[i]; hvy_[i] = p.vy[i] + a * p.fy[i]; hvz_[i] = p.vz[i] + a * p.fz[i];
         p.x[i] += dt * hvx_[i]; p.y[i] += dt * hvy_[i]; p.z[i] += dt * hvz_[i];
         p.vx[i] = hvx_[i] + a * p.fx[i]; p.vy[i] = hvy_[i] + a * p.fy[i]; p.vz[i] = hvz_[i] + a * p.fz[i];
-      }
+      });
       if (rot) {
         hwx_.resize(n); hwy_.resize(n); hwz_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
           const double b = h * p.inv_inertia[i];
           hwx_[i] = p.wx[i] + b * p.tx[i]; hwy_[i] = p.wy[i] + b * p.ty[i]; hwz_[i] = p.wz[i] + b * p.tz[i];
           p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
-        }
+        });
       }
       compute_forces();
-      for (std::size_t i = 0; i < n; ++i) {
+      parallel_for(n, [&](std::size_t i) {
         const double a = h * p.inv_mass[i];
         p.vx[i] = hvx_[i] + a * p.fx[i]; p.vy[i] = hvy_[i] + a * p.fy[i]; p.vz[i] = hvz_[i] + a * p.fz[i];
-      }
+      });
       if (rot)
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
           const double b = h * p.inv_inertia[i];
           p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
-        }
+        });
       break;
     }
   }
@@ -105,23 +111,26 @@ void Simulation::step() {
 void Simulation::check_state() const {
   const ParticleStore& p = particles_;
   const std::size_t n = p.size();
-  double s = 0.0;
-  for (std::size_t i = 0; i < n; ++i) s += p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i];
-  if (p.has_rotation())
-    for (std::size_t i = 0; i < n; ++i) s += p.wx[i] + p.wy[i] + p.wz[i];
+  // |sum| is finite exactly when every value is (barring overflow near 1e308).
+  const bool rot = p.has_rotation();
+  const double s = parallel_max(n, [&](std::size_t i) {
+    const double v = p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i] +
+                     (rot ? p.wx[i] + p.wy[i] + p.wz[i] : 0.0);
+    return std::isfinite(v) ? 0.0 : 1.0;
+  });
   const double t_col = spec_.t_col_min;
   auto cause = [&](std::ostringstream& os) {
     os << "; dt = " << spec_.dt << " s";
     if (t_col > 0.0) os << ", shortest collision time t_col = " << t_col << " s (dt/t_col = " << spec_.dt / t_col << ")";
   };
-  if (!std::isfinite(s)) {
+  if (s != 0.0) {
     std::ostringstream os;
     os << "state is no longer finite at t = " << time_ << " s (step " << steps_ << "), particle(s):";
     int listed = 0;
     for (std::size_t i = 0; i < n && listed < 5; ++i) {
       const bool bad = !is_finite(p.position(i)) || !is_finite(p.velocity(i)) ||
                        (p.has_rotation() && !is_finite(p.angular_velocity(i)));
-      if (bad) { os << ' ' << i << " (" << spec_.particles[i].source << ')'; ++listed; }
+      if (bad) { os << ' ' << i << " (" << particle_source(spec_, i) << ')'; ++listed; }
     }
     os << ". Likely cause: a time step too large for the stiffest force";
     cause(os);
@@ -132,8 +141,8 @@ void Simulation::check_state() const {
     std::ostringstream os;
     os << "overlap reached " << w.ratio << " of the radius (limit checks.max_overlap_fraction = "
        << spec_.max_overlap_fraction << ") at t = " << time_ << " s (step " << steps_ << "): particle " << w.particle
-       << " (" << spec_.particles[w.particle].source << ") against ";
-    if (w.partner >= 0) os << "particle " << w.partner << " (" << spec_.particles[w.partner].source << ")";
+       << " (" << particle_source(spec_, w.particle) << ") against ";
+    if (w.partner >= 0) os << "particle " << w.partner << " (" << particle_source(spec_, static_cast<std::size_t>(w.partner)) << ")";
     else os << "wall '" << contact_->walls()[static_cast<std::size_t>(-1 - w.partner)].name << "'";
     os << ". Likely cause: the normal spring is too soft to stop the particle within its radius at this impact "
           "speed (raise kn), or the time step is too large";

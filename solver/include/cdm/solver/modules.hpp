@@ -53,6 +53,13 @@ struct OverlapRecord {
 /// moved more than skin/2 since the last build — until then no pair outside the list
 /// can touch. Tangential history lives beside each listed pair (and per particle and
 /// wall), and is carried across rebuilds, so the hot loop does no hashing.
+///
+/// Threads: at each build the domain is cut into slabs along its longest side, at least
+/// one interaction range wide, and each pair belongs to the lower of its particles'
+/// slabs, so it adds forces only to particles of that slab and the next. Even slabs run
+/// in parallel, then odd ones; each slab is one thread's, in a fixed order. Every
+/// particle therefore receives its contributions in the same order whatever the number
+/// of threads: trajectories are bit-identical for 1, 2, … threads.
 class LinearContactModule final : public ForceModule {
  public:
   /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
@@ -65,9 +72,10 @@ class LinearContactModule final : public ForceModule {
   /// Contacts carrying tangential history (zero when frictionless).
   std::size_t history_size() const { return friction_ ? n_active_ : 0; }
   std::size_t list_builds() const { return builds_; }
+  std::size_t listed_pairs() const { return pi_.size(); }
+  const std::vector<PlaneWall>& walls() const { return walls_; }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
-  const std::vector<PlaneWall>& walls() const { return walls_; }
 
  private:
   template <bool Friction>
@@ -81,14 +89,14 @@ class LinearContactModule final : public ForceModule {
   double skin_;
   CellListSearch search_;
   std::vector<ContactPair> candidates_;
-  // Verlet list in compressed rows: the partners j > i of particle i are
-  // nbr_j_[nbr_start_[i] .. nbr_start_[i+1]), sorted by j.
-  std::vector<std::uint32_t> nbr_start_, nbr_j_;
-  std::vector<Vec3> nbr_hist_;            // tangential displacement per listed pair [m]
-  std::vector<std::uint8_t> nbr_touch_;   // in contact at the previous evaluation
-  std::vector<Vec3> wall_hist_;           // per particle and wall (i * walls + w)
+  // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
+  // [slab_start_[s], slab_start_[s+1]).
+  std::vector<std::uint32_t> pi_, pj_, slab_start_;
+  std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
+  std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
+  std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
   std::vector<std::uint8_t> wall_touch_;
-  std::vector<double> x0_, y0_, z0_;      // positions at the last build
+  std::vector<double> x0_, y0_, z0_;    // positions at the last build
   bool built_ = false;
   std::size_t builds_ = 0;
   OverlapRecord worst_;

@@ -2,6 +2,7 @@
 /// @file scene.hpp
 /// @brief SceneSpec: a scene file loaded and validated, every value in SI units.
 /// The loader (scene_loader.hpp) is the only place that reads TOML or converts units.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,8 +25,20 @@ struct ParticleSpec {
   Vec3 angular_velocity;  // [rad/s]
   double radius = 0.0;    // [m]
   int material = 0;
-  std::string source;     // scene key it came from, for error messages
 };
+
+/// Where a run of consecutive particles came from in the scene file, so messages can
+/// name a particle's key ("particles[3]", "lattices[0] (lattice site 4,1,0)") without
+/// storing a string per particle.
+struct ParticleGroup {
+  std::string key;               // "particles[3]" or "lattices[0]"
+  std::size_t first = 0, count = 0;
+  long long nx = 0, ny = 0;      // lattice counts along x and y (0 for a listed particle)
+};
+
+struct SceneSpec;
+/// The scene key particle @p i came from, e.g. "lattices[0] (lattice site 4,1,0)".
+std::string particle_source(const SceneSpec& spec, std::size_t i);
 
 struct SceneSpec {
   std::string file;   // path it was loaded from
@@ -41,6 +54,7 @@ struct SceneSpec {
   PairTable pairs;
   std::vector<PlaneWall> walls;
   std::vector<ParticleSpec> particles;
+  std::vector<ParticleGroup> groups;  // covers particles in order
 
   IntegratorScheme integrator = IntegratorScheme::paper_euler;
   bool dt_auto = true;

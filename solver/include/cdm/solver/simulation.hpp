@@ -25,7 +25,9 @@ class SimulationError : public std::runtime_error {
 
 class Simulation {
  public:
-  explicit Simulation(const SceneSpec& spec);
+  /// Builds the scene's modules and particles; the per-particle list of @p spec is
+  /// dropped once the particles are in the store (pass an rvalue to avoid a copy).
+  explicit Simulation(SceneSpec spec);
 
   const SceneSpec& spec() const { return spec_; }
   ParticleStore& particles() { return particles_; }
