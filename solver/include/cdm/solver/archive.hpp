@@ -57,7 +57,7 @@ class InArchive {
     if (n > max_elements || n > static_cast<std::uint64_t>(end_ - p_) / sizeof(T))
       throw ArchiveError("an array's length (" + std::to_string(n) + ") does not fit the data that follows");
     v.resize(n);
-    std::memcpy(v.data(), p_, n * sizeof(T));
+    if (n) std::memcpy(v.data(), p_, n * sizeof(T));  // an empty vector's data() may be null
     p_ += n * sizeof(T);
   }
   void get(std::string& s) {
