@@ -17,6 +17,13 @@ void ParticleStore::enable_rotation() {
   }
 }
 
+void ParticleStore::enable_drag_relaxation() {
+  drag_relaxation_enabled_ = true;
+  const std::size_t n = size();
+  drag_k.assign(n, 0.0);
+  ugx.assign(n, 0.0); ugy.assign(n, 0.0); ugz.assign(n, 0.0);
+}
+
 void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   const double d = 2.0 * r;
   const double m = density * std::numbers::pi * d * d * d / 6.0;
@@ -27,6 +34,10 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   mass.push_back(m);
   inv_mass.push_back(1.0 / m);
   material.push_back(mat);
+  if (drag_relaxation_enabled_) {
+    drag_k.push_back(0.0);
+    ugx.push_back(0.0); ugy.push_back(0.0); ugz.push_back(0.0);
+  }
   if (rotation_enabled_) {
     wx.push_back(0.0); wy.push_back(0.0); wz.push_back(0.0);
     tx.push_back(0.0); ty.push_back(0.0); tz.push_back(0.0);

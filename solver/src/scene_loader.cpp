@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 #include <sstream>
@@ -32,6 +33,8 @@ const char* to_string(IntegratorScheme s) {
   switch (s) {
     case IntegratorScheme::paper_euler: return "paper_euler";
     case IntegratorScheme::velocity_verlet: return "velocity_verlet";
+    case IntegratorScheme::rk2: return "rk2";
+    case IntegratorScheme::rk4: return "rk4";
   }
   return "?";
 }
@@ -45,8 +48,13 @@ namespace {
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
-            "lattices", "integrator", "output", "checks"}},
-      {"modules", {"gravity", "normal_contact", "tangential"}},
+            "lattices", "shells", "gas", "drag", "integrator", "output", "checks"}},
+      {"modules", {"gravity", "normal_contact", "tangential", "gas", "drag", "pressure_gradient", "tracers"}},
+      {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field"}},
+      {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
+      {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
+      {"drag", {"update", "void_fraction"}},
+      {"shells[]", {"material", "radius", "center", "shell_radius", "count", "dimension"}},
       {"gravity", {"g"}},
       {"materials[]", {"name", "density"}},
       {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
@@ -61,7 +69,10 @@ const std::map<std::string, std::vector<std::string>>& schema() {
 }
 
 // Physical dimension of a value, for cgs → SI conversion.
-enum class Dim { none, length, time, density, velocity, acceleration, stiffness, angular_velocity };
+enum class Dim {
+  none, length, time, density, velocity, acceleration, stiffness, angular_velocity,
+  viscosity, pressure_gradient, wavenumber
+};
 
 constexpr std::size_t max_particles = 50'000'000;  // refuse scenes that would allocate without bound
 
@@ -108,6 +119,9 @@ class Loader {
       case Dim::length: case Dim::velocity: case Dim::acceleration: return 1e-2;  // cm → m
       case Dim::density: return 1e3;    // g/cm^3 → kg/m^3
       case Dim::stiffness: return 1e-3; // dyn/cm → N/m
+      case Dim::viscosity: return 0.1;  // P = g/(cm s) → Pa s
+      case Dim::pressure_gradient: return 10.0;  // dyn/cm^3 → Pa/m
+      case Dim::wavenumber: return 100.0;        // 1/cm → 1/m
     }
     return 1.0;
   }
@@ -234,6 +248,7 @@ class Loader {
   void read_contacts();
   void read_walls();
   void read_particles();
+  void read_gas();
   void read_integrator();
   void read_output_and_checks();
   void check_initial_state();
@@ -265,6 +280,34 @@ void Loader::read_modules() {
   if (spec_.tangential != TangentialModel::none && spec_.normal_contact == NormalContactModel::none)
     fail_value("modules.tangential", *m->get("tangential"),
                "\"none\" while modules.normal_contact is \"none\" (friction is bounded by the normal force)");
+
+  // The gas and what couples particles to it.
+  const std::string gas = string(*m, "gas", "modules").value_or("none");
+  if (gas == "none") spec_.gas = GasModel::none;
+  else if (gas == "prescribed") spec_.gas = GasModel::prescribed;
+  else fail_value("modules.gas", *m->get("gas"), "\"none\" or \"prescribed\"");
+  const std::string needs_gas = "while modules.gas is \"none\" (it acts between the particles and a gas)";
+  const std::string drag = string(*m, "drag", "modules").value_or("none");
+  const std::string laws = "\"none\", \"schiller_naumann\", \"wen_yu\", \"gidaspow\", \"di_felice\" or \"beetstra\"";
+  if (drag == "schiller_naumann") spec_.drag = coupling::DragLaw::schiller_naumann;
+  else if (drag == "wen_yu") spec_.drag = coupling::DragLaw::wen_yu;
+  else if (drag == "gidaspow") spec_.drag = coupling::DragLaw::gidaspow;
+  else if (drag == "di_felice") spec_.drag = coupling::DragLaw::di_felice;
+  else if (drag == "beetstra") spec_.drag = coupling::DragLaw::beetstra;
+  else if (drag != "none") fail_value("modules.drag", *m->get("drag"), laws);
+  if (spec_.drag && spec_.gas == GasModel::none) fail_value("modules.drag", *m->get("drag"), "\"none\" " + needs_gas);
+  spec_.pressure_gradient = boolean(*m, "pressure_gradient", "modules").value_or(false);
+  if (spec_.pressure_gradient && spec_.gas == GasModel::none)
+    fail_value("modules.pressure_gradient", *m->get("pressure_gradient"), "false " + needs_gas);
+  spec_.tracers = boolean(*m, "tracers", "modules").value_or(false);
+  if (spec_.tracers) {
+    const toml::node& n = *m->get("tracers");
+    if (spec_.gas == GasModel::none) fail_value("modules.tracers", n, "false while modules.gas is \"none\" (tracers follow a gas)");
+    if (spec_.gravity || spec_.normal_contact != NormalContactModel::none || spec_.drag || spec_.pressure_gradient)
+      fail_value("modules.tracers", n,
+                 "false while gravity, contacts, drag or the pressure gradient act on the particles (tracers are "
+                 "massless: they only move with the gas)");
+  }
 
   const toml::table* g = table(root_, "gravity", "", spec_.gravity);
   if (g && !spec_.gravity)
@@ -363,7 +406,7 @@ void Loader::read_walls() {
 void Loader::read_particles() {
   auto particle_material = [&](const toml::table& t, const std::string& path) {
     const int m = material_index(t, "material", path);
-    if (!(spec_.materials[m].density > 0.0))
+    if (!(spec_.materials[m].density > 0.0) && !spec_.tracers)
       fail_value(path + ".material", *t.get("material"),
                  "a material with a density (materials entry '" + spec_.materials[m].name + "' has none)");
     return m;
@@ -377,6 +420,7 @@ void Loader::read_particles() {
       p.material = particle_material(t, path);
       p.radius = positive(t, "radius", path, Dim::length, true);
       p.position = vec3_required(t, "position", path, Dim::length);
+      if (spec_.tracers) reject_unused(t, "velocity", path, "modules.tracers is true: a tracer moves with the gas");
       p.velocity = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
       if (spec_.tangential == TangentialModel::none)
         reject_unused(t, "angular_velocity", path, "modules.tangential is \"none\", so nothing makes particles rotate");
@@ -396,6 +440,10 @@ void Loader::read_particles() {
       const Vec3 spacing = vec3_required(t, "spacing", path, Dim::length);
       if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0))
         fail_value(path + ".spacing", *t.get("spacing"), "3 numbers > 0");
+      if (spec_.tracers) {
+        reject_unused(t, "velocity", path, "modules.tracers is true: a tracer moves with the gas");
+        reject_unused(t, "velocity_jitter", path, "modules.tracers is true: a tracer moves with the gas");
+      }
       const Vec3 vel = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
       const double jitter = number_in(t, "velocity_jitter", path, Dim::velocity, false, 0.0, 0.0, false,
                                       std::numeric_limits<double>::infinity(), false, ">= 0");
@@ -439,17 +487,208 @@ void Loader::read_particles() {
           }
     }
   }
-  if (spec_.particles.empty()) fail_missing("particles", "at least one [[particles]] or [[lattices]] entry");
+  if (const toml::array* ss = array_of_tables(root_, "shells")) {
+    // Particles evenly spread on a circle (dimension 2, in the plane z = center.z) or on
+    // a sphere (dimension 3, a Fibonacci lattice: point k at height 1 − (2k+1)/n and
+    // azimuth k·π(3 − √5)), at rest (or moving with the gas, for tracers).
+    for (std::size_t i = 0; i < ss->size(); ++i) {
+      const toml::table& t = *ss->get(i)->as_table();
+      const std::string path = "shells[" + std::to_string(i) + "]";
+      check_keys(t, "shells[]", path);
+      const int mat = particle_material(t, path);
+      const double r = positive(t, "radius", path, Dim::length, true);
+      const Vec3 c = vec3_required(t, "center", path, Dim::length);
+      const double R = positive(t, "shell_radius", path, Dim::length, true);
+      const toml::node* cn = t.get("count");
+      if (!cn) fail_missing(path + ".count", "an integer >= 1");
+      if (!cn->is_integer() || cn->as_integer()->get() < 1 ||
+          static_cast<double>(cn->as_integer()->get()) + spec_.particles.size() > max_particles)
+        fail_value(path + ".count", *cn, "an integer >= 1 (at most " + std::to_string(max_particles) + " particles in the scene)");
+      const auto count = static_cast<std::size_t>(cn->as_integer()->get());
+      long long dim = 2;
+      if (const toml::node* dn = t.get("dimension")) {
+        if (!dn->is_integer() || (dn->as_integer()->get() != 2 && dn->as_integer()->get() != 3))
+          fail_value(path + ".dimension", *dn, "2 (a circle in the x-y plane) or 3 (a sphere)");
+        dim = dn->as_integer()->get();
+      } else {
+        fail_missing(path + ".dimension", "2 (a circle in the x-y plane) or 3 (a sphere)");
+      }
+      spec_.groups.push_back({path, spec_.particles.size(), count, 0, 0});
+      const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+      for (std::size_t k = 0; k < count; ++k) {
+        ParticleSpec p;
+        p.material = mat;
+        p.radius = r;
+        if (dim == 2) {
+          const double a = 2.0 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(count);
+          p.position = c + Vec3{R * std::cos(a), R * std::sin(a), 0.0};
+        } else {
+          const double zk = 1.0 - (2.0 * static_cast<double>(k) + 1.0) / static_cast<double>(count);
+          const double rho = std::sqrt(std::max(0.0, 1.0 - zk * zk)), a = golden * static_cast<double>(k);
+          p.position = c + Vec3{R * rho * std::cos(a), R * rho * std::sin(a), R * zk};
+        }
+        spec_.particles.push_back(p);
+      }
+    }
+  }
+  if (spec_.particles.empty())
+    fail_missing("particles", "at least one [[particles]], [[lattices]] or [[shells]] entry");
+}
+
+void Loader::read_gas() {
+  const toml::table* gt = table(root_, "gas", "", spec_.gas != GasModel::none);
+  const toml::table* dt = table(root_, "drag", "", false);
+  if (dt && !spec_.drag) throw SceneError(file_ + ": table [drag] is not used: modules.drag is \"none\"");
+  if (spec_.drag) {
+    static const toml::table empty;
+    const toml::table& d = dt ? *dt : empty;
+    check_keys(d, "drag", "drag");
+    const std::string up = string(d, "update", "drag").value_or("explicit");
+    if (up == "explicit") spec_.drag_update = coupling::DragUpdate::explicit_force;
+    else if (up == "implicit") spec_.drag_update = coupling::DragUpdate::implicit;
+    else if (up == "exponential") spec_.drag_update = coupling::DragUpdate::exponential;
+    else fail_value("drag.update", *d.get("update"), "\"explicit\", \"implicit\" or \"exponential\"");
+    spec_.drag_void_fraction = number_in(d, "void_fraction", "drag", Dim::none, false, 1.0, 0.0, true, 1.0, false,
+                                         "in (0, 1] (the gas volume fraction held in the drag law)");
+  }
+  if (!gt) return;
+  if (spec_.gas == GasModel::none) throw SceneError(file_ + ": table [gas] is not used: modules.gas is \"none\"");
+  check_keys(*gt, "gas", "gas");
+  fluid::GasSpec& gs = spec_.gas_spec;
+  fluid::GridSpec& grid = gs.grid;
+
+  // Dimension and extent.
+  long long dim = 3;
+  if (const toml::node* dn = gt->get("dimension")) {
+    if (!dn->is_integer() || (dn->as_integer()->get() != 2 && dn->as_integer()->get() != 3))
+      fail_value("gas.dimension", *dn, "2 or 3");
+    dim = dn->as_integer()->get();
+  }
+  grid.two_d = dim == 2;
+  grid.lo = vec3_required(*gt, "lower", "gas", Dim::length);
+  grid.hi = vec3_required(*gt, "upper", "gas", Dim::length);
+  if (!(grid.hi.x > grid.lo.x && grid.hi.y > grid.lo.y && grid.hi.z > grid.lo.z))
+    fail_value("gas.upper", *gt->get("upper"), "a corner above gas.lower along every axis");
+  const toml::node* cn = gt->get("cells");
+  const std::string cells_text = dim == 2 ? "an array of 2 integers >= 2 (cells along x and y)"
+                                          : "an array of 3 integers >= 2 (cells along x, y and z)";
+  if (!cn) fail_missing("gas.cells", cells_text);
+  const toml::array* ca = cn->as_array();
+  if (!ca || ca->size() != static_cast<std::size_t>(dim)) fail_value("gas.cells", *cn, cells_text);
+  grid.cells = {1, 1, 1};
+  double total = 1.0;
+  for (long long a = 0; a < dim; ++a) {
+    auto iv = ca->get(static_cast<std::size_t>(a))->as_integer();
+    if (!iv || iv->get() < 2 || iv->get() > 100000) fail_value("gas.cells", *cn, cells_text + ", at most 100000 each");
+    grid.cells[static_cast<std::size_t>(a)] = static_cast<int>(iv->get());
+    total *= static_cast<double>(iv->get() + 5);
+  }
+  if (total > 2e8) fail_value("gas.cells", *cn, "at most about 2e8 grid samples in all");
+
+  // Boundaries: one per face; periodic faces come in pairs.
+  const toml::table* bt = table(*gt, "boundaries", "gas", true);
+  check_keys(*bt, "gas.boundaries", "gas.boundaries");
+  const char* face_names[6] = {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"};
+  for (int f = 0; f < 6; ++f) {
+    const std::string key = face_names[f];
+    if (dim == 2 && f >= 4) {
+      reject_unused(*bt, key, "gas.boundaries", "a two-dimensional gas has no z boundaries");
+      grid.faces[f].kind = fluid::BoundaryKind::periodic;
+      continue;
+    }
+    auto name = string(*bt, key, "gas.boundaries");
+    const std::string kinds = "\"periodic\", \"no_slip\" or \"free_slip\"";
+    if (!name) fail_missing("gas.boundaries." + key, kinds);
+    if (*name == "periodic") grid.faces[f].kind = fluid::BoundaryKind::periodic;
+    else if (*name == "no_slip") grid.faces[f].kind = fluid::BoundaryKind::no_slip;
+    else if (*name == "free_slip") grid.faces[f].kind = fluid::BoundaryKind::free_slip;
+    else fail_value("gas.boundaries." + key, *bt->get(key), kinds);
+  }
+  for (int a = 0; a < dim; ++a)
+    if ((grid.faces[2 * a].kind == fluid::BoundaryKind::periodic) != (grid.faces[2 * a + 1].kind == fluid::BoundaryKind::periodic))
+      fail_value("gas.boundaries." + std::string(face_names[2 * a + 1]), *bt->get(face_names[2 * a + 1]),
+                 "\"periodic\" exactly when gas.boundaries." + std::string(face_names[2 * a]) + " is");
+
+  gs.density = positive(*gt, "density", "gas", Dim::density, true);
+  gs.viscosity = positive(*gt, "viscosity", "gas", Dim::viscosity, true);
+  const std::string interp = string(*gt, "interpolation", "gas").value_or("paper_lagrange2");
+  if (interp == "paper_lagrange2") gs.interpolation = fluid::InterpolationScheme::paper_lagrange2;
+  else if (interp == "trilinear") gs.interpolation = fluid::InterpolationScheme::trilinear;
+  else fail_value("gas.interpolation", *gt->get("interpolation"), "\"paper_lagrange2\" or \"trilinear\"");
+
+  // The prescribed field.
+  const toml::table* ft = table(*gt, "field", "gas", spec_.gas == GasModel::prescribed);
+  check_keys(*ft, "gas.field", "gas.field");
+  fluid::PrescribedFieldSpec f;
+  const std::string types = "\"single_vortex\", \"leveque_deformation\", \"taylor_green\" or \"uniform\"";
+  auto type = string(*ft, "type", "gas.field");
+  if (!type) fail_missing("gas.field.type", types);
+  const toml::node& tn = *ft->get("type");
+  if (*type == "single_vortex") f.type = fluid::FieldType::single_vortex;
+  else if (*type == "leveque_deformation") f.type = fluid::FieldType::leveque_deformation;
+  else if (*type == "taylor_green") f.type = fluid::FieldType::taylor_green;
+  else if (*type == "uniform") f.type = fluid::FieldType::uniform;
+  else fail_value("gas.field.type", tn, types);
+  const bool vortex = f.type == fluid::FieldType::single_vortex || f.type == fluid::FieldType::leveque_deformation;
+  if (f.type == fluid::FieldType::leveque_deformation && dim == 2)
+    fail_value("gas.field.type", tn, "a two-dimensional field (leveque_deformation needs gas.dimension = 3)");
+  const std::string field_name = "gas.field.type is \"" + *type + "\"";
+  if (vortex) {
+    f.period = positive(*ft, "period", "gas.field", Dim::time, true);
+    f.amplitude = positive(*ft, "amplitude", "gas.field", Dim::velocity, false, 1.0 * factor(Dim::velocity));
+  } else {
+    reject_unused(*ft, "period", "gas.field", field_name + " (a steady field)");
+  }
+  if (f.type == fluid::FieldType::taylor_green) {
+    f.amplitude = positive(*ft, "amplitude", "gas.field", Dim::velocity, true);
+    const toml::node* kn = ft->get("wavenumber");
+    if (!kn) fail_missing("gas.field.wavenumber", "an array of 2 wavenumbers [k_x, k_y] > 0");
+    const toml::array* ka = kn->as_array();
+    if (!ka || ka->size() != 2) fail_value("gas.field.wavenumber", *kn, "an array of 2 wavenumbers [k_x, k_y] > 0");
+    double k[2];
+    for (int c = 0; c < 2; ++c) {
+      const toml::node& e = *ka->get(static_cast<std::size_t>(c));
+      k[c] = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.is_floating_point() ? e.as_floating_point()->get() : -1.0;
+      if (!(k[c] > 0.0) || !std::isfinite(k[c])) fail_value("gas.field.wavenumber", *kn, "an array of 2 wavenumbers [k_x, k_y] > 0");
+      k[c] *= factor(Dim::wavenumber);
+    }
+    f.kx = k[0];
+    f.ky = k[1];
+  } else {
+    reject_unused(*ft, "wavenumber", "gas.field", field_name);
+  }
+  if (!vortex && f.type != fluid::FieldType::taylor_green) reject_unused(*ft, "amplitude", "gas.field", field_name);
+  if (f.type == fluid::FieldType::uniform) f.velocity = vec3_required(*ft, "velocity", "gas.field", Dim::velocity);
+  else reject_unused(*ft, "velocity", "gas.field", field_name);
+  if (dim == 2 && f.velocity.z != 0.0)
+    fail_value("gas.field.velocity", *ft->get("velocity"), "a velocity with no z component in a two-dimensional gas");
+  f.pressure_gradient = vec3(*ft, "pressure_gradient", "gas.field", Dim::pressure_gradient).value_or(Vec3{});
+  if (spec_.pressure_gradient && vortex)
+    throw SceneError(file_ + ": key 'modules.pressure_gradient' = true: expected false with gas.field.type = \"" + *type +
+                     "\", which defines no pressure (only \"uniform\" and \"taylor_green\" do)");
+  gs.prescribed = f;
+  // Contacts do not act across periodic boundaries (yet): refuse rather than miss them.
+  for (int a = 0; a < 3; ++a)
+    if (grid.periodic(a) && spec_.normal_contact != NormalContactModel::none && !(dim == 2 && a == 2))
+      fail_value("gas.boundaries." + std::string(face_names[2 * a]), *bt->get(face_names[2 * a]),
+                 "a wall boundary while modules.normal_contact is set: particle contacts across periodic "
+                 "boundaries are not implemented");
 }
 
 void Loader::read_integrator() {
   const toml::table* t = table(root_, "integrator", "", true);
   check_keys(*t, "integrator", "integrator");
   const std::string scheme = string(*t, "scheme", "integrator").value_or("");
+  const std::string allowed = spec_.tracers ? "\"rk2\" or \"rk4\" (tracers move with the gas)"
+                                            : "\"paper_euler\" or \"velocity_verlet\"";
   if (scheme == "paper_euler") spec_.integrator = IntegratorScheme::paper_euler;
   else if (scheme == "velocity_verlet") spec_.integrator = IntegratorScheme::velocity_verlet;
-  else if (!t->get("scheme")) fail_missing("integrator.scheme", "\"paper_euler\" or \"velocity_verlet\"");
-  else fail_value("integrator.scheme", *t->get("scheme"), "\"paper_euler\" or \"velocity_verlet\"");
+  else if (scheme == "rk2") spec_.integrator = IntegratorScheme::rk2;
+  else if (scheme == "rk4") spec_.integrator = IntegratorScheme::rk4;
+  else if (!t->get("scheme")) fail_missing("integrator.scheme", allowed);
+  else fail_value("integrator.scheme", *t->get("scheme"), allowed);
+  const bool rk = spec_.integrator == IntegratorScheme::rk2 || spec_.integrator == IntegratorScheme::rk4;
+  if (rk != spec_.tracers) fail_value("integrator.scheme", *t->get("scheme"), allowed);
   spec_.end_time = positive(*t, "end_time", "integrator", Dim::time, true);
 }
 
@@ -539,6 +778,20 @@ void Loader::read_output_and_checks() {
 }
 
 void Loader::check_initial_state() {
+  // Every particle starts inside the gas domain.
+  if (spec_.gas != GasModel::none) {
+    const fluid::GridSpec& g = spec_.gas_spec.grid;
+    for (std::size_t i = 0; i < spec_.particles.size(); ++i) {
+      const Vec3 x = spec_.particles[i].position;
+      if (x.x < g.lo.x || x.x > g.hi.x || x.y < g.lo.y || x.y > g.hi.y || x.z < g.lo.z || x.z > g.hi.z) {
+        std::ostringstream os;
+        os << file_ << ": key '" << particle_source(spec_, i) << ".position' = [" << x.x << ", " << x.y << ", " << x.z
+           << "] (SI) lies outside the gas domain [" << g.lo.x << ", " << g.hi.x << "] x [" << g.lo.y << ", " << g.hi.y
+           << "] x [" << g.lo.z << ", " << g.hi.z << "] m: expected every particle inside gas.lower .. gas.upper";
+        throw SceneError(os.str());
+      }
+    }
+  }
   // A centre outside a wall is always an error; touching a wall or another particle
   // only when the scene says the initial overlap is intended.
   for (std::size_t i = 0; i < spec_.particles.size(); ++i) {
@@ -580,6 +833,7 @@ SceneSpec Loader::load() {
   read_materials();
   read_contacts();
   read_walls();
+  read_gas();
   read_particles();
   read_integrator();
   read_output_and_checks();
@@ -682,8 +936,8 @@ std::vector<std::string> scene_schema_keys() {
     for (const auto& k : ks) {
       // Sub-tables are listed by their own entries; list only leaf keys.
       const std::string full = table.empty() ? k : table + "." + k;
-      const bool is_table = schema().count(k) || schema().count(k + "[]");
-      if (!(table.empty() && is_table)) keys.push_back(full);
+      const bool is_table = schema().count(full) || schema().count(full + "[]");
+      if (!is_table) keys.push_back(full);
     }
   std::sort(keys.begin(), keys.end());
   return keys;

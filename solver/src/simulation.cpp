@@ -16,6 +16,9 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     particles_.add(ps.position, ps.velocity, ps.radius, spec_.materials[ps.material].density, ps.material);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
   }
+  if (spec_.gas != GasModel::none)
+    gas_ = std::make_unique<fluid::GasField>(spec_.gas_spec, spec_.gravity ? spec_.g : Vec3{}, spec_.pressure_gradient,
+                                             spec_.drag && spec_.drag_void_fraction <= 0.0);
   if (spec_.gravity) modules_.push_back(std::make_unique<GravityModule>(spec_.g));
   if (spec_.normal_contact == NormalContactModel::linear_spring_dashpot) {
     // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
@@ -26,6 +29,18 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     contact_ = c.get();
     modules_.push_back(std::move(c));
   }
+  if (spec_.drag) {
+    if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();
+    auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction);
+    drag_ = d.get();
+    modules_.push_back(std::move(d));
+  }
+  if (spec_.pressure_gradient) modules_.push_back(std::make_unique<coupling::PressureGradientModule>(*gas_));
+  if (spec_.tracers)  // a tracer moves with the gas from the start
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+      const Vec3 u = gas_->velocity_at(particles_.position(i));
+      particles_.vx[i] = u.x; particles_.vy[i] = u.y; particles_.vz[i] = u.z;
+    }
   total_steps_ = static_cast<std::uint64_t>(std::ceil(spec_.end_time / spec_.dt - 1e-9));
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
@@ -44,20 +59,101 @@ void Simulation::compute_forces() {
   forces_valid_ = true;
 }
 
+void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double& vz) const {
+  const ParticleStore& p = particles_;
+  const double im = p.inv_mass[i];
+  if (!p.has_drag_relaxation()) {
+    const double a = tau * im;
+    vx += a * p.fx[i]; vy += a * p.fy[i]; vz += a * p.fz[i];
+    return;
+  }
+  const double ax = im * p.fx[i], ay = im * p.fy[i], az = im * p.fz[i];
+  // dv/dt = a + λ (u_g − v), λ = K/m, over tau with a, λ, u_g frozen.
+  const double lam = im * p.drag_k[i];
+  if (spec_.drag_update == coupling::DragUpdate::implicit) {
+    // Backward Euler: v' = (v + τ(a + λ u_g)) / (1 + λτ).
+    const double c = 1.0 / (1.0 + lam * tau);
+    vx = c * (vx + tau * (ax + lam * p.ugx[i]));
+    vy = c * (vy + tau * (ay + lam * p.ugy[i]));
+    vz = c * (vz + tau * (az + lam * p.ugz[i]));
+  } else {
+    // Exact: v' = v + (a + λ(u_g − v)) φ, φ = (1 − e^(−λτ))/λ (→ τ as λ → 0).
+    const double phi = lam * tau > 1e-12 ? -std::expm1(-lam * tau) / lam : tau;
+    vx += phi * (ax + lam * (p.ugx[i] - vx));
+    vy += phi * (ay + lam * (p.ugy[i] - vy));
+    vz += phi * (az + lam * (p.ugz[i] - vz));
+  }
+}
+
+void Simulation::wrap_positions() {
+  if (!gas_) return;
+  const fluid::StaggeredGrid& g = gas_->grid();
+  if (!g.spec().periodic(0) && !g.spec().periodic(1) && !g.spec().periodic(2)) return;
+  ParticleStore& p = particles_;
+  parallel_for(p.size(), [&](std::size_t i) {
+    const Vec3 x = gas_->wrap(p.position(i));
+    p.x[i] = x.x; p.y[i] = x.y; p.z[i] = x.z;
+  });
+}
+
+void Simulation::step_tracers() {
+  // Massless tracers: dX/dt = u_g(X, t), the gas velocity interpolated to the tracer,
+  // by the midpoint rule (rk2) or the classical fourth-order Runge–Kutta (rk4).
+  ParticleStore& p = particles_;
+  const std::size_t n = p.size();
+  const double h = spec_.dt, t = time_;
+  x0_ = p.x; y0_ = p.y; z0_ = p.z;
+  kx_.assign(n, 0.0); ky_.assign(n, 0.0); kz_.assign(n, 0.0);
+  // Velocity at time ts of the point X0 + c·k_prev; adds weight·k to the sum.
+  auto stage = [&](double ts, double c, double weight) {
+    gas_->set_time(ts);
+    parallel_for(n, [&](std::size_t i) {
+      const Vec3 x = gas_->wrap({x0_[i] + c * p.vx[i], y0_[i] + c * p.vy[i], z0_[i] + c * p.vz[i]});
+      const Vec3 k = gas_->velocity_at(x);
+      p.vx[i] = k.x; p.vy[i] = k.y; p.vz[i] = k.z;  // the stage slope, kept for the next stage
+      kx_[i] += weight * k.x; ky_[i] += weight * k.y; kz_[i] += weight * k.z;
+    });
+  };
+  // p.v holds the previous stage's slope; the first stage evaluates at X0 (c = 0).
+  if (spec_.integrator == IntegratorScheme::rk2) {
+    stage(t, 0.0, 0.0);
+    stage(t + 0.5 * h, 0.5 * h, 1.0);
+  } else {
+    stage(t, 0.0, 1.0 / 6.0);
+    stage(t + 0.5 * h, 0.5 * h, 2.0 / 6.0);
+    stage(t + 0.5 * h, 0.5 * h, 2.0 / 6.0);
+    stage(t + h, h, 1.0 / 6.0);
+  }
+  parallel_for(n, [&](std::size_t i) {
+    p.x[i] = x0_[i] + h * kx_[i]; p.y[i] = y0_[i] + h * ky_[i]; p.z[i] = z0_[i] + h * kz_[i];
+  });
+  wrap_positions();
+  // The tracers' velocity is the gas velocity where they are now.
+  gas_->set_time(t + h);
+  parallel_for(n, [&](std::size_t i) {
+    const Vec3 u = gas_->velocity_at(p.position(i));
+    p.vx[i] = u.x; p.vy[i] = u.y; p.vz[i] = u.z;
+  });
+}
+
 void Simulation::step() {
   ParticleStore& p = particles_;
   const std::size_t n = p.size();
   const double dt = spec_.dt;
   const bool rot = p.has_rotation();
+  const double t_new = static_cast<double>(steps_ + 1) * dt;
   switch (spec_.integrator) {
+    case IntegratorScheme::rk2:
+    case IntegratorScheme::rk4:
+      step_tracers();
+      break;
     case IntegratorScheme::paper_euler: {
       // Garg et al. (2012) eqs A.1–A.3: V += F(t)/m Δt; X += V(t+Δt) Δt; ω += T(t)/I Δt.
       // F(t) was evaluated at the end of the previous step, so the guards below always
       // see the forces and overlaps of the state just reached.
       if (!forces_valid_) compute_forces();
       parallel_for(n, [&](std::size_t i) {
-        const double a = dt * p.inv_mass[i];
-        p.vx[i] += a * p.fx[i]; p.vy[i] += a * p.fy[i]; p.vz[i] += a * p.fz[i];
+        kick(i, dt, p.vx[i], p.vy[i], p.vz[i]);
         p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];
       });
       if (rot)
@@ -65,6 +161,8 @@ void Simulation::step() {
           const double b = dt * p.inv_inertia[i];
           p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
         });
+      wrap_positions();
+      if (gas_) gas_->set_time(t_new);
       compute_forces();
       break;
     }
@@ -77,10 +175,11 @@ void Simulation::step() {
       hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
       const double h = 0.5 * dt;
       parallel_for(n, [&](std::size_t i) {
-        const double a = h * p.inv_mass[i];
-        hvx_[i] = p.vx[i] + a * p.fx[i]; hvy_[i] = p.vy[i] + a * p.fy[i]; hvz_[i] = p.vz[i] + a * p.fz[i];
+        hvx_[i] = p.vx[i]; hvy_[i] = p.vy[i]; hvz_[i] = p.vz[i];
+        kick(i, h, hvx_[i], hvy_[i], hvz_[i]);
         p.x[i] += dt * hvx_[i]; p.y[i] += dt * hvy_[i]; p.z[i] += dt * hvz_[i];
-        p.vx[i] = hvx_[i] + a * p.fx[i]; p.vy[i] = hvy_[i] + a * p.fy[i]; p.vz[i] = hvz_[i] + a * p.fz[i];
+        p.vx[i] = hvx_[i]; p.vy[i] = hvy_[i]; p.vz[i] = hvz_[i];
+        kick(i, h, p.vx[i], p.vy[i], p.vz[i]);  // predicted v(t+Δt), for velocity-dependent forces
       });
       if (rot) {
         hwx_.resize(n); hwy_.resize(n); hwz_.resize(n);
@@ -90,10 +189,12 @@ void Simulation::step() {
           p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
         });
       }
+      wrap_positions();
+      if (gas_) gas_->set_time(t_new);
       compute_forces();
       parallel_for(n, [&](std::size_t i) {
-        const double a = h * p.inv_mass[i];
-        p.vx[i] = hvx_[i] + a * p.fx[i]; p.vy[i] = hvy_[i] + a * p.fy[i]; p.vz[i] = hvz_[i] + a * p.fz[i];
+        p.vx[i] = hvx_[i]; p.vy[i] = hvy_[i]; p.vz[i] = hvz_[i];
+        kick(i, h, p.vx[i], p.vy[i], p.vz[i]);
       });
       if (rot)
         parallel_for(n, [&](std::size_t i) {
@@ -122,6 +223,15 @@ void Simulation::check_state() const {
   auto cause = [&](std::ostringstream& os) {
     os << "; dt = " << spec_.dt << " s";
     if (t_col > 0.0) os << ", shortest collision time t_col = " << t_col << " s (dt/t_col = " << spec_.dt / t_col << ")";
+    if (drag_ && std::isfinite(drag_->min_relaxation_time())) {
+      const double tp = drag_->min_relaxation_time();
+      os << ", shortest particle relaxation time tau_p = m/K = " << tp << " s (tau_p/dt = " << tp / spec_.dt
+         << "; drag update '" << coupling::to_string(spec_.drag_update) << "'"
+         << (spec_.drag_update == coupling::DragUpdate::explicit_force && tp < 0.5 * spec_.dt
+                 ? ": an explicit drag update is unstable for dt > 2 tau_p, use drag.update = \"exponential\" or \"implicit\""
+                 : "")
+         << ")";
+    }
   };
   if (s != 0.0) {
     std::ostringstream os;
@@ -135,6 +245,25 @@ void Simulation::check_state() const {
     os << ". Likely cause: a time step too large for the stiffest force";
     cause(os);
     throw SimulationError(os.str());
+  }
+  if (gas_) {
+    // A particle must stay in the gas domain along every axis that is not periodic.
+    const double out = parallel_max(n, [&](std::size_t i) { return gas_->contains(p.position(i)) ? 0.0 : 1.0; });
+    if (out != 0.0) {
+      std::ostringstream os;
+      os << "particle(s) left the gas domain at t = " << time_ << " s (step " << steps_ << "):";
+      int listed = 0;
+      for (std::size_t i = 0; i < n && listed < 5; ++i)
+        if (!gas_->contains(p.position(i))) {
+          const Vec3 x = p.position(i);
+          os << ' ' << i << " (" << particle_source(spec_, i) << ") at [" << x.x << ", " << x.y << ", " << x.z << "] m";
+          ++listed;
+        }
+      os << ". Likely cause: the gas domain is too small for this run (make it larger, periodic, or bounded by "
+            "walls), or the step is too large";
+      cause(os);
+      throw SimulationError(os.str());
+    }
   }
   if (contact_ && contact_->worst_overlap().ratio >= spec_.max_overlap_fraction) {
     const OverlapRecord& w = contact_->worst_overlap();
@@ -171,6 +300,7 @@ void Simulation::save_state(OutArchive& a) const {
   a.put(p.fx); a.put(p.fy); a.put(p.fz);
   a.put(p.wx); a.put(p.wy); a.put(p.wz);
   a.put(p.tx); a.put(p.ty); a.put(p.tz);
+  a.put(p.drag_k); a.put(p.ugx); a.put(p.ugy); a.put(p.ugz);
   a.put(static_cast<std::uint64_t>(modules_.size()));
   for (const auto& m : modules_) {
     a.put(m->name());
@@ -196,6 +326,8 @@ void Simulation::load_state(InArchive& a) {
   const std::size_t nr = p.has_rotation() ? n0 : 0;
   for (auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz}) arr(*v, n0);
   for (auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz}) arr(*v, nr);
+  const std::size_t nd = p.has_drag_relaxation() ? n0 : 0;
+  for (auto* v : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz}) arr(*v, nd);
   std::uint64_t nm = 0;
   a.get(nm);
   if (nm != modules_.size()) throw ArchiveError("its modules differ from the scene's");
@@ -210,6 +342,7 @@ void Simulation::load_state(InArchive& a) {
     throw ArchiveError("its step count " + std::to_string(steps) + " is beyond the scene's " + std::to_string(total_steps_));
   steps_ = steps;
   time_ = time;
+  if (gas_) gas_->set_time(time_);
   forces_valid_ = fv != 0;
   restarted_ = true;
 }

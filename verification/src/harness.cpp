@@ -122,6 +122,7 @@ CaseDef load_case(const std::string& dir) {
       for (auto& e : *a) c.integrators.push_back(e.value_or(std::string{}));
     if (auto a = (*s)["dt_divisors"].as_array())
       for (auto& e : *a) c.dt_divisors.push_back(as_number(e, file + ": sweep.dt_divisors"));
+    if (auto d = (*s)["divisor"].value<std::string>()) c.divisor_meaning = *d;
   }
   if (auto s = t["sweep"].as_table())
     if (auto a = (*s)["sweep_dt_divisors"].as_array())
@@ -143,6 +144,10 @@ CaseDef load_case(const std::string& dir) {
     const toml::table& vt = *vn.as_table();
     Variant v;
     v.name = vt["name"].value_or(std::string{});
+    v.family = vt["family"].value_or(std::string{});
+    if (auto h = vt.get("h")) v.h = as_number(*h, file + ": variants.h");
+    v.sweep_only = vt["sweep_only"].value_or(false);
+    if (v.h > 0.0 && v.family.empty()) throw std::runtime_error(file + ": variant '" + v.name + "' has h but no family");
     if (auto a = vt["set"].as_array())
       for (auto& e : *a) v.set.push_back(parse_override(e.value_or(std::string{})));
     if (auto o = vt["oracle"].as_table())
@@ -218,6 +223,7 @@ int verify(const VerifyOptions& opt) {
     std::FILE* tf = std::fopen(table_path.c_str(), "w");
     if (!tf) throw std::runtime_error("cannot write " + table_path);
     std::fprintf(tf, "# cdm verify: case %s (%s)\n", name.c_str(), c.title.c_str());
+    std::fprintf(tf, "# dt_divisor N: %s\n", c.divisor_meaning.c_str());
     std::fprintf(tf, "# errors: norm max_rel_pct = max over the series of 100|Q_oracle - Q|/|Q_oracle| (Garg et al. eq 37);"
                      " order = least-squares slope of log(error) vs log(dt) over the dt sweep\n");
     std::fprintf(tf, "# pass: yes/no against the tolerance in tolerances.toml; info = reported, no tolerance\n");
@@ -256,7 +262,11 @@ int verify(const VerifyOptions& opt) {
                   << ") = " << fmt(err, "%.4g") << ", tolerance " << tol_s << "\n";
     };
 
+    // (family, integrator, divisor, quantity, norm) -> (h, error) for the grid orders.
+    std::map<std::tuple<std::string, std::string, double, std::string, std::string>, std::vector<std::pair<double, double>>>
+        grid_errs;
     for (const auto& v : c.variants) {
+      if (v.sweep_only && !opt.sweep) continue;
       for (const auto& integ : c.integrators) {
         // quantity|norm -> errors per dt, for the observed order.
         std::map<std::pair<std::string, std::string>, std::vector<double>> errs;
@@ -284,6 +294,7 @@ int verify(const VerifyOptions& opt) {
           for (const auto& m : r.measurements) {
             errs[{m.quantity, m.norm}].push_back(m.error);
             wp.push_back({v.name, integ, m.quantity, m.norm, div, r.dt, m.error, r.wall_seconds, r.steps * r.particles});
+            if (v.h > 0.0) grid_errs[{v.family, integ, div, m.quantity, m.norm}].push_back({v.h, m.error});
             emit(v.name, integ, divs, div, r.dt, m.quantity, m.norm, m.error,
                  find_tol(tols, v.name, integ, div, m.quantity, m.norm), false, r.wall_seconds, r.steps, r.particles,
                  r.oracle_accuracy, r.timing_repeats);
@@ -296,6 +307,19 @@ int verify(const VerifyOptions& opt) {
                find_tol(tols, v.name, integ, 0.0, qn.first, qn.second + "_order"), true, 0.0, 0, 0, "", 0);
         }
       }
+    }
+    // Observed order under grid refinement, per family, integrator and dt divisor.
+    for (const auto& [key, he] : grid_errs) {
+      if (he.size() < 2) continue;
+      const auto& [family, integ, div, q, norm] = key;
+      std::vector<double> hs, es;
+      for (const auto& [h, e] : he) { hs.push_back(h); es.push_back(e); }
+      auto order = observed_order(hs, es);
+      char divs[32];
+      std::snprintf(divs, sizeof divs, "%g", div);
+      const std::string row = family + "_grids";
+      emit(row, integ, divs, 0.0, 0.0, q, norm + "_grid_order", order ? *order : NAN,
+           find_tol(tols, row, integ, div, q, norm + "_grid_order"), true, 0.0, 0, 0, "", 0);
     }
     std::fclose(tf);
     if (opt.sweep) write_work_precision(out, name, wp);

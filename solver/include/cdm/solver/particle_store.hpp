@@ -25,11 +25,19 @@ struct ParticleStore {
   std::vector<double> tx, ty, tz;  // torque accumulated this step [N m]
   std::vector<double> inv_inertia; // 1/I, I = m d^2/10 (solid sphere) [1/(kg m^2)]
 
+  // Drag relaxation, allocated only when the drag is updated implicitly or exactly
+  // (coupling/drag_module.hpp): the integrator relaxes v towards the gas velocity.
+  std::vector<double> drag_k;         // drag coefficient K, F = K (u_g - v) [kg/s]
+  std::vector<double> ugx, ugy, ugz;  // gas velocity at the particle [m/s]
+
   std::size_t size() const { return x.size(); }
   bool has_rotation() const { return rotation_enabled_; }
+  bool has_drag_relaxation() const { return drag_relaxation_enabled_; }
 
   /// Switch on the rotational fields (called when a module that produces torque is built).
   void enable_rotation();
+  /// Switch on the drag-relaxation fields (zero drag until a module fills them).
+  void enable_drag_relaxation();
   /// Append one particle; rotational fields get zero angular velocity if enabled.
   void add(Vec3 position, Vec3 velocity, double radius, double density, int material);
   void set_angular_velocity(std::size_t i, Vec3 w);
@@ -45,6 +53,7 @@ struct ParticleStore {
 
  private:
   bool rotation_enabled_ = false;
+  bool drag_relaxation_enabled_ = false;
 };
 
 }  // namespace cdm

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "cdm/solver/coupling/drag_laws.hpp"
+#include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/vec3.hpp"
 #include "cdm/solver/walls.hpp"
@@ -15,7 +17,8 @@ namespace cdm {
 
 enum class NormalContactModel { none, linear_spring_dashpot };
 enum class TangentialModel { none, spring_coulomb };
-enum class IntegratorScheme { paper_euler, velocity_verlet };
+enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4 };
+enum class GasModel { none, prescribed };
 
 const char* to_string(IntegratorScheme s);
 
@@ -49,6 +52,14 @@ struct SceneSpec {
   Vec3 g;                                          // [m/s^2]
   NormalContactModel normal_contact = NormalContactModel::none;
   TangentialModel tangential = TangentialModel::none;
+  /// Gas phase: none (a DEM-only scene builds no grid) or a prescribed field.
+  GasModel gas = GasModel::none;
+  fluid::GasSpec gas_spec;  // when gas != none
+  bool tracers = false;     // every particle a massless tracer of the gas (rk2/rk4)
+  std::optional<coupling::DragLaw> drag;  // drag module, when named
+  coupling::DragUpdate drag_update = coupling::DragUpdate::explicit_force;
+  double drag_void_fraction = 0.0;  // ε_g held in the drag law; 0 = from the grid
+  bool pressure_gradient = false;   // −V_p ∇P module (eq 30)
 
   std::vector<Material> materials;
   PairTable pairs;

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
+#include "cdm/solver/coupling/drag_module.hpp"
+#include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/modules.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/scene.hpp"
@@ -40,6 +42,9 @@ class Simulation {
   /// Names of the modules built for this scene, in evaluation order.
   std::vector<std::string> module_names() const;
   const LinearContactModule* contact() const { return contact_; }
+  /// The gas, when the scene names one (nullptr for a DEM-only scene).
+  const fluid::GasField* gas() const { return gas_.get(); }
+  const coupling::DragModule* drag() const { return drag_; }
 
   /// Advance one time step (throws SimulationError if the state goes bad).
   void step();
@@ -58,17 +63,26 @@ class Simulation {
  private:
   void compute_forces();
   void check_state() const;
+  void step_tracers();
+  /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
+  /// solved implicitly or exactly when the scene asks for it (drag_module.hpp).
+  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz) const;
+  void wrap_positions();
 
   SceneSpec spec_;
   ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   LinearContactModule* contact_ = nullptr;
+  std::unique_ptr<fluid::GasField> gas_;
+  coupling::DragModule* drag_ = nullptr;
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   bool forces_valid_ = false;
   bool restarted_ = false;
   // Velocity Verlet keeps v(t+Δt/2) between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
+  // Tracer Runge–Kutta stages (rk2, rk4).
+  std::vector<double> x0_, y0_, z0_, kx_, ky_, kz_;
 };
 
 }  // namespace cdm

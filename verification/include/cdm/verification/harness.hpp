@@ -22,6 +22,11 @@ struct Variant {
   std::string name;
   std::vector<SceneOverride> set;
   std::map<std::string, double> oracle;  // SI parameters for the oracle
+  /// Grid refinement: variants of one family with a cell size h each; the harness
+  /// reports the observed order across them (norm suffix "_grid_order").
+  std::string family;
+  double h = 0.0;  // [m], 0 = not part of a grid study
+  bool sweep_only = false;  // run only by `cdm verify --sweep` (an expensive refinement level)
   double param(const std::string& key) const;
 };
 
@@ -32,6 +37,9 @@ struct CaseDef {
   std::string scene;      // scene file path
   std::string title;
   std::vector<std::string> integrators;
+  /// What the sweep's divisor N means, for the tables: "dt = t_col/N" (DEM cases), or
+  /// e.g. "dt = T/N, T the vortex period" (from case.toml [sweep] divisor).
+  std::string divisor_meaning = "dt = t_col/N";
   std::vector<double> dt_divisors;        // the paper's sweep (default run)
   std::vector<double> sweep_dt_divisors;  // the denser sweep of `cdm verify --sweep`
   std::vector<Variant> variants;

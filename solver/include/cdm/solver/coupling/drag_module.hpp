@@ -1,0 +1,60 @@
+#pragma once
+/// @file drag_module.hpp
+/// @brief Gas–particle force modules (Garg et al. 2012 eq 30):
+///   F_i = −V_p ∇P(X_i) + β V_p/ε_s (u_g(X_i) − V_i) = F_pressure + K (u_g − V_i).
+/// The two parts are separate modules, named separately in a scene:
+///  - DragModule: K (u_g − V) with K from the scene's drag law (drag_laws.hpp), u_g
+///    interpolated to the particle with the scene's scheme, ε_g either held at a value
+///    given in the scene or taken from the grid.
+///  - PressureGradientModule: −V_p ∇P, ∇P interpolated from the grid's face gradients
+///    (for a gas at hydrostatic rest this is the buoyancy ρ_g V_p g).
+///
+/// How the drag enters the velocity update is chosen per scene (DragUpdate):
+///  - explicit: the drag is one more force in the integrator — unstable once the step
+///    exceeds about twice the particle relaxation time τ_p = m/K;
+///  - implicit: each kick of duration τ solves dv/dt = a + (K/m)(u_g − v) by backward
+///    Euler, v ← (v + τ(a + λu_g))/(1 + λτ), λ = K/m;
+///  - exponential: each kick solves it exactly with a, λ, u_g frozen,
+///    v ← w + (v − w) e^(−λτ), w = u_g + a/λ.
+/// Both stay bounded for any τ_p/Δt; the module then stores K and u_g per particle
+/// (ParticleStore::enable_drag_relaxation) instead of adding a force.
+#include <limits>
+
+#include "cdm/solver/coupling/drag_laws.hpp"
+#include "cdm/solver/fluid/gas_field.hpp"
+#include "cdm/solver/modules.hpp"
+
+namespace cdm::coupling {
+
+class DragModule final : public ForceModule {
+ public:
+  /// @p fixed_void_fraction in (0, 1]: ε_g used in the law; 0 takes ε_g from the grid.
+  DragModule(const fluid::GasField& gas, DragLaw law, DragUpdate update, double fixed_void_fraction)
+      : gas_(&gas), law_(law), update_(update), eps_fixed_(fixed_void_fraction) {}
+  std::string name() const override;
+  void add_forces(ParticleStore& p, double dt) override;
+
+  /// Smallest particle relaxation time m/K seen in the last evaluation [s].
+  double min_relaxation_time() const { return tau_min_; }
+  DragLaw law() const { return law_; }
+  DragUpdate update() const { return update_; }
+
+ private:
+  const fluid::GasField* gas_;
+  DragLaw law_;
+  DragUpdate update_;
+  double eps_fixed_;
+  double tau_min_ = std::numeric_limits<double>::infinity();
+};
+
+class PressureGradientModule final : public ForceModule {
+ public:
+  explicit PressureGradientModule(const fluid::GasField& gas) : gas_(&gas) {}
+  std::string name() const override { return "pressure_gradient"; }
+  void add_forces(ParticleStore& p, double dt) override;
+
+ private:
+  const fluid::GasField* gas_;
+};
+
+}  // namespace cdm::coupling

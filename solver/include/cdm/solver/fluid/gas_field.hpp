@@ -1,0 +1,80 @@
+#pragma once
+/// @file gas_field.hpp
+/// @brief The gas state on the staggered grid: face velocities, cell-centred pressure
+/// and gas volume fraction, the pressure gradient on the faces, and the interpolators
+/// that carry them to particle positions. Built only when a scene names a gas.
+///
+/// A prescribed field (prescribed_field.hpp) is sampled onto the faces — the grid, not
+/// the closed form, is what particles see, so interpolation error is part of every
+/// result. Every prescribed field here is separable in time, u(x, t) = shape(x) c(t):
+/// the shape is sampled once and the time factor c(t) applied on interpolation, which
+/// is exactly the grid sample of u(·, t) at each step (interpolation is linear).
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "cdm/solver/fluid/interpolation.hpp"
+#include "cdm/solver/fluid/prescribed_field.hpp"
+#include "cdm/solver/fluid/staggered_grid.hpp"
+
+namespace cdm::fluid {
+
+struct GasSpec {
+  GridSpec grid;
+  double density = 0.0;    // ρ_g [kg/m^3]
+  double viscosity = 0.0;  // μ_g [Pa s]
+  InterpolationScheme interpolation = InterpolationScheme::paper_lagrange2;
+  std::optional<PrescribedFieldSpec> prescribed;  // set for modules.gas = "prescribed"
+};
+
+class GasField {
+ public:
+  /// @p gravity: the scene's g (zero without gravity), for the hydrostatic pressure.
+  /// Only what the scene uses is allocated: the pressure and its face gradient when
+  /// @p with_pressure, the gas volume fraction when @p with_void_fraction.
+  GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction);
+
+  const GasSpec& spec() const { return spec_; }
+  const StaggeredGrid& grid() const { return grid_; }
+  double density() const { return spec_.density; }
+  double viscosity() const { return spec_.viscosity; }
+  const PrescribedField* prescribed() const { return prescribed_ ? &*prescribed_ : nullptr; }
+
+  /// Bring a prescribed field to time @p t (a no-op for a solved gas).
+  void set_time(double t);
+  double time() const { return time_; }
+
+  /// Gas velocity at a point of the domain (periodic coordinates wrapped into it).
+  Vec3 velocity_at(Vec3 x) const { return scale_ * velocity_interp_.at(x); }
+  /// ∇p at a point, interpolated from the face differences of the cell-centred pressure.
+  Vec3 pressure_gradient_at(Vec3 x) const { return gradient_interp_.at(x); }
+
+  /// Wrap @p x into the domain along periodic axes.
+  Vec3 wrap(Vec3 x) const;
+  /// Whether @p x lies inside the domain (closed box).
+  bool contains(Vec3 x) const;
+
+  // Grid arrays (padded shape, ghosts filled).
+  std::vector<double> u, v, w;     // face velocities [m/s] (for a prescribed field: the shape)
+  std::vector<double> p;           // cell-centre pressure [Pa] (empty unless with_pressure)
+  std::vector<double> eps_g;       // cell-centre gas volume fraction [-] (empty unless with_void_fraction)
+  std::vector<double> gpx, gpy, gpz;  // ∂p/∂x on u-faces, ∂p/∂y on v-faces, ∂p/∂z on w-faces [Pa/m]
+  bool has_pressure() const { return !p.empty(); }
+  bool has_void_fraction() const { return !eps_g.empty(); }
+
+  /// Recompute the face pressure gradient from p and refresh both interpolators; call
+  /// after changing u, v, w or p.
+  void refresh();
+
+ private:
+  void sample_prescribed();
+
+  GasSpec spec_;
+  StaggeredGrid grid_;
+  std::optional<PrescribedField> prescribed_;
+  VectorInterpolator velocity_interp_, gradient_interp_;
+  double scale_ = 1.0;
+  double time_ = 0.0;
+};
+
+}  // namespace cdm::fluid

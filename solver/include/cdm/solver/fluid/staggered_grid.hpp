@@ -1,0 +1,113 @@
+#pragma once
+/// @file staggered_grid.hpp
+/// @brief Uniform staggered (MAC) grid in 2D or 3D, with ghost layers.
+///
+/// Cell (i, j, k), 0 ≤ i < nx, spans [lo.x + i hx, lo.x + (i+1) hx] × … . Scalars
+/// (pressure, gas volume fraction) live at cell centres; the velocity component along
+/// an axis lives on the faces normal to that axis (Harlow & Welch 1965; Garg et al.
+/// 2012 §2.1: u on east faces, v on north faces):
+///   u(i, j, k) at (lo.x + i hx,       lo.y + (j+½) hy, lo.z + (k+½) hz),  0 ≤ i ≤ nx
+///   v(i, j, k) at (lo.x + (i+½) hx,   lo.y + j hy,     lo.z + (k+½) hz),  0 ≤ j ≤ ny
+///   w(i, j, k) at (lo.x + (i+½) hx,   lo.y + (j+½) hy, lo.z + k hz),      0 ≤ k ≤ nz
+/// Every array has the same padded shape, (n+1+2g) per axis with g = 2 ghost layers,
+/// so all stencils share one index map. A two-dimensional grid has nz = 1 and no z
+/// dependence: w ≡ 0 and nothing is interpolated along z.
+///
+/// Ghost layers are filled from the boundary conditions (fill_ghosts):
+///  - periodic: values wrap (face n ≡ face 0 for the normal component);
+///  - no-slip wall: normal component = 0 on the wall face and mirrored evenly beyond
+///    it (∂v_n/∂n = 0 at a wall where the tangential velocity vanishes, from
+///    continuity); tangential components mirrored oddly about the wall, so that the
+///    wall value is the wall's (zero) velocity to second order;
+///  - free-slip wall: normal as no-slip, tangential mirrored evenly (zero shear);
+///  - velocity inlet: normal component = the inlet velocity on the boundary face,
+///    tangential components odd about the inlet's tangential velocity (zero);
+///  - pressure outlet: zero normal gradient of every velocity component.
+/// Cell-centred scalars get zero normal gradient at every non-periodic boundary.
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/vec3.hpp"
+
+namespace cdm::fluid {
+
+enum class BoundaryKind { periodic, no_slip, free_slip, velocity_inlet, pressure_outlet };
+const char* to_string(BoundaryKind k);
+
+struct Boundary {
+  BoundaryKind kind = BoundaryKind::no_slip;
+  double normal_velocity = 0.0;  // velocity_inlet: gas velocity along the inward normal [m/s]
+  double pressure = 0.0;         // pressure_outlet: pressure on the boundary [Pa]
+};
+
+/// Geometry and boundary conditions of a grid (SI). Faces: 0 x−, 1 x+, 2 y−, 3 y+, 4 z−, 5 z+.
+struct GridSpec {
+  Vec3 lo, hi;                      // domain corners [m]
+  std::array<int, 3> cells{1, 1, 1};  // nx, ny, nz (nz = 1 and two_d for a 2D grid)
+  bool two_d = false;
+  std::array<Boundary, 6> faces{};
+  bool periodic(int axis) const { return faces[2 * axis].kind == BoundaryKind::periodic; }
+};
+
+/// Which array a component lives in; its location offset along each axis is 0 (on the
+/// faces normal to that axis) or ½ (at cell centres).
+enum class Staggering { u, v, w, centre };
+
+class StaggeredGrid {
+ public:
+  static constexpr int ghosts = 2;
+
+  explicit StaggeredGrid(const GridSpec& spec);
+
+  const GridSpec& spec() const { return spec_; }
+  int n(int axis) const { return n_[axis]; }
+  double h(int axis) const { return h_[axis]; }
+  double lo(int axis) const { return lo_[axis]; }
+  double length(int axis) const { return n_[axis] * h_[axis]; }
+  bool two_d() const { return spec_.two_d; }
+  int dims() const { return spec_.two_d ? 2 : 3; }
+  double cell_volume() const { return h_[0] * h_[1] * h_[2]; }
+  std::size_t cell_count() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
+
+  /// Flat index of (i, j, k); each may range over [-ghosts, n + ghosts].
+  std::size_t at(int i, int j, int k) const {
+    return (static_cast<std::size_t>(k + ghosts) * ext_[1] + static_cast<std::size_t>(j + ghosts)) * ext_[0] +
+           static_cast<std::size_t>(i + ghosts);
+  }
+  std::size_t padded_size() const { return ext_[0] * ext_[1] * ext_[2]; }
+  /// A zero-filled array of the padded shape.
+  std::vector<double> make_array() const { return std::vector<double>(padded_size(), 0.0); }
+
+  /// Position of sample (i, j, k) of an array with the given staggering.
+  Vec3 position(Staggering s, int i, int j, int k) const;
+  /// Offset (0 or ½) of a staggering along @p axis.
+  static double offset(Staggering s, int axis) {
+    return static_cast<int>(s) == axis ? 0.0 : 0.5;
+  }
+  /// Number of stored (non-ghost) samples along @p axis: n + 1 for the face-normal
+  /// component on a non-periodic axis, n otherwise (face n ≡ face 0 when periodic).
+  int samples(Staggering s, int axis) const {
+    return static_cast<int>(s) == axis && !spec_.periodic(axis) ? n_[axis] + 1 : n_[axis];
+  }
+
+  /// Fill the ghost layers of the three velocity components from the boundary conditions
+  /// (and impose the boundary-face normal velocity on walls and inlets).
+  void fill_velocity_ghosts(std::vector<double>& u, std::vector<double>& v, std::vector<double>& w) const;
+  /// Fill the ghost layers of a cell-centred scalar: periodic wrap or zero normal gradient.
+  void fill_scalar_ghosts(std::vector<double>& s) const;
+  /// Fill the ghost layers of any staggered array by periodic wrap or even mirroring
+  /// (zero normal gradient), whatever the boundary kind; boundary samples are kept.
+  void fill_even_ghosts(std::vector<double>& a, Staggering s) const;
+
+ private:
+  void fill_component(std::vector<double>& a, Staggering s, bool even) const;
+
+  GridSpec spec_;
+  std::array<int, 3> n_;
+  std::array<double, 3> h_, lo_;
+  std::array<std::size_t, 3> ext_;
+};
+
+}  // namespace cdm::fluid

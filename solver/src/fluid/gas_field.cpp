@@ -1,0 +1,121 @@
+#include "cdm/solver/fluid/gas_field.hpp"
+
+#include <cmath>
+
+namespace cdm::fluid {
+
+GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction)
+    : spec_(spec),
+      grid_(spec.grid),
+      velocity_interp_(grid_, spec.interpolation),
+      gradient_interp_(grid_, spec.interpolation) {
+  u = grid_.make_array();
+  v = grid_.make_array();
+  w = grid_.make_array();
+  if (with_pressure) {
+    p = grid_.make_array();
+    gpx = grid_.make_array();
+    gpy = grid_.make_array();
+    gpz = grid_.make_array();
+  }
+  if (with_void_fraction) eps_g.assign(grid_.padded_size(), 1.0);
+  if (spec.prescribed) {
+    prescribed_.emplace(*spec.prescribed, spec.grid.lo, spec.grid.hi, spec.density, gravity);
+    sample_prescribed();
+  }
+  refresh();
+  set_time(0.0);
+}
+
+void GasField::sample_prescribed() {
+  const StaggeredGrid& g = grid_;
+  auto sample = [&](std::vector<double>& a, Staggering s, double Vec3::*comp) {
+    for (int k = 0; k < g.samples(s, 2); ++k)
+      for (int j = 0; j < g.samples(s, 1); ++j)
+        for (int i = 0; i < g.samples(s, 0); ++i) a[g.at(i, j, k)] = prescribed_->shape(g.position(s, i, j, k)).*comp;
+  };
+  sample(u, Staggering::u, &Vec3::x);
+  sample(v, Staggering::v, &Vec3::y);
+  if (!g.two_d()) sample(w, Staggering::w, &Vec3::z);
+  g.fill_velocity_ghosts(u, v, w);
+  if (has_pressure() && prescribed_->has_pressure()) {
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j < g.n(1); ++j)
+        for (int i = 0; i < g.n(0); ++i) p[g.at(i, j, k)] = prescribed_->pressure(g.position(Staggering::centre, i, j, k));
+  }
+}
+
+void GasField::refresh() {
+  const StaggeredGrid& g = grid_;
+  velocity_interp_.update(u, v, w);
+  if (!has_pressure()) return;
+  if (prescribed_ && prescribed_->has_pressure()) {
+    // Face gradients from the closed-form pressure at the centres either side of each
+    // face, boundary faces included (a hydrostatic pressure is linear, not mirrored).
+    auto grad = [&](std::vector<double>& a, Staggering s, int axis) {
+      for (int k = 0; k < g.samples(s, 2); ++k)
+        for (int j = 0; j < g.samples(s, 1); ++j)
+          for (int i = 0; i < g.samples(s, 0); ++i) {
+            Vec3 x = g.position(s, i, j, k), lo = x, hi = x;
+            double* l = axis == 0 ? &lo.x : axis == 1 ? &lo.y : &lo.z;
+            double* h = axis == 0 ? &hi.x : axis == 1 ? &hi.y : &hi.z;
+            *l -= 0.5 * g.h(axis);
+            *h += 0.5 * g.h(axis);
+            a[g.at(i, j, k)] = (prescribed_->pressure(hi) - prescribed_->pressure(lo)) / g.h(axis);
+          }
+    };
+    grad(gpx, Staggering::u, 0);
+    grad(gpy, Staggering::v, 1);
+    if (!g.two_d()) grad(gpz, Staggering::w, 2);
+  } else {
+    std::vector<double>& pp = p;
+    g.fill_scalar_ghosts(pp);
+    for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
+      for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
+        for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
+          gpx[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i - 1, j, k)]) / g.h(0);
+    for (int k = 0; k < g.samples(Staggering::v, 2); ++k)
+      for (int j = 0; j < g.samples(Staggering::v, 1); ++j)
+        for (int i = 0; i < g.samples(Staggering::v, 0); ++i)
+          gpy[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i, j - 1, k)]) / g.h(1);
+    if (!g.two_d())
+      for (int k = 0; k < g.samples(Staggering::w, 2); ++k)
+        for (int j = 0; j < g.samples(Staggering::w, 1); ++j)
+          for (int i = 0; i < g.samples(Staggering::w, 0); ++i)
+            gpz[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i, j, k - 1)]) / g.h(2);
+  }
+  // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
+  // of the gradient), which is exact for the linear hydrostatic part.
+  g.fill_scalar_ghosts(p);
+  g.fill_even_ghosts(gpx, Staggering::u);
+  g.fill_even_ghosts(gpy, Staggering::v);
+  if (!g.two_d()) g.fill_even_ghosts(gpz, Staggering::w);
+  gradient_interp_.update(gpx, gpy, gpz);
+}
+
+void GasField::set_time(double t) {
+  time_ = t;
+  scale_ = prescribed_ ? prescribed_->time_factor(t) : 1.0;
+}
+
+Vec3 GasField::wrap(Vec3 x) const {
+  double* c[3] = {&x.x, &x.y, &x.z};
+  for (int a = 0; a < (grid_.two_d() ? 2 : 3); ++a) {  // a 2D gas has no z dependence: z is not wrapped
+    if (!grid_.spec().periodic(a)) continue;
+    const double L = grid_.length(a), lo = grid_.lo(a);
+    double r = std::fmod(*c[a] - lo, L);
+    if (r < 0) r += L;
+    if (r >= L) r = 0.0;  // fmod of a value just below 0 can round to L
+    *c[a] = lo + r;
+  }
+  return x;
+}
+
+bool GasField::contains(Vec3 x) const {
+  const double c[3] = {x.x, x.y, x.z};
+  for (int a = 0; a < 3; ++a)
+    if (!(c[a] >= grid_.lo(a) && c[a] <= grid_.lo(a) + grid_.length(a))) return false;
+  return true;
+}
+
+}  // namespace cdm::fluid

@@ -1,0 +1,107 @@
+#include "cdm/solver/fluid/interpolation.hpp"
+
+#include <cmath>
+
+namespace cdm::fluid {
+
+const char* to_string(InterpolationScheme s) {
+  switch (s) {
+    case InterpolationScheme::trilinear: return "trilinear";
+    case InterpolationScheme::paper_lagrange2: return "paper_lagrange2";
+  }
+  return "?";
+}
+
+void VectorInterpolator::update(const std::vector<double>& u, const std::vector<double>& v,
+                                const std::vector<double>& w) {
+  u_ = &u;
+  v_ = &v;
+  w_ = &w;
+  if (scheme_ != InterpolationScheme::paper_lagrange2) return;
+  const StaggeredGrid& g = *grid_;
+  if (cu_.size() != g.padded_size()) {
+    cu_ = g.make_array();
+    cv_ = g.make_array();
+    cw_ = g.make_array();
+  }
+  const bool d2 = g.two_d();
+  // Corners (I, J, K) at lo + (I, J, K) h; the Lagrange stencils reach I−1 … I+1 for
+  // I in [0, n], so corners −1 … n+1 are needed along each axis.
+  const int k0 = d2 ? 0 : -1, k1 = d2 ? 0 : g.n(2) + 1;
+  for (int K = k0; K <= k1; ++K)
+    for (int J = -1; J <= g.n(1) + 1; ++J)
+      for (int I = -1; I <= g.n(0) + 1; ++I) {
+        const std::size_t c = g.at(I, J, K);
+        if (d2) {
+          cu_[c] = 0.5 * (u[g.at(I, J - 1, 0)] + u[g.at(I, J, 0)]);
+          cv_[c] = 0.5 * (v[g.at(I - 1, J, 0)] + v[g.at(I, J, 0)]);
+          cw_[c] = 0.0;
+        } else {
+          cu_[c] = 0.25 * (u[g.at(I, J - 1, K - 1)] + u[g.at(I, J, K - 1)] + u[g.at(I, J - 1, K)] + u[g.at(I, J, K)]);
+          cv_[c] = 0.25 * (v[g.at(I - 1, J, K - 1)] + v[g.at(I, J, K - 1)] + v[g.at(I - 1, J, K)] + v[g.at(I, J, K)]);
+          cw_[c] = 0.25 * (w[g.at(I - 1, J - 1, K)] + w[g.at(I, J - 1, K)] + w[g.at(I - 1, J, K)] + w[g.at(I, J, K)]);
+        }
+      }
+}
+
+double VectorInterpolator::trilinear(const std::vector<double>& a, Staggering s, Vec3 x) const {
+  const StaggeredGrid& g = *grid_;
+  const double xs[3] = {x.x, x.y, x.z};
+  int i0[3] = {0, 0, 0};
+  double t[3] = {0, 0, 0};
+  const int dims = g.dims();
+  for (int d = 0; d < dims; ++d) {
+    const double f = (xs[d] - g.lo(d)) / g.h(d) - StaggeredGrid::offset(s, d);
+    i0[d] = static_cast<int>(std::floor(f));
+    t[d] = f - i0[d];
+  }
+  if (dims == 2) {
+    const double a00 = a[g.at(i0[0], i0[1], 0)], a10 = a[g.at(i0[0] + 1, i0[1], 0)];
+    const double a01 = a[g.at(i0[0], i0[1] + 1, 0)], a11 = a[g.at(i0[0] + 1, i0[1] + 1, 0)];
+    return (1 - t[1]) * ((1 - t[0]) * a00 + t[0] * a10) + t[1] * ((1 - t[0]) * a01 + t[0] * a11);
+  }
+  double r = 0.0;
+  for (int dk = 0; dk < 2; ++dk)
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di) {
+        const double wgt = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
+        r += wgt * a[g.at(i0[0] + di, i0[1] + dj, i0[2] + dk)];
+      }
+  return r;
+}
+
+Vec3 VectorInterpolator::lagrange2(Vec3 x) const {
+  const StaggeredGrid& g = *grid_;
+  const double xs[3] = {x.x, x.y, x.z};
+  int c[3] = {0, 0, 0};
+  double L[3][3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
+  const int dims = g.dims();
+  for (int d = 0; d < dims; ++d) {
+    const double f = (xs[d] - g.lo(d)) / g.h(d);
+    c[d] = static_cast<int>(std::lround(f));
+    const double xi = f - c[d];
+    L[d][0] = 0.5 * xi * (xi - 1.0);
+    L[d][1] = 1.0 - xi * xi;
+    L[d][2] = 0.5 * xi * (xi + 1.0);
+  }
+  Vec3 r;
+  const int kr = dims == 3 ? 1 : 0;
+  for (int dk = -kr; dk <= kr; ++dk)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const double wgt = L[0][di + 1] * L[1][dj + 1] * (dims == 3 ? L[2][dk + 1] : 1.0);
+        const std::size_t idx = g.at(c[0] + di, c[1] + dj, c[2] + dk);
+        r.x += wgt * cu_[idx];
+        r.y += wgt * cv_[idx];
+        r.z += wgt * cw_[idx];
+      }
+  return r;
+}
+
+Vec3 VectorInterpolator::at(Vec3 x) const {
+  if (scheme_ == InterpolationScheme::paper_lagrange2) return lagrange2(x);
+  const double wz = grid_->two_d() ? 0.0 : trilinear(*w_, Staggering::w, x);
+  return {trilinear(*u_, Staggering::u, x), trilinear(*v_, Staggering::v, x), wz};
+}
+
+}  // namespace cdm::fluid
