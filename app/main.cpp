@@ -19,6 +19,7 @@
 #include <iostream>
 
 #include "cdm/solver/checkpoint.hpp"
+#include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/output.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
@@ -133,6 +134,8 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
 
   std::optional<cdm::ParticleTableObserver> table;
   if (spec.output_particles) table.emplace((fs::path(out_dir) / "particles.dat").string(), sim);
+  std::optional<cdm::VtkObserver> vtk;
+  if (spec.output_vtk) vtk.emplace(out_dir, sim);
   Progress progress(!quiet && isatty(STDERR_FILENO));
   progress.start_at(sim.steps());
   long long last_ck = spec.checkpoint_interval > 0
@@ -146,6 +149,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   sim.run(
       [&](const cdm::Simulation& s) {
         if (table) (*table)(s);
+        if (vtk) (*vtk)(s);
         progress(s);
         if (spec.checkpoint_interval > 0) {
           const auto k = static_cast<long long>(std::floor(s.time() / spec.checkpoint_interval + 1e-9));
@@ -168,6 +172,9 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
     std::cout << "wrote checkpoint " << ckpt << " at step " << sim.steps() << " (t = " << sim.time() << " s)\n";
   }
   if (spec.output_particles) std::cout << "wrote " << (fs::path(out_dir) / "particles.dat").string() << "\n";
+  if (spec.output_vtk)
+    std::cout << "wrote " << (fs::path(out_dir) / "particles.pvd").string()
+              << (sim.gas() ? " and " + (fs::path(out_dir) / "gas.pvd").string() : std::string()) << " (VTK)\n";
   if (sig != 0) {
     std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << scene << " --restart " << ckpt
               << " -o " << out_dir << "\n";

@@ -62,7 +62,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "end_time"}},
-      {"output", {"interval", "particles", "checkpoint_interval"}},
+      {"output", {"interval", "particles", "vtk", "checkpoint_interval"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
   return s;
@@ -764,6 +764,7 @@ void Loader::read_output_and_checks() {
   if (const toml::table* o = table(root_, "output", "", false)) {
     check_keys(*o, "output", "output");
     spec_.output_particles = boolean(*o, "particles", "output").value_or(true);
+    spec_.output_vtk = boolean(*o, "vtk", "output").value_or(false);
     spec_.output_interval = positive(*o, "interval", "output", Dim::time, true);
     spec_.checkpoint_interval = positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
   } else {

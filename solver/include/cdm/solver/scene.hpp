@@ -76,6 +76,7 @@ struct SceneSpec {
 
   double output_interval = 0.0;  // [s] between rows of the particle table
   bool output_particles = true;
+  bool output_vtk = false;  // VTK files (particles, and the gas) at the output interval
   double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
 
   bool allow_initial_overlap = false;

@@ -43,6 +43,8 @@ class GasField {
   /// Bring a prescribed field to time @p t (a no-op for a solved gas).
   void set_time(double t);
   double time() const { return time_; }
+  /// The factor c(t) the stored face velocities are scaled by (1 for a steady field).
+  double time_factor() const { return scale_; }
 
   /// Gas velocity at a point of the domain (periodic coordinates wrapped into it).
   Vec3 velocity_at(Vec3 x) const { return scale_ * velocity_interp_.at(x); }
