@@ -28,7 +28,9 @@
 ///  - Wen & Yu (1966), in the form of Gidaspow (1994) and MFIX `DRAG_WEN_YU`
 ///    (model/drag_gs.f):  [β = (3/4) C_d ε_s ε_g ρ_g w / d · ε_g^−2.65]
 ///      C_d(Re_p) as Schiller–Naumann above with Re_p (≤ 1000 → correlation, > 1000 →
-///      0.44; MFIX, OpenFOAM and PhasicFlow all put Re_p = 1000 itself on the correlation);
+///      0.44; MFIX, OpenFOAM's lagrangian ErgunWenYu and PhasicFlow put Re_p = 1000 itself
+///      on the correlation). Note some codes differ: OpenFOAM's older multiphaseEulerFoam
+///      WenYu uses the interstitial Re = ρ_g w d/μ_g (no ε_g) — not the form here;
 ///      K = (π d²/8) C_d ρ_g ε_g^−1.65 w.  Re → 0: K → 3π μ_g d ε_g^−2.65.
 ///  - Gidaspow (1994) / Ding & Gidaspow (1990) (MFIX `DRAG_GIDASPOW`):
 ///      ε_g <  0.8: Ergun   [β = 150 ε_s² μ_g/(ε_g d²) + 1.75 ε_s ρ_g w/d]
@@ -51,7 +53,8 @@
 ///                 + 0.413 Re_p/(24 ε_g²) · (1/ε_g + 3 ε_g φ + 8.4 Re_p^−0.343)
 ///                                        / (1 + 10^(3φ) Re_p^−(1+4φ)/2),
 ///      [β = 18 μ_g ε_g ε_s F / d²  (MFIX DRAG_BVK: F_STOKES = 18 μ ε_g/d², times ε_s;
-///       OpenFOAM Beetstra: CdRe = 24 ε_g F, K = (3/4) CdRe ε_s μ/d², the same)]
+///       OpenFOAM Beetstra.C: CdRe = 24 ε_g F, and its dispersedDragModel exchange
+///       coefficient 0.75 CdRe ε_s μ/d², the same β)]
 ///      K = 3π μ_g d ε_g F, i.e. F is normalised by the Stokes drag at the SUPERFICIAL slip
 ///      ε_g w, and excludes the mean-pressure-gradient force. Consistency check: in the
 ///      dense, Re → 0 limit the 10φ/ε_g² term alone gives the fixed-bed gradient

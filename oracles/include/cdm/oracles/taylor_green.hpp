@@ -23,6 +23,9 @@
 /// Note the relaxation time of the law the oracle integrates: for Wen–Yu at ε_g,
 /// K(w → 0) = 3π μ_g d ε_g^−2.65, so τ = τ_p ε_g^2.65 (0.8729 τ_p at ε_g = 0.95), with
 /// τ_p = ρ_p d²/(18 μ_g) the Stokes time of eq 46. low_re_relaxation_time() returns it.
+/// Garg's St = T_p/T_g with T_g = L/U (eqs 45–47) is a different scale: with L the
+/// vortex-cell period 2π/k (MFIX's input: a 1 cm box, k = 200π m⁻¹) St_Maxey = τ U k =
+/// 2π St_Garg, so St_c = 1/4 is St_Garg = 1/(8π) ≈ 0.040 — a case must say which it uses.
 #include <array>
 #include <complex>
 #include <vector>
