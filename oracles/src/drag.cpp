@@ -91,7 +91,7 @@ double wen_yu_k(const DragState& s) {
 
 double gidaspow_k(const DragState& s) {
   validate(s);
-  if (s.eps_g < 0.8) {
+  if (s.eps_g <= 0.8) {  // MFIX DRAG_GIDASPOW: EPg <= 0.8 is Ergun
     const double es = 1.0 - s.eps_g;
     return particle_volume(s.d) * (150.0 * es * s.mu_g / (s.eps_g * s.d * s.d) + 1.75 * s.rho_g * s.slip / s.d);
   }

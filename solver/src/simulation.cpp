@@ -223,14 +223,15 @@ void Simulation::check_state() const {
   auto cause = [&](std::ostringstream& os) {
     os << "; dt = " << spec_.dt << " s";
     if (t_col > 0.0) os << ", shortest collision time t_col = " << t_col << " s (dt/t_col = " << spec_.dt / t_col << ")";
-    if (drag_ && std::isfinite(drag_->min_relaxation_time())) {
-      const double tp = drag_->min_relaxation_time();
-      os << ", shortest particle relaxation time tau_p = m/K = " << tp << " s (tau_p/dt = " << tp / spec_.dt
-         << "; drag update '" << coupling::to_string(spec_.drag_update) << "'"
-         << (spec_.drag_update == coupling::DragUpdate::explicit_force && tp < 0.5 * spec_.dt
-                 ? ": an explicit drag update is unstable for dt > 2 tau_p, use drag.update = \"exponential\" or \"implicit\""
-                 : "")
-         << ")";
+    if (drag_) {
+      const double tp = drag_->relaxation_time_at_rest(particles_);
+      const bool verlet = spec_.integrator == IntegratorScheme::velocity_verlet;
+      os << ", shortest particle relaxation time at zero slip tau_p = m/K = " << tp << " s (tau_p/dt = " << tp / spec_.dt
+         << "; drag update '" << coupling::to_string(spec_.drag_update) << "'";
+      if (spec_.drag_update == coupling::DragUpdate::explicit_force && tp < (verlet ? 1.0 : 0.5) * spec_.dt)
+        os << ": an explicit drag update is unstable for dt > " << (verlet ? "tau_p with velocity_verlet" : "2 tau_p with paper_euler")
+           << ", use drag.update = \"exponential\" or \"implicit\"";
+      os << ")";
     }
   };
   if (s != 0.0) {

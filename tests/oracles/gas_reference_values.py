@@ -29,7 +29,7 @@ def beta_wen_yu(d, rg, mu, eg, w):
 
 def beta_gidaspow(d, rg, mu, eg, w):
     es = 1 - eg
-    if eg < mpf('0.8'):
+    if eg <= mpf('0.8'):  # MFIX: EPg <= 0.8 is Ergun
         return (150 * es * mu / (eg * d**2) + mpf('1.75') * rg * w / d) * es
     return beta_wen_yu(d, rg, mu, eg, w)
 
@@ -78,7 +78,7 @@ for p in points:
 # --- Gidaspow jump at eps_g = 0.8 (d = 5e-4, air, w = 1) ----------------------------
 d, rg, mu, w = mpf('5e-4'), mpf('1.2'), mpf('1.8e-5'), mpf('1.0')
 erg = (150 * mpf('0.2') * mu / (mpf('0.8') * d**2) + mpf('1.75') * rg * w / d) * mpf('0.2')
-print('// Gidaspow at eps_g = 0.8: Ergun limit from below', fmt(erg), 'Wen-Yu value', fmt(beta_wen_yu(d, rg, mu, mpf('0.8'), w)))
+print('// Gidaspow at eps_g = 0.8: Ergun (MFIX, <= 0.8)', fmt(erg), 'Wen-Yu just above', fmt(beta_wen_yu(d, rg, mu, mpf('0.8'), w)))
 
 # --- Wen-Yu Cd at Re = 1000 ----------------------------------------------------------
 print('// SN Cd(1000) =', fmt(24 / mpf(1000) * (1 + mpf('0.15') * mpf(1000)**mpf('0.687'))))

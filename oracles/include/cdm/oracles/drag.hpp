@@ -33,12 +33,12 @@
 ///      WenYu uses the interstitial Re = ρ_g w d/μ_g (no ε_g) — not the form here;
 ///      K = (π d²/8) C_d ρ_g ε_g^−1.65 w.  Re → 0: K → 3π μ_g d ε_g^−2.65.
 ///  - Gidaspow (1994) / Ding & Gidaspow (1990) (MFIX `DRAG_GIDASPOW`):
-///      ε_g <  0.8: Ergun   [β = 150 ε_s² μ_g/(ε_g d²) + 1.75 ε_s ρ_g w/d]
+///      ε_g ≤ 0.8: Ergun   [β = 150 ε_s² μ_g/(ε_g d²) + 1.75 ε_s ρ_g w/d]
 ///                  K = V_p (150 ε_s μ_g/(ε_g d²) + 1.75 ρ_g w/d);
-///      ε_g ≥ 0.8: Wen–Yu as above.
-///    The switch ε_g = 0.8 belongs to Wen–Yu here (OpenFOAM GidaspowErgunWenYu,
-///    PhasicFlow ErgunWenYu); MFIX's DRAG_GIDASPOW tests `EPg <= 0.8` and so puts
-///    ε_g = 0.8 itself on Ergun. The law is discontinuous there: at d = 0.5 mm, air,
+///      ε_g > 0.8: Wen–Yu as above.
+///    The switch ε_g = 0.8 belongs to Ergun here, as in MFIX's DRAG_GIDASPOW (`EPg <= 0.8`),
+///    the code of the paper cdm starts from; OpenFOAM GidaspowErgunWenYu and PhasicFlow
+///    ErgunWenYu put ε_g = 0.8 on Wen–Yu instead. The law is discontinuous there: at d = 0.5 mm, air,
 ///    w = 1 m/s, β jumps from 1380 (Ergun, ε_g → 0.8⁻) to 1138.4 (Wen–Yu) kg/(m³ s).
 ///  - Di Felice (1994), Int. J. Multiphase Flow 20:153, doi:10.1016/0301-9322(94)90011-6,
 ///    in the CFD–DEM form of Xu & Yu (1997) / Zhou et al. (2010) and CFDEMcoupling's

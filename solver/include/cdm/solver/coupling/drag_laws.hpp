@@ -29,11 +29,16 @@
 ///      f₀ = ½ C_d ρ_g (πd²/4) (ε_g w)², C_d = (0.63 + 4.8/√Re_p)² (Dallavalle),
 ///      χ = 3.7 − 0.65 exp(−(1.5 − log₁₀ Re_p)²/2),
 ///      so K = (π/8) ρ_g d² ε_g^(2−χ) (0.63 √w + 4.8 √(μ_g/(ε_g ρ_g d)))²  (finite at w = 0).
-///  - Beetstra, van der Hoef & Kuipers (2007), in MFIX's form (drag_bvk): with φ = ε_s,
+///  - Beetstra, van der Hoef & Kuipers (2007): with φ = ε_s,
 ///      F = 10φ/ε_g² + ε_g²(1 + 1.5√φ)
 ///          + 0.413 Re_p/(24 ε_g²) · (1/ε_g + 3ε_g φ + 8.4 Re_p^−0.343)
 ///                                  / (1 + 10^(3φ) Re_p^(−(1+4φ)/2)),
-///      β = 18 μ_g ε_g² ε_s F / d², so K = 3π μ_g d ε_g² F.
+///      the drag (without the mean pressure-gradient force) normalised by the Stokes drag
+///      at the superficial slip, F_d = 3π μ_g d (ε_g w) F: K = 3π μ_g d ε_g F,
+///      β = 18 μ_g ε_g ε_s F / d² (as MFIX's current DRAG_BVK and OpenFOAM's Beetstra).
+///      Check: the dense low-Re term 10φ/ε_g² gives the fixed-bed gradient β U/ε_g² =
+///      180 μ_g φ² U/(ε_g³ d²), Carman–Kozeny. (Older MFIX releases used
+///      18 μ_g ε_g² ε_s F/d², which misses Carman–Kozeny by a factor ε_g.)
 /// In the limit ε_g → 1, Re → 0 Schiller–Naumann, Wen–Yu, Gidaspow and BVK all give
 /// Stokes drag K = 3π μ_g d; Di Felice gives (π/8) 4.8² μ_g d = 0.96 · 3π μ_g d (the
 /// Dallavalle C_d is 23.04/Re at small Re).
@@ -90,7 +95,7 @@ inline double beetstra(double rho_g, double mu_g, double d, double eps_g, double
   if (re > 0.0)
     f += 0.413 * re / (24.0 * eps_g * eps_g) * (1.0 / eps_g + 3.0 * eps_g * phi + 8.4 * std::pow(re, -0.343)) /
          (1.0 + std::pow(10.0, 3.0 * phi) * std::pow(re, -0.5 * (1.0 + 4.0 * phi)));
-  return 3.0 * pi * mu_g * d * eps_g * eps_g * f;
+  return 3.0 * pi * mu_g * d * eps_g * f;
 }
 
 }  // namespace drag

@@ -11,7 +11,9 @@
 ///
 /// How the drag enters the velocity update is chosen per scene (DragUpdate):
 ///  - explicit: the drag is one more force in the integrator — unstable once the step
-///    exceeds about twice the particle relaxation time τ_p = m/K;
+///    exceeds 2τ_p with paper_euler, or τ_p with velocity_verlet (its force at t+Δt
+///    uses the predicted velocity; the two-step recurrence of a linear drag has an
+///    eigenvalue below −1 from Δt = τ_p on), τ_p = m/K;
 ///  - implicit: each kick of duration τ solves dv/dt = a + (K/m)(u_g − v) by backward
 ///    Euler, v ← (v + τ(a + λu_g))/(1 + λτ), λ = K/m;
 ///  - exponential: each kick solves it exactly with a, λ, u_g frozen,
@@ -36,10 +38,15 @@ class DragModule final : public ForceModule {
 
   /// Smallest particle relaxation time m/K seen in the last evaluation [s].
   double min_relaxation_time() const { return tau_min_; }
+  /// Smallest relaxation time at zero slip, m/K(w = 0) [s], over the particles: the
+  /// Stokes-regime time scale, finite whatever the velocities (for diagnostics).
+  double relaxation_time_at_rest(const ParticleStore& p) const;
   DragLaw law() const { return law_; }
   DragUpdate update() const { return update_; }
 
  private:
+  double void_fraction_at(Vec3 x) const;
+
   const fluid::GasField* gas_;
   DragLaw law_;
   DragUpdate update_;
