@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <toml++/toml.h>
 
 #include "cdm/solver/neighbour_search.hpp"
@@ -35,6 +36,7 @@ const char* to_string(IntegratorScheme s) {
     case IntegratorScheme::velocity_verlet: return "velocity_verlet";
     case IntegratorScheme::rk2: return "rk2";
     case IntegratorScheme::rk4: return "rk4";
+    case IntegratorScheme::exponential_midpoint: return "exponential_midpoint";
   }
   return "?";
 }
@@ -48,13 +50,14 @@ namespace {
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
-            "lattices", "shells", "gas", "drag", "integrator", "output", "checks"}},
+            "lattices", "shells", "random_particles", "gas", "drag", "integrator", "output", "checks"}},
       {"modules", {"gravity", "normal_contact", "tangential", "gas", "drag", "pressure_gradient", "tracers"}},
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field"}},
       {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},
       {"shells[]", {"material", "radius", "center", "shell_radius", "count", "dimension"}},
+      {"random_particles[]", {"material", "radius", "lower", "upper", "count", "seed"}},
       {"gravity", {"g"}},
       {"materials[]", {"name", "density"}},
       {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
@@ -531,8 +534,81 @@ void Loader::read_particles() {
       }
     }
   }
+  if (const toml::array* rs = array_of_tables(root_, "random_particles")) {
+    // Centres uniform in a box, from a 64-bit Mersenne twister with a fixed mapping to
+    // doubles (the same particles on every platform). With a normal-contact model each
+    // new particle must clear every earlier one and the walls (random sequential
+    // addition); without one, overlaps are allowed — nothing acts between particles.
+    for (std::size_t i = 0; i < rs->size(); ++i) {
+      const toml::table& t = *rs->get(i)->as_table();
+      const std::string path = "random_particles[" + std::to_string(i) + "]";
+      check_keys(t, "random_particles[]", path);
+      const int mat = particle_material(t, path);
+      const double r = positive(t, "radius", path, Dim::length, true);
+      const Vec3 lo = vec3_required(t, "lower", path, Dim::length), hi = vec3_required(t, "upper", path, Dim::length);
+      if (!(hi.x >= lo.x && hi.y >= lo.y && hi.z >= lo.z))
+        fail_value(path + ".upper", *t.get("upper"), "a corner at or above " + path + ".lower along every axis");
+      const toml::node* cn = t.get("count");
+      if (!cn) fail_missing(path + ".count", "an integer >= 1");
+      if (!cn->is_integer() || cn->as_integer()->get() < 1 ||
+          static_cast<double>(cn->as_integer()->get()) + spec_.particles.size() > max_particles)
+        fail_value(path + ".count", *cn, "an integer >= 1 (at most " + std::to_string(max_particles) + " particles in the scene)");
+      const auto count = static_cast<std::size_t>(cn->as_integer()->get());
+      long long seed = 1;
+      if (const toml::node* sn = t.get("seed")) {
+        if (!sn->is_integer() || sn->as_integer()->get() < 0) fail_value(path + ".seed", *sn, "an integer >= 0");
+        seed = sn->as_integer()->get();
+      }
+      std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
+      auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+      const bool exclusive = spec_.normal_contact != NormalContactModel::none;
+      // Random sequential addition on a cell grid of edge 2r (contacts only).
+      const double cell = 2.0 * r;
+      std::map<std::tuple<long long, long long, long long>, std::vector<Vec3>> placed;
+      auto key = [&](Vec3 x) {
+        return std::make_tuple(static_cast<long long>(std::floor(x.x / cell)), static_cast<long long>(std::floor(x.y / cell)),
+                               static_cast<long long>(std::floor(x.z / cell)));
+      };
+      auto clear = [&](Vec3 x) {
+        for (const auto& w : spec_.walls)
+          if (w.distance(x) < r) return false;
+        const auto [a, b, c] = key(x);
+        for (long long da = -1; da <= 1; ++da)
+          for (long long db = -1; db <= 1; ++db)
+            for (long long dc = -1; dc <= 1; ++dc) {
+              auto it = placed.find({a + da, b + db, c + dc});
+              if (it == placed.end()) continue;
+              for (const Vec3& y : it->second)
+                if (dot(x - y, x - y) < 4.0 * r * r) return false;
+            }
+        return true;
+      };
+      spec_.groups.push_back({path, spec_.particles.size(), count, 0, 0});
+      std::size_t attempts = 0;
+      const std::size_t max_attempts = 1000 * count + 1000;
+      for (std::size_t k = 0; k < count;) {
+        const double a = uniform(), b = uniform(), c = uniform();
+        const Vec3 x{lo.x + a * (hi.x - lo.x), lo.y + b * (hi.y - lo.y), lo.z + c * (hi.z - lo.z)};
+        if (exclusive && !clear(x)) {
+          if (++attempts > max_attempts)
+            fail_value(path + ".count", *cn,
+                       "fewer particles: only " + std::to_string(k) + " fit without overlap after " +
+                           std::to_string(max_attempts) + " random tries (random sequential addition jams near a solids "
+                           "fraction of 0.38; use [[lattices]] for denser packings)");
+          continue;
+        }
+        if (exclusive) placed[key(x)].push_back(x);
+        ParticleSpec p;
+        p.material = mat;
+        p.radius = r;
+        p.position = x;
+        spec_.particles.push_back(p);
+        ++k;
+      }
+    }
+  }
   if (spec_.particles.empty())
-    fail_missing("particles", "at least one [[particles]], [[lattices]] or [[shells]] entry");
+    fail_missing("particles", "at least one [[particles]], [[lattices]], [[shells]] or [[random_particles]] entry");
 }
 
 void Loader::read_gas() {
@@ -614,7 +690,11 @@ void Loader::read_gas() {
   const std::string interp = string(*gt, "interpolation", "gas").value_or("paper_lagrange2");
   if (interp == "paper_lagrange2") gs.interpolation = fluid::InterpolationScheme::paper_lagrange2;
   else if (interp == "trilinear") gs.interpolation = fluid::InterpolationScheme::trilinear;
-  else fail_value("gas.interpolation", *gt->get("interpolation"), "\"paper_lagrange2\" or \"trilinear\"");
+  else if (interp == "analytic" && spec_.gas == GasModel::prescribed) gs.interpolation = fluid::InterpolationScheme::analytic;
+  else
+    fail_value("gas.interpolation", *gt->get("interpolation"),
+               spec_.gas == GasModel::prescribed ? "\"paper_lagrange2\", \"trilinear\" or \"analytic\""
+                                                 : "\"paper_lagrange2\" or \"trilinear\"");
 
   // The prescribed field.
   const toml::table* ft = table(*gt, "field", "gas", spec_.gas == GasModel::prescribed);
@@ -680,15 +760,23 @@ void Loader::read_integrator() {
   check_keys(*t, "integrator", "integrator");
   const std::string scheme = string(*t, "scheme", "integrator").value_or("");
   const std::string allowed = spec_.tracers ? "\"rk2\" or \"rk4\" (tracers move with the gas)"
-                                            : "\"paper_euler\" or \"velocity_verlet\"";
+                                            : "\"paper_euler\", \"velocity_verlet\" or \"exponential_midpoint\"";
   if (scheme == "paper_euler") spec_.integrator = IntegratorScheme::paper_euler;
   else if (scheme == "velocity_verlet") spec_.integrator = IntegratorScheme::velocity_verlet;
   else if (scheme == "rk2") spec_.integrator = IntegratorScheme::rk2;
   else if (scheme == "rk4") spec_.integrator = IntegratorScheme::rk4;
+  else if (scheme == "exponential_midpoint") spec_.integrator = IntegratorScheme::exponential_midpoint;
   else if (!t->get("scheme")) fail_missing("integrator.scheme", allowed);
   else fail_value("integrator.scheme", *t->get("scheme"), allowed);
   const bool rk = spec_.integrator == IntegratorScheme::rk2 || spec_.integrator == IntegratorScheme::rk4;
   if (rk != spec_.tracers) fail_value("integrator.scheme", *t->get("scheme"), allowed);
+  if (spec_.integrator == IntegratorScheme::exponential_midpoint &&
+      (!spec_.drag || spec_.drag_update != coupling::DragUpdate::exponential ||
+       spec_.normal_contact != NormalContactModel::none))
+    fail_value("integrator.scheme", *t->get("scheme"),
+               "\"paper_euler\" or \"velocity_verlet\": \"exponential_midpoint\" is for particles moved by drag without "
+               "contacts (it needs modules.drag with drag.update = \"exponential\" and modules.normal_contact = \"none\"; "
+               "it evaluates the forces twice per step)");
   spec_.end_time = positive(*t, "end_time", "integrator", Dim::time, true);
 }
 
@@ -809,7 +897,8 @@ void Loader::check_initial_state() {
       }
     }
   }
-  if (spec_.allow_initial_overlap || spec_.particles.size() < 2) return;
+  // Overlaps between particles matter only when a contact model acts between them.
+  if (spec_.allow_initial_overlap || spec_.particles.size() < 2 || spec_.normal_contact == NormalContactModel::none) return;
   ParticleStore tmp;
   for (const auto& p : spec_.particles) tmp.add(p.position, {}, p.radius, 1.0, p.material);
   std::vector<ContactPair> pairs;

@@ -174,8 +174,9 @@ std::vector<Tolerance> load_tolerances(const std::string& case_dir) {
     if (auto d = e.get("dt_divisor")) tol.dt_divisor = as_number(*d, file + ": dt_divisor");
     if (auto m = e.get("max")) tol.max = as_number(*m, file + ": max");
     else if (auto m2 = e.get("min_order")) tol.max = as_number(*m2, file + ": min_order");
+    else if (auto m3 = e.get("min")) { tol.max = as_number(*m3, file + ": min"); tol.at_least = true; }
     else if (e["report_only"].value_or(false)) tol.report_only = true;
-    else throw std::runtime_error(file + ": a [[tolerance]] needs 'max', 'min_order' or 'report_only = true'");
+    else throw std::runtime_error(file + ": a [[tolerance]] needs 'max', 'min', 'min_order' or 'report_only = true'");
     if (auto o = e.get("order")) tol.order = as_number(*o, file + ": order");
     if (auto rd = e.get("ref_divisor")) tol.ref_divisor = as_number(*rd, file + ": ref_divisor");
     tol.reason = e["reason"].value_or(std::string{});
@@ -241,12 +242,13 @@ int verify(const VerifyOptions& opt) {
       const double min_div = *std::min_element(c.dt_divisors.begin(), c.dt_divisors.end());
       if (tol && !is_order && divisor < min_div) tol = nullptr;
       if (tol) {
+        const bool at_least = is_order || tol->at_least;
         const double bound = is_order ? tol->max : tol->at(divisor);
-        const bool ok = is_order ? (std::isfinite(err) && err >= bound) : (std::isfinite(err) && err <= bound);
+        const bool ok = at_least ? (std::isfinite(err) && err >= bound) : (std::isfinite(err) && err <= bound);
         pass = ok ? "yes" : "no";
-        tol_s = (is_order ? ">=" : "") + fmt(bound, "%.3g");
+        tol_s = (at_least ? ">=" : "") + fmt(bound, "%.3g");
         if (ok) ++s.pass; else { ++s.fail; all_ok = false; }
-        const double ratio = is_order ? (err > 0 ? bound / err : INFINITY) : err / bound;
+        const double ratio = at_least ? (err > 0 ? bound / err : INFINITY) : (bound > 0 ? err / bound : (err > 0 ? INFINITY : 0.0));
         if (ratio > s.worst_ratio) {
           s.worst_ratio = ratio;
           s.worst = variant + " " + integ + " dt/" + div + " " + q + " " + norm + " = " + fmt(err, "%.3g") + " (tol " + tol_s + ")";
@@ -282,6 +284,7 @@ int verify(const VerifyOptions& opt) {
           double total = r.wall_seconds;
           RunConfig again = rc;
           again.series_path.clear();
+          again.timing_only = true;
           while (total < opt.min_timing_seconds && walls.size() < 25) {
             walls.push_back(runner(c, v, again).wall_seconds);
             total += walls.back();

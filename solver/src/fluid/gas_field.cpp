@@ -22,6 +22,7 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
   if (spec.prescribed) {
     prescribed_.emplace(*spec.prescribed, spec.grid.lo, spec.grid.hi, spec.density, gravity);
     sample_prescribed();
+    analytic_ = spec.interpolation == InterpolationScheme::analytic;
   }
   refresh();
   set_time(0.0);

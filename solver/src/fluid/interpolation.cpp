@@ -8,6 +8,7 @@ const char* to_string(InterpolationScheme s) {
   switch (s) {
     case InterpolationScheme::trilinear: return "trilinear";
     case InterpolationScheme::paper_lagrange2: return "paper_lagrange2";
+    case InterpolationScheme::analytic: return "analytic";
   }
   return "?";
 }

@@ -54,4 +54,14 @@ double PrescribedField::pressure(Vec3 x) const {
   return p;
 }
 
+Vec3 PrescribedField::pressure_gradient(Vec3 x) const {
+  Vec3 gp = rho_ * g_ + s_.pressure_gradient;
+  if (s_.type == FieldType::taylor_green) {
+    const double c = 0.5 * rho_ * s_.amplitude * s_.amplitude;  // ∂/∂x of −(ρU²/4) cos(2kx) = (ρU²/2) k sin(2kx)
+    gp.x += c * s_.kx * std::sin(2.0 * s_.kx * x.x);
+    gp.y += c * s_.ky * std::sin(2.0 * s_.ky * x.y);
+  }
+  return gp;
+}
+
 }  // namespace cdm::fluid

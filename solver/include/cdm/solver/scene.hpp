@@ -17,7 +17,7 @@ namespace cdm {
 
 enum class NormalContactModel { none, linear_spring_dashpot };
 enum class TangentialModel { none, spring_coulomb };
-enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4 };
+enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4, exponential_midpoint };
 enum class GasModel { none, prescribed };
 
 const char* to_string(IntegratorScheme s);

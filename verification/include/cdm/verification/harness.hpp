@@ -57,6 +57,7 @@ struct RunConfig {
   std::string integrator;
   double dt_divisor;
   std::string series_path;  // where the runner writes the compared series
+  bool timing_only = false;  // a repeat run for its wall time: skip the oracle and the tables
 };
 
 struct RunOutput {
@@ -84,6 +85,7 @@ struct Tolerance {
   double order = 0.0;
   double ref_divisor = 50.0;
   bool report_only = false;  // reported without pass/fail (the reason says why)
+  bool at_least = false;     // `min`: the quantity must be >= max (e.g. a clustering that must appear)
   double at(double divisor) const { return order == 0.0 ? max : max * std::pow(ref_divisor / divisor, order); }
   std::string reason;
 };

@@ -47,9 +47,15 @@ class GasField {
   double time_factor() const { return scale_; }
 
   /// Gas velocity at a point of the domain (periodic coordinates wrapped into it).
-  Vec3 velocity_at(Vec3 x) const { return scale_ * velocity_interp_.at(x); }
+  Vec3 velocity_at(Vec3 x) const {
+    if (analytic_) return prescribed_->velocity(x, time_);
+    return scale_ * velocity_interp_.at(x);
+  }
   /// ∇p at a point, interpolated from the face differences of the cell-centred pressure.
-  Vec3 pressure_gradient_at(Vec3 x) const { return gradient_interp_.at(x); }
+  Vec3 pressure_gradient_at(Vec3 x) const {
+    if (analytic_) return prescribed_->pressure_gradient(x);
+    return gradient_interp_.at(x);
+  }
 
   /// Wrap @p x into the domain along periodic axes.
   Vec3 wrap(Vec3 x) const;
@@ -77,6 +83,7 @@ class GasField {
   VectorInterpolator velocity_interp_, gradient_interp_;
   double scale_ = 1.0;
   double time_ = 0.0;
+  bool analytic_ = false;  // interpolation "analytic": the closed form at the particle
 };
 
 }  // namespace cdm::fluid

@@ -22,7 +22,9 @@
 
 namespace cdm::fluid {
 
-enum class InterpolationScheme { trilinear, paper_lagrange2 };
+/// `analytic` (prescribed fields only) bypasses the grid: the closed form is evaluated at
+/// the particle, which isolates time-integration error in verification studies.
+enum class InterpolationScheme { trilinear, paper_lagrange2, analytic };
 const char* to_string(InterpolationScheme s);
 
 class VectorInterpolator {

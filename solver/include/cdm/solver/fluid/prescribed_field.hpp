@@ -49,6 +49,8 @@ class PrescribedField {
   bool has_pressure() const { return s_.type == FieldType::uniform || s_.type == FieldType::taylor_green; }
   /// Pressure [Pa] at x, relative to the domain's lower corner (steady fields only).
   double pressure(Vec3 x) const;
+  /// Its gradient ∇p [Pa/m] in closed form.
+  Vec3 pressure_gradient(Vec3 x) const;
   const PrescribedFieldSpec& spec() const { return s_; }
 
  private:
