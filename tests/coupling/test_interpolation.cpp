@@ -117,7 +117,9 @@ TEST(Interpolation, NoSlipWallVelocityIsZeroAndPeriodicSeamIsContinuous) {
         }
       }
       EXPECT_LT(wall, 2.0 / (n * n)) << to_string(scheme) << " n=" << n;
-      if (prev > 0) EXPECT_GT(prev / wall, 3.0) << to_string(scheme) << ": wall velocity must fall as h^2";
+      if (prev > 0) {
+        EXPECT_GT(prev / wall, 3.0) << to_string(scheme) << ": wall velocity must fall as h^2";
+      }
       prev = wall;
     }
   }

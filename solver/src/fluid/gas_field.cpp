@@ -70,7 +70,7 @@ void GasField::refresh() {
     if (!g.two_d()) grad(gpz, Staggering::w, 2);
   } else {
     std::vector<double>& pp = p;
-    g.fill_scalar_ghosts(pp);
+    g.fill_pressure_ghosts(pp);
     for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
       for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
         for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
@@ -87,7 +87,8 @@ void GasField::refresh() {
   }
   // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
   // of the gradient), which is exact for the linear hydrostatic part.
-  g.fill_scalar_ghosts(p);
+  if (!prescribed_) g.fill_pressure_ghosts(p);
+  else g.fill_scalar_ghosts(p);
   g.fill_even_ghosts(gpx, Staggering::u);
   g.fill_even_ghosts(gpy, Staggering::v);
   if (!g.two_d()) g.fill_even_ghosts(gpz, Staggering::w);

@@ -110,6 +110,44 @@ void StaggeredGrid::fill_velocity_ghosts(std::vector<double>& u, std::vector<dou
 
 void StaggeredGrid::fill_scalar_ghosts(std::vector<double>& s) const { fill_component(s, Staggering::centre, false); }
 
+void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a) const {
+  const int g = ghosts;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int n = n_[axis];
+    const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+    auto idx = [&](int m, int p, int q) {
+      int ijk[3];
+      ijk[axis] = m;
+      ijk[o1] = p;
+      ijk[o2] = q;
+      return at(ijk[0], ijk[1], ijk[2]);
+    };
+    const Boundary& lower = spec_.faces[2 * axis];
+    const Boundary& upper = spec_.faces[2 * axis + 1];
+    for (int q = -g; q <= n_[o2] + g; ++q)
+      for (int p = -g; p <= n_[o1] + g; ++p) {
+        if (lower.kind == BoundaryKind::periodic) {
+          for (int m = -g; m < 0; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
+          for (int m = n; m <= n + g; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
+          continue;
+        }
+        // Lower side: ghost −1−m mirrors cell m about the face.
+        for (int m = 0; m < g; ++m) {
+          const double inner = a[idx(m, p, q)];
+          a[idx(-1 - m, p, q)] = lower.kind == BoundaryKind::pressure_outlet
+                                     ? 2.0 * lower.pressure - inner
+                                     : a[idx(0, p, q)] - (m + 1) * (a[idx(n > 1 ? 1 : 0, p, q)] - a[idx(0, p, q)]);
+        }
+        for (int m = 0; m <= g; ++m) {
+          const double inner = a[idx(n - 1 - m, p, q)];
+          a[idx(n + m, p, q)] = upper.kind == BoundaryKind::pressure_outlet
+                                    ? 2.0 * upper.pressure - inner
+                                    : a[idx(n - 1, p, q)] + (m + 1) * (a[idx(n - 1, p, q)] - a[idx(n > 1 ? n - 2 : n - 1, p, q)]);
+        }
+      }
+  }
+}
+
 void StaggeredGrid::fill_even_ghosts(std::vector<double>& a, Staggering s) const { fill_component(a, s, true); }
 
 }  // namespace cdm::fluid

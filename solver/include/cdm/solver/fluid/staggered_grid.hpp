@@ -97,6 +97,10 @@ class StaggeredGrid {
   void fill_velocity_ghosts(std::vector<double>& u, std::vector<double>& v, std::vector<double>& w) const;
   /// Fill the ghost layers of a cell-centred scalar: periodic wrap or zero normal gradient.
   void fill_scalar_ghosts(std::vector<double>& s) const;
+  /// Fill the ghost layers of a cell-centred pressure: periodic wrap, the outlet pressure
+  /// on a pressure-outlet face (Dirichlet), linear extrapolation at walls and inlets (so
+  /// that a hydrostatic gradient continues to the boundary face).
+  void fill_pressure_ghosts(std::vector<double>& p) const;
   /// Fill the ghost layers of any staggered array by periodic wrap or even mirroring
   /// (zero normal gradient), whatever the boundary kind; boundary samples are kept.
   void fill_even_ghosts(std::vector<double>& a, Staggering s) const;

@@ -1,0 +1,378 @@
+#include "cdm/solver/fluid/gas_solver.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace cdm::fluid {
+
+const char* to_string(AdvectionScheme a) {
+  switch (a) {
+    case AdvectionScheme::central: return "central";
+    case AdvectionScheme::upwind: return "upwind";
+    case AdvectionScheme::none: return "none";
+  }
+  return "?";
+}
+
+struct GasSolver::PressureSystem {
+  Eigen::SparseMatrix<double> A;  // −∇·(ε_f ∇·) over Δ, symmetric positive (semi)definite
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  bool analysed = false;
+  bool pinned = false;  // no outlet: cell 0 holds φ = 0 (φ is defined up to a constant)
+};
+
+namespace {
+
+struct Ijk {
+  int v[3];
+  int& operator[](int a) { return v[a]; }
+  int operator[](int a) const { return v[a]; }
+};
+
+}  // namespace
+
+GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec_(spec) {
+  const StaggeredGrid& g = gas_.grid();
+  force_u = g.make_array();
+  force_v = g.make_array();
+  force_w = g.make_array();
+  us_ = g.make_array();
+  vs_ = g.make_array();
+  ws_ = g.make_array();
+  phi_ = g.make_array();
+  if (!gas_.has_pressure() || !gas_.has_void_fraction())
+    throw std::logic_error("GasSolver: the gas field needs its pressure and volume fraction arrays");
+  ps_ = std::make_unique<PressureSystem>();
+  g.fill_scalar_ghosts(gas_.eps_g);
+  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
+  g.fill_pressure_ghosts(gas_.p);
+  gas_.refresh();
+}
+
+GasSolver::~GasSolver() = default;
+
+void GasSolver::clear_force() {
+  std::fill(force_u.begin(), force_u.end(), 0.0);
+  std::fill(force_v.begin(), force_v.end(), 0.0);
+  std::fill(force_w.begin(), force_w.end(), 0.0);
+}
+
+bool GasSolver::unknown_face(int axis, int index) const {
+  const GridSpec& s = gas_.grid().spec();
+  const int n = gas_.grid().n(axis);
+  if (s.periodic(axis)) return index >= 0 && index < n;
+  if (index > 0 && index < n) return true;
+  if (index == 0) return s.faces[2 * axis].kind == BoundaryKind::pressure_outlet;
+  if (index == n) return s.faces[2 * axis + 1].kind == BoundaryKind::pressure_outlet;
+  return false;
+}
+
+double GasSolver::max_cfl(double dt) const {
+  const StaggeredGrid& g = gas_.grid();
+  double c = 0.0;
+  const std::vector<double>* comp[3] = {&gas_.u, &gas_.v, &gas_.w};
+  for (int a = 0; a < g.dims(); ++a)
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j < g.n(1); ++j)
+        for (int i = 0; i < g.n(0); ++i) c = std::max(c, std::abs((*comp[a])[g.at(i, j, k)]) * dt / g.h(a));
+  return c;
+}
+
+double GasSolver::diffusion_number(double dt) const {
+  const StaggeredGrid& g = gas_.grid();
+  double s = 0.0;
+  for (int a = 0; a < g.dims(); ++a) s += 1.0 / (g.h(a) * g.h(a));
+  return gas_.viscosity() / gas_.density() * dt * s;
+}
+
+void GasSolver::predictor(double dt) {
+  const StaggeredGrid& g = gas_.grid();
+  const int dims = g.dims();
+  const double rho = gas_.density(), mu = gas_.viscosity();
+  const std::vector<double>& eps = gas_.eps_g;
+  const std::vector<double>* vel[3] = {&gas_.u, &gas_.v, &gas_.w};
+  std::vector<double>* star[3] = {&us_, &vs_, &ws_};
+  const std::vector<double>* force[3] = {&force_u, &force_v, &force_w};
+  const double gvec[3] = {spec_.gravity.x, spec_.gravity.y, spec_.gravity.z};
+  const bool upwind = spec_.advection == AdvectionScheme::upwind;
+  const bool advect = spec_.advection != AdvectionScheme::none;
+  auto at = [&](const Ijk& x) { return g.at(x[0], x[1], x[2]); };
+  auto cell_eps = [&](Ijk x) { return eps[at(x)]; };
+
+  for (int c = 0; c < dims; ++c) {
+    const std::vector<double>& uc = *vel[c];
+    std::vector<double>& out = *star[c];
+    out = uc;  // fixed boundary faces keep their value
+    const auto s = static_cast<Staggering>(c);
+    for (int k = 0; k < g.samples(s, 2); ++k)
+      for (int j = 0; j < g.samples(s, 1); ++j)
+        for (int i = 0; i < g.samples(s, 0); ++i) {
+          const Ijk f{{i, j, k}};
+          if (!unknown_face(c, f[c])) continue;
+          // Cells either side of the face along c: f − e_c and f.
+          Ijk lo = f;
+          lo[c] -= 1;
+          const double eps_f = 0.5 * (cell_eps(lo) + cell_eps(f));
+          const double u0 = uc[at(f)];
+          double adv = 0.0, diff = 0.0;
+          for (int d = 0; d < dims; ++d) {
+            const double hd = g.h(d);
+            if (d == c) {
+              // Fluxes at the cell centres f − e_c and f (faces m, m+1 around cell m).
+              auto flux = [&](const Ijk& cell) {
+                Ijk up = cell;
+                up[c] += 1;
+                const double ua = uc[at(cell)], ub = uc[at(up)];
+                const double m = cell_eps(cell) * 0.5 * (ua + ub);
+                const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
+                return std::pair{m * q, cell_eps(cell) * mu * (ub - ua) / hd};
+              };
+              const auto [fa, da] = flux(f);
+              const auto [fb, db] = flux(lo);
+              if (advect) adv += (fa - fb) / hd;
+              diff += (da - db) / hd;
+            } else {
+              // Fluxes at the edges f ± ½e_d: mass flux from the d-velocities on the d-faces
+              // there (at the two cells along c), ε the mean of the four cells around the edge.
+              auto flux = [&](int side) {  // side 0: lower edge (between f − e_d and f), 1: upper
+                Ijk a = f, b = f;
+                if (side == 0) a[d] -= 1;
+                else b[d] += 1;
+                // d-faces at index b[d] (between cells b[d]−1 and b[d]) for cells lo and f along c.
+                Ijk dl = lo, df = f;
+                dl[d] = b[d];
+                df[d] = b[d];
+                const double vd = 0.5 * ((*vel[d])[at(dl)] + (*vel[d])[at(df)]);
+                Ijk c1 = lo, c2 = f, c3 = lo, c4 = f;
+                c1[d] = c2[d] = b[d] - 1;
+                c3[d] = c4[d] = b[d];
+                const double eps_e = 0.25 * (cell_eps(c1) + cell_eps(c2) + cell_eps(c3) + cell_eps(c4));
+                const double ua = uc[at(a)], ub = uc[at(b)];
+                const double m = eps_e * vd;
+                const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
+                return std::pair{m * q, eps_e * mu * (ub - ua) / hd};
+              };
+              const auto [fu, du] = flux(1);
+              const auto [fl, dl_] = flux(0);
+              if (advect) adv += (fu - fl) / hd;
+              diff += (du - dl_) / hd;
+            }
+          }
+          double src = (*force[c])[at(f)];
+          if (momentum_source) src += momentum_source(g.position(s, i, j, k), time_, c);
+          // ε_f^{n+1} u* = ε_f^n u^n + Δt/ρ (−adv + diff + ε_f^n ρ g + f) − Δt/ρ ε_f^{n+1} ∂p^n/∂x:
+          // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
+          out[at(f)] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * rho * gvec[c] + src);
+        }
+  }
+}
+
+void GasSolver::project(double dt, const std::vector<double>& eps_new) {
+  const StaggeredGrid& g = gas_.grid();
+  const GridSpec& gs = g.spec();
+  const int dims = g.dims();
+  const int nx = g.n(0), ny = g.n(1), nz = g.n(2);
+  const double rho = gas_.density();
+  std::vector<double>* star[3] = {&us_, &vs_, &ws_};
+  std::vector<double>* vel[3] = {&gas_.u, &gas_.v, &gas_.w};
+  const std::vector<double>& e1 = eps_new;
+  auto at = [&](const Ijk& x) { return g.at(x[0], x[1], x[2]); };
+  auto row = [&](const Ijk& x) { return static_cast<Eigen::Index>(x[0] + nx * (x[1] + ny * x[2])); };
+  auto face_eps = [&](int a, Ijk f) {  // ε^{n+1} on face f of axis a (cells f − e_a, f)
+    Ijk lo = f;
+    lo[a] -= 1;
+    return 0.5 * (e1[at(lo)] + e1[at(f)]);
+  };
+  bool has_outlet = false;
+  for (int f = 0; f < 2 * dims; ++f) has_outlet |= gs.faces[f].kind == BoundaryKind::pressure_outlet;
+
+  // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
+  // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.
+  for (int c = 0; c < dims; ++c) {
+    const auto s = static_cast<Staggering>(c);
+    for (int k = 0; k < g.samples(s, 2); ++k)
+      for (int j = 0; j < g.samples(s, 1); ++j)
+        for (int i = 0; i < g.samples(s, 0); ++i) {
+          const Ijk f{{i, j, k}};
+          if (!unknown_face(c, f[c])) continue;
+          Ijk lo = f;
+          lo[c] -= 1;
+          const double dp = (gas_.p[at(f)] - gas_.p[at(lo)]) / g.h(c);
+          (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+        }
+  }
+  g.fill_velocity_ghosts(us_, vs_, ws_);
+
+  // Assemble (once per ε) the matrix of −∇·(ε_f ∇φ): faces with a fixed normal velocity
+  // (walls, inlets) carry no φ flux; an outlet face holds φ = 0 (ghost −φ).
+  const Eigen::Index ncell = static_cast<Eigen::Index>(nx) * ny * nz;
+  bool same = eps_factorised_.size() == e1.size() && std::equal(e1.begin(), e1.end(), eps_factorised_.begin());
+  if (!same) {
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(static_cast<std::size_t>(ncell) * (2 * dims + 1));
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const Ijk cell{{i, j, k}};
+          const Eigen::Index r = row(cell);
+          double diag = 0.0;
+          for (int a = 0; a < dims; ++a) {
+            const double w = 1.0 / (g.h(a) * g.h(a));
+            for (int side = 0; side < 2; ++side) {
+              Ijk f = cell;  // the face on this side
+              if (side == 1) f[a] += 1;
+              Ijk nb = cell;
+              nb[a] += side == 1 ? 1 : -1;
+              const bool boundary = nb[a] < 0 || nb[a] >= g.n(a);
+              const double ef = face_eps(a, f);
+              if (!boundary) {
+                diag += ef * w;
+                trip.emplace_back(r, row(nb), -ef * w);
+              } else if (gs.periodic(a)) {
+                nb[a] = (nb[a] + g.n(a)) % g.n(a);
+                diag += ef * w;
+                trip.emplace_back(r, row(nb), -ef * w);
+              } else if (gs.faces[2 * a + side].kind == BoundaryKind::pressure_outlet) {
+                diag += 2.0 * ef * w;
+              }
+            }
+          }
+          trip.emplace_back(r, r, diag);
+        }
+    ps_->A.resize(ncell, ncell);
+    ps_->A.setFromTriplets(trip.begin(), trip.end());
+    ps_->pinned = !has_outlet;
+    if (ps_->pinned) {
+      // φ is defined up to a constant: hold cell 0 at zero (row and column of the identity).
+      for (Eigen::Index c2 = 0; c2 < ps_->A.outerSize(); ++c2)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(ps_->A, c2); it; ++it)
+          if (it.row() == 0 || it.col() == 0) it.valueRef() = it.row() == it.col() ? 1.0 : 0.0;
+    }
+    if (!ps_->analysed) {
+      ps_->ldlt.analyzePattern(ps_->A);
+      ps_->analysed = true;
+    }
+    ps_->ldlt.factorize(ps_->A);
+    if (ps_->ldlt.info() != Eigen::Success) throw std::runtime_error("gas pressure equation: factorisation failed");
+    eps_factorised_ = e1;
+    ++factorisations_;
+  }
+
+  // Right-hand side: −ρ/Δt [∇·(ε_f^{n+1} u*) + (ε^{n+1} − ε^n)/Δt − s].
+  Eigen::VectorXd b(ncell);
+  auto divergence = [&](const std::vector<double>* comp[3], const Ijk& cell) {
+    double d = 0.0;
+    for (int a = 0; a < dims; ++a) {
+      Ijk up = cell;
+      up[a] += 1;
+      d += (face_eps(a, up) * (*comp[a])[at(up)] - face_eps(a, cell) * (*comp[a])[at(cell)]) / g.h(a);
+    }
+    return d;
+  };
+  const std::vector<double>* sc[3] = {&us_, &vs_, &ws_};
+  double mean = 0.0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Ijk cell{{i, j, k}};
+        double src = (e1[at(cell)] - gas_.eps_g[at(cell)]) / dt;
+        if (mass_source) src -= mass_source(g.position(Staggering::centre, i, j, k), time_ + dt);
+        b[row(cell)] = -rho / dt * (divergence(sc, cell) + src);
+        mean += b[row(cell)];
+      }
+  if (ps_->pinned) {
+    // Compatibility: without an outlet the sources must balance; remove the round-off.
+    mean /= static_cast<double>(ncell);
+    for (Eigen::Index r = 0; r < ncell; ++r) b[r] -= mean;
+    b[0] = 0.0;
+  }
+  // A = −L, so L φ = rhs becomes A φ = −rhs, and b already carries the minus sign.
+  const Eigen::VectorXd x = ps_->ldlt.solve(b);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) phi_[g.at(i, j, k)] = x[row(Ijk{{i, j, k}})];
+  // φ ghosts: periodic wrap, zero normal gradient at walls/inlets, −φ at outlets.
+  {
+    GridSpec zero = gs;
+    for (auto& f : zero.faces) f.pressure = 0.0;
+    StaggeredGrid(zero).fill_scalar_ghosts(phi_);
+    for (int a = 0; a < dims; ++a)
+      for (int side = 0; side < 2; ++side) {
+        if (gs.faces[2 * a + side].kind != BoundaryKind::pressure_outlet) continue;
+        const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
+        for (int q = 0; q < g.n(o2); ++q)
+          for (int p = 0; p < g.n(o1); ++p) {
+            Ijk in, gh;
+            in[a] = side ? g.n(a) - 1 : 0;
+            gh[a] = side ? g.n(a) : -1;
+            in[o1] = gh[o1] = p;
+            in[o2] = gh[o2] = q;
+            phi_[at(gh)] = -phi_[at(in)];
+          }
+      }
+  }
+
+  // Correct the unknown faces and the pressure.
+  for (int c = 0; c < dims; ++c) {
+    const auto s = static_cast<Staggering>(c);
+    for (int k = 0; k < g.samples(s, 2); ++k)
+      for (int j = 0; j < g.samples(s, 1); ++j)
+        for (int i = 0; i < g.samples(s, 0); ++i) {
+          const Ijk f{{i, j, k}};
+          if (!unknown_face(c, f[c])) {
+            (*vel[c])[at(f)] = (*star[c])[at(f)];
+            continue;
+          }
+          Ijk lo = f;
+          lo[c] -= 1;
+          (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (phi_[at(f)] - phi_[at(lo)]) / g.h(c);
+        }
+  }
+  double pmean = 0.0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        gas_.p[g.at(i, j, k)] += phi_[g.at(i, j, k)];
+        pmean += gas_.p[g.at(i, j, k)];
+      }
+  if (!has_outlet) {
+    pmean /= static_cast<double>(ncell);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) gas_.p[g.at(i, j, k)] -= pmean;
+  }
+  if (dims == 2) std::fill(gas_.w.begin(), gas_.w.end(), 0.0);
+  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
+
+  // Continuity residual with the corrected velocity (round-off for an exact solve).
+  const std::vector<double>* vc[3] = {&gas_.u, &gas_.v, &gas_.w};
+  double res = 0.0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Ijk cell{{i, j, k}};
+        double r = divergence(vc, cell) + (e1[at(cell)] - gas_.eps_g[at(cell)]) / dt;
+        if (mass_source) r -= mass_source(g.position(Staggering::centre, i, j, k), time_ + dt);
+        res = std::max(res, std::abs(r));
+      }
+  continuity_residual_ = res;
+}
+
+void GasSolver::step(double dt, const std::vector<double>& eps_new) {
+  const StaggeredGrid& g = gas_.grid();
+  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
+  g.fill_pressure_ghosts(gas_.p);
+  predictor(dt);
+  project(dt, eps_new);
+  gas_.eps_g = eps_new;
+  g.fill_scalar_ghosts(gas_.eps_g);
+  g.fill_pressure_ghosts(gas_.p);
+  time_ += dt;
+  gas_.set_time(time_);
+  gas_.refresh();
+}
+
+}  // namespace cdm::fluid
