@@ -24,6 +24,12 @@ void ParticleStore::enable_drag_relaxation() {
   ugx.assign(n, 0.0); ugy.assign(n, 0.0); ugz.assign(n, 0.0);
 }
 
+void ParticleStore::enable_two_way() {
+  two_way_enabled_ = true;
+  const std::size_t n = size();
+  for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->assign(n, 0.0);
+}
+
 void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   const double d = 2.0 * r;
   const double m = density * std::numbers::pi * d * d * d / 6.0;
@@ -34,6 +40,8 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   mass.push_back(m);
   inv_mass.push_back(1.0 / m);
   material.push_back(mat);
+  if (two_way_enabled_)
+    for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->push_back(0.0);
   if (drag_relaxation_enabled_) {
     drag_k.push_back(0.0);
     ugx.push_back(0.0); ugy.push_back(0.0); ugz.push_back(0.0);

@@ -50,9 +50,12 @@ namespace {
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
-            "lattices", "shells", "random_particles", "gas", "drag", "integrator", "output", "checks"}},
+            "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks"}},
       {"modules", {"gravity", "normal_contact", "tangential", "gas", "drag", "pressure_gradient", "tracers"}},
-      {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field"}},
+      {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
+               "dt", "advection", "initial_velocity"}},
+      {"gas.boundaries.*", {"type", "velocity", "pressure"}},
+      {"coupling", {"mode", "method", "kernel", "kernel_width"}},
       {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},
@@ -74,7 +77,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
 // Physical dimension of a value, for cgs → SI conversion.
 enum class Dim {
   none, length, time, density, velocity, acceleration, stiffness, angular_velocity,
-  viscosity, pressure_gradient, wavenumber
+  viscosity, pressure_gradient, wavenumber, pressure
 };
 
 constexpr std::size_t max_particles = 50'000'000;  // refuse scenes that would allocate without bound
@@ -125,6 +128,7 @@ class Loader {
       case Dim::viscosity: return 0.1;  // P = g/(cm s) → Pa s
       case Dim::pressure_gradient: return 10.0;  // dyn/cm^3 → Pa/m
       case Dim::wavenumber: return 100.0;        // 1/cm → 1/m
+      case Dim::pressure: return 0.1;            // dyn/cm^2 → Pa
     }
     return 1.0;
   }
@@ -252,6 +256,7 @@ class Loader {
   void read_walls();
   void read_particles();
   void read_gas();
+  void read_solved_gas(const toml::table& gt);
   void read_integrator();
   void read_output_and_checks();
   void check_initial_state();
@@ -288,7 +293,8 @@ void Loader::read_modules() {
   const std::string gas = string(*m, "gas", "modules").value_or("none");
   if (gas == "none") spec_.gas = GasModel::none;
   else if (gas == "prescribed") spec_.gas = GasModel::prescribed;
-  else fail_value("modules.gas", *m->get("gas"), "\"none\" or \"prescribed\"");
+  else if (gas == "solved") spec_.gas = GasModel::solved;
+  else fail_value("modules.gas", *m->get("gas"), "\"none\", \"prescribed\" or \"solved\"");
   const std::string needs_gas = "while modules.gas is \"none\" (it acts between the particles and a gas)";
   const std::string drag = string(*m, "drag", "modules").value_or("none");
   const std::string laws = "\"none\", \"schiller_naumann\", \"wen_yu\", \"gidaspow\", \"di_felice\" or \"beetstra\"";
@@ -305,7 +311,8 @@ void Loader::read_modules() {
   spec_.tracers = boolean(*m, "tracers", "modules").value_or(false);
   if (spec_.tracers) {
     const toml::node& n = *m->get("tracers");
-    if (spec_.gas == GasModel::none) fail_value("modules.tracers", n, "false while modules.gas is \"none\" (tracers follow a gas)");
+    if (spec_.gas != GasModel::prescribed)
+      fail_value("modules.tracers", n, "false unless modules.gas is \"prescribed\" (tracers follow a given gas field)");
     if (spec_.gravity || spec_.normal_contact != NormalContactModel::none || spec_.drag || spec_.pressure_gradient)
       fail_value("modules.tracers", n,
                  "false while gravity, contacts, drag or the pressure gradient act on the particles (tracers are "
@@ -607,7 +614,7 @@ void Loader::read_particles() {
       }
     }
   }
-  if (spec_.particles.empty())
+  if (spec_.particles.empty() && spec_.gas != GasModel::solved)
     fail_missing("particles", "at least one [[particles]], [[lattices]], [[shells]] or [[random_particles]] entry");
 }
 
@@ -672,18 +679,60 @@ void Loader::read_gas() {
       grid.faces[f].kind = fluid::BoundaryKind::periodic;
       continue;
     }
-    auto name = string(*bt, key, "gas.boundaries");
-    const std::string kinds = "\"periodic\", \"no_slip\" or \"free_slip\"";
-    if (!name) fail_missing("gas.boundaries." + key, kinds);
-    if (*name == "periodic") grid.faces[f].kind = fluid::BoundaryKind::periodic;
-    else if (*name == "no_slip") grid.faces[f].kind = fluid::BoundaryKind::no_slip;
-    else if (*name == "free_slip") grid.faces[f].kind = fluid::BoundaryKind::free_slip;
-    else fail_value("gas.boundaries." + key, *bt->get(key), kinds);
+    const bool solved = spec_.gas == GasModel::solved;
+    const std::string kinds = solved ? "\"periodic\", \"no_slip\", \"free_slip\", { type = \"velocity_inlet\", velocity = "
+                                       "<inward speed> } or { type = \"pressure_outlet\", pressure = <p> }"
+                                     : "\"periodic\", \"no_slip\" or \"free_slip\"";
+    const std::string bpath = "gas.boundaries." + key;
+    const toml::node* bn = bt->get(key);
+    if (!bn) fail_missing(bpath, kinds);
+    std::string name;
+    const toml::table* bopt = nullptr;
+    if (bn->is_string()) {
+      name = bn->as_string()->get();
+    } else if (bn->is_table() && solved) {
+      bopt = bn->as_table();
+      check_keys(*bopt, "gas.boundaries.*", bpath);
+      auto ty = string(*bopt, "type", bpath);
+      if (!ty) fail_missing(bpath + ".type", "\"velocity_inlet\" or \"pressure_outlet\"");
+      name = *ty;
+      if (name != "velocity_inlet" && name != "pressure_outlet")
+        fail_value(bpath + ".type", *bopt->get("type"), "\"velocity_inlet\" or \"pressure_outlet\"");
+    } else {
+      fail_value(bpath, *bn, kinds);
+    }
+    fluid::Boundary& b = grid.faces[f];
+    if (name == "periodic") b.kind = fluid::BoundaryKind::periodic;
+    else if (name == "no_slip") b.kind = fluid::BoundaryKind::no_slip;
+    else if (name == "free_slip") b.kind = fluid::BoundaryKind::free_slip;
+    else if (name == "velocity_inlet" && bopt) {
+      b.kind = fluid::BoundaryKind::velocity_inlet;
+      reject_unused(*bopt, "pressure", bpath, "a velocity inlet sets the velocity");
+      auto vin = number(*bopt, "velocity", bpath, Dim::velocity);
+      if (!vin) fail_missing(bpath + ".velocity", "the gas speed into the domain, normal to the face [m/s or cm/s]");
+      b.normal_velocity = *vin;
+    } else if (name == "pressure_outlet" && bopt) {
+      b.kind = fluid::BoundaryKind::pressure_outlet;
+      reject_unused(*bopt, "velocity", bpath, "a pressure outlet sets the pressure");
+      b.pressure = number(*bopt, "pressure", bpath, Dim::pressure).value_or(0.0);
+    } else {
+      fail_value(bpath, *bn, kinds);
+    }
   }
   for (int a = 0; a < dim; ++a)
     if ((grid.faces[2 * a].kind == fluid::BoundaryKind::periodic) != (grid.faces[2 * a + 1].kind == fluid::BoundaryKind::periodic))
       fail_value("gas.boundaries." + std::string(face_names[2 * a + 1]), *bt->get(face_names[2 * a + 1]),
                  "\"periodic\" exactly when gas.boundaries." + std::string(face_names[2 * a]) + " is");
+  {
+    bool inlet = false, outlet = false;
+    for (const auto& f : grid.faces) {
+      inlet |= f.kind == fluid::BoundaryKind::velocity_inlet;
+      outlet |= f.kind == fluid::BoundaryKind::pressure_outlet;
+    }
+    if (inlet && !outlet)
+      throw SceneError(file_ + ": key 'gas.boundaries': a velocity inlet without a pressure outlet: expected a "
+                       "pressure_outlet face for the gas to leave by (the incompressible gas cannot accumulate)");
+  }
 
   gs.density = positive(*gt, "density", "gas", Dim::density, true);
   gs.viscosity = positive(*gt, "viscosity", "gas", Dim::viscosity, true);
@@ -696,6 +745,14 @@ void Loader::read_gas() {
                spec_.gas == GasModel::prescribed ? "\"paper_lagrange2\", \"trilinear\" or \"analytic\""
                                                  : "\"paper_lagrange2\" or \"trilinear\"");
 
+  if (spec_.gas == GasModel::solved) {
+    read_solved_gas(*gt);
+    return;
+  }
+  for (const char* k : {"dt", "advection", "initial_velocity"})
+    reject_unused(*gt, k, "gas", "modules.gas is \"prescribed\" (these set up a solved gas)");
+  if (const toml::node* cn = root_.get("coupling"))
+    throw SceneError(file_ + ": table [coupling] = " + show(*cn) + " is not used: modules.gas is not \"solved\"");
   // The prescribed field.
   const toml::table* ft = table(*gt, "field", "gas", spec_.gas == GasModel::prescribed);
   check_keys(*ft, "gas.field", "gas.field");
@@ -753,6 +810,54 @@ void Loader::read_gas() {
       fail_value("gas.boundaries." + std::string(face_names[2 * a]), *bt->get(face_names[2 * a]),
                  "a wall boundary while modules.normal_contact is set: particle contacts across periodic "
                  "boundaries are not implemented");
+}
+
+void Loader::read_solved_gas(const toml::table& gt) {
+  reject_unused(gt, "field", "gas", "modules.gas is \"solved\" (a solved gas evolves from its initial velocity)");
+  spec_.gas_dt = positive(gt, "dt", "gas", Dim::time, true);
+  const std::string adv = string(gt, "advection", "gas").value_or("upwind");
+  if (adv == "upwind") spec_.advection = fluid::AdvectionScheme::upwind;
+  else if (adv == "central") spec_.advection = fluid::AdvectionScheme::central;
+  else fail_value("gas.advection", *gt.get("advection"), "\"upwind\" or \"central\"");
+  spec_.gas_initial_velocity = vec3(gt, "initial_velocity", "gas", Dim::velocity).value_or(Vec3{});
+  if (spec_.gas_spec.grid.two_d && spec_.gas_initial_velocity.z != 0.0)
+    fail_value("gas.initial_velocity", *gt.get("initial_velocity"), "no z component in a two-dimensional gas");
+  const toml::table* ct = table(root_, "coupling", "", false);
+  static const toml::table empty;
+  const toml::table& c = ct ? *ct : empty;
+  check_keys(c, "coupling", "coupling");
+  const std::string mode = string(c, "mode", "coupling").value_or("one_way");
+  if (mode == "one_way") spec_.two_way = false;
+  else if (mode == "two_way") spec_.two_way = true;
+  else fail_value("coupling.mode", *c.get("mode"), "\"one_way\" or \"two_way\"");
+  const std::string method = string(c, "method", "coupling").value_or("interpolate");
+  if (method == "interpolate") spec_.coupling_method = coupling::CouplingMethod::interpolate;
+  else if (method == "cell_average") spec_.coupling_method = coupling::CouplingMethod::cell_average;
+  else fail_value("coupling.method", *c.get("method"), "\"interpolate\" or \"cell_average\"");
+  if (spec_.coupling_method == coupling::CouplingMethod::cell_average) {
+    reject_unused(c, "kernel", "coupling", "coupling.method = \"cell_average\" deposits into the holding cell");
+    if (spec_.drag && spec_.drag_update != coupling::DragUpdate::explicit_force)
+      fail_value("coupling.method", *c.get("method"),
+                 "\"interpolate\" with drag.update = \"" + std::string(coupling::to_string(spec_.drag_update)) +
+                     "\": the cell-average drag does not depend on a particle's own velocity, so only the explicit "
+                     "update applies");
+  }
+  const std::string kernel = string(c, "kernel", "coupling").value_or("trilinear");
+  if (kernel == "cell") spec_.kernel = coupling::Kernel::cell;
+  else if (kernel == "trilinear") spec_.kernel = coupling::Kernel::trilinear;
+  else if (kernel == "gaussian") spec_.kernel = coupling::Kernel::gaussian;
+  else fail_value("coupling.kernel", *c.get("kernel"), "\"cell\", \"trilinear\" or \"gaussian\"");
+  if (spec_.kernel == coupling::Kernel::gaussian && spec_.coupling_method == coupling::CouplingMethod::interpolate)
+    spec_.kernel_width = positive(c, "kernel_width", "coupling", Dim::length, true);
+  else
+    reject_unused(c, "kernel_width", "coupling", "coupling.kernel is not \"gaussian\"");
+  if (!spec_.two_way) {
+    for (const char* k : {"method", "kernel", "kernel_width"})
+      reject_unused(c, k, "coupling", "coupling.mode is \"one_way\" (the particles do not act on the gas)");
+  }
+  if (spec_.two_way && !spec_.drag)
+    throw SceneError(file_ + ": key 'coupling.mode' = \"two_way\": expected modules.drag to name a drag law (the "
+                     "particles act on the gas through drag)");
 }
 
 void Loader::read_integrator() {
@@ -843,6 +948,20 @@ void Loader::resolve_dt(const toml::table* t) {
          << "force is not resolved (overlaps and restitution come out wrong, or the run blows up); "
          << "use dt = \"auto\" (t_col/50, as Garg et al. 2012) or a smaller dt";
       fail_value("integrator.dt", *dtn, os.str());
+    }
+  }
+  if (spec_.gas == GasModel::solved) {
+    // Particles sub-step inside each gas step: a whole number of particle steps.
+    const double ratio = spec_.gas_dt / spec_.dt;
+    if (spec_.dt_auto) {
+      spec_.dt = spec_.gas_dt / std::ceil(ratio - 1e-9);  // t_col/divisor rounded down to divide gas.dt
+    } else if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio) {
+      std::ostringstream os;
+      os << "a particle step that divides gas.dt = " << spec_.gas_dt << " s a whole number of times (particles take "
+         << "whole sub-steps inside each gas step); gas.dt/dt = " << ratio;
+      fail_value("integrator.dt", *dtn, os.str());
+    } else {
+      spec_.dt = spec_.gas_dt / std::round(ratio);
     }
   }
   if (spec_.dt > spec_.end_time) fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <utility>
 
@@ -16,9 +17,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     particles_.add(ps.position, ps.velocity, ps.radius, spec_.materials[ps.material].density, ps.material);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
   }
-  if (spec_.gas != GasModel::none)
-    gas_ = std::make_unique<fluid::GasField>(spec_.gas_spec, spec_.gravity ? spec_.g : Vec3{}, spec_.pressure_gradient,
-                                             spec_.drag && spec_.drag_void_fraction <= 0.0);
+  if (spec_.gas != GasModel::none) build_gas();
   if (spec_.gravity) modules_.push_back(std::make_unique<GravityModule>(spec_.g));
   if (spec_.normal_contact == NormalContactModel::linear_spring_dashpot) {
     // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
@@ -31,7 +30,8 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   }
   if (spec_.drag) {
     if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();
-    auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction);
+    auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction,
+                                                    spec_.coupling_method, deposition_.get(), spec_.two_way);
     drag_ = d.get();
     modules_.push_back(std::move(d));
   }
@@ -59,15 +59,19 @@ void Simulation::compute_forces() {
   forces_valid_ = true;
 }
 
-void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double& vz) const {
-  const ParticleStore& p = particles_;
+void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
+  ParticleStore& p = particles_;
   const double im = p.inv_mass[i];
   if (!p.has_drag_relaxation()) {
     const double a = tau * im;
     vx += a * p.fx[i]; vy += a * p.fy[i]; vz += a * p.fz[i];
+    if (impulse && p.has_two_way()) {  // the explicit drag's share of the kick
+      p.jx[i] += tau * p.dfx[i]; p.jy[i] += tau * p.dfy[i]; p.jz[i] += tau * p.dfz[i];
+    }
     return;
   }
   const double ax = im * p.fx[i], ay = im * p.fy[i], az = im * p.fz[i];
+  const double v0x = vx, v0y = vy, v0z = vz;
   // dv/dt = a + λ (u_g − v), λ = K/m, over tau with a, λ, u_g frozen.
   const double lam = im * p.drag_k[i];
   if (spec_.drag_update == coupling::DragUpdate::implicit) {
@@ -82,6 +86,12 @@ void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double&
     vx += phi * (ax + lam * (p.ugx[i] - vx));
     vy += phi * (ay + lam * (p.ugy[i] - vy));
     vz += phi * (az + lam * (p.ugz[i] - vz));
+  }
+  if (impulse && p.has_two_way()) {  // drag impulse = m Δv − τ F (F holds the other forces)
+    const double m = p.mass[i];
+    p.jx[i] += m * (vx - v0x) - tau * p.fx[i];
+    p.jy[i] += m * (vy - v0y) - tau * p.fy[i];
+    p.jz[i] += m * (vz - v0z) - tau * p.fz[i];
   }
 }
 
@@ -157,7 +167,7 @@ void Simulation::step() {
       if (!forces_valid_) compute_forces();
       x0_ = p.x; y0_ = p.y; z0_ = p.z;
       kx_ = p.vx; ky_ = p.vy; kz_ = p.vz;  // v(t)
-      auto exact = [&](std::size_t i, double h) {
+      auto exact = [&](std::size_t i, double h, bool impulse) {
         // x(h) = x0 + v0 φ1 + u (h − φ1) + a φ2,  v(h) = v0 + (λ(u − v0) + a) φ1,
         // φ1 = (1 − e^(−λh))/λ, φ2 = (h − φ1)/λ (series for small λh: no cancellation).
         const double im = p.inv_mass[i], lam = im * p.drag_k[i], z = lam * h;
@@ -176,13 +186,19 @@ void Simulation::step() {
         p.vx[i] = kx_[i] + (lam * (p.ugx[i] - kx_[i]) + ax) * phi1;
         p.vy[i] = ky_[i] + (lam * (p.ugy[i] - ky_[i]) + ay) * phi1;
         p.vz[i] = kz_[i] + (lam * (p.ugz[i] - kz_[i]) + az) * phi1;
+        if (impulse && p.has_two_way()) {
+          const double m = p.mass[i];
+          p.jx[i] += m * (p.vx[i] - kx_[i]) - h * p.fx[i];
+          p.jy[i] += m * (p.vy[i] - ky_[i]) - h * p.fy[i];
+          p.jz[i] += m * (p.vz[i] - kz_[i]) - h * p.fz[i];
+        }
       };
-      parallel_for(n, [&](std::size_t i) { exact(i, 0.5 * dt); });
+      parallel_for(n, [&](std::size_t i) { exact(i, 0.5 * dt, false); });
       wrap_positions();
       if (gas_) gas_->set_time(time_ + 0.5 * dt);
       compute_forces();  // coefficients at mid-step
       // The full step starts again from x(t), v(t) (saved above), with mid-step coefficients.
-      parallel_for(n, [&](std::size_t i) { exact(i, dt); });
+      parallel_for(n, [&](std::size_t i) { exact(i, dt, true); });
       wrap_positions();
       if (gas_) gas_->set_time(t_new);
       compute_forces();
@@ -220,7 +236,7 @@ void Simulation::step() {
         kick(i, h, hvx_[i], hvy_[i], hvz_[i]);
         p.x[i] += dt * hvx_[i]; p.y[i] += dt * hvy_[i]; p.z[i] += dt * hvz_[i];
         p.vx[i] = hvx_[i]; p.vy[i] = hvy_[i]; p.vz[i] = hvz_[i];
-        kick(i, h, p.vx[i], p.vy[i], p.vz[i]);  // predicted v(t+Δt), for velocity-dependent forces
+        kick(i, h, p.vx[i], p.vy[i], p.vz[i], false);  // predicted v(t+Δt), for velocity-dependent forces
       });
       if (rot) {
         hwx_.resize(n); hwy_.resize(n); hwz_.resize(n);
@@ -248,6 +264,144 @@ void Simulation::step() {
   ++steps_;
   time_ = static_cast<double>(steps_) * dt;
   check_state();
+  if (solver_) {
+    if (particles_.has_two_way()) deposit_impulses();
+    if (++substep_ == substeps_) {
+      substep_ = 0;
+      gas_step();
+    }
+  }
+}
+
+void Simulation::build_gas() {
+  const bool solved = spec_.gas == GasModel::solved;
+  const bool grid_eps = solved || (spec_.drag && spec_.drag_void_fraction <= 0.0);
+  gas_ = std::make_unique<fluid::GasField>(spec_.gas_spec, spec_.gravity ? spec_.g : Vec3{},
+                                           spec_.pressure_gradient || solved, grid_eps);
+  if (!solved) return;
+  const fluid::StaggeredGrid& g = gas_->grid();
+  // Initial gas velocity (the boundary conditions then impose theirs).
+  std::fill(gas_->u.begin(), gas_->u.end(), spec_.gas_initial_velocity.x);
+  std::fill(gas_->v.begin(), gas_->v.end(), spec_.gas_initial_velocity.y);
+  std::fill(gas_->w.begin(), gas_->w.end(), g.two_d() ? 0.0 : spec_.gas_initial_velocity.z);
+  substeps_ = static_cast<std::uint64_t>(std::llround(spec_.gas_dt / spec_.dt));
+  if (spec_.two_way) {
+    particles_.enable_two_way();
+    const coupling::Kernel k =
+        spec_.coupling_method == coupling::CouplingMethod::cell_average ? coupling::Kernel::cell : spec_.kernel;
+    deposition_ = std::make_unique<coupling::Deposition>(g, k, spec_.kernel_width);
+    imp_x_.assign(g.padded_size(), 0.0);
+    imp_y_ = imp_z_ = imp_x_;
+    deposit_void_fraction(gas_->eps_g);
+  }
+  solver_ = std::make_unique<fluid::GasSolver>(*gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}});
+}
+
+void Simulation::deposit_void_fraction(std::vector<double>& eps) const {
+  const fluid::StaggeredGrid& g = gas_->grid();
+  const ParticleStore& p = particles_;
+  eps.assign(g.padded_size(), 0.0);
+  const double vc = g.cell_volume();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double d = 2.0 * p.radius[i], vol = std::numbers::pi * d * d * d / 6.0 / vc;
+    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
+  }
+  double worst = 1.0;
+  int wc[3] = {0, 0, 0};
+  for (int k = 0; k < g.n(2); ++k)
+    for (int j = 0; j < g.n(1); ++j)
+      for (int i = 0; i < g.n(0); ++i) {
+        double& e = eps[g.at(i, j, k)];
+        e = 1.0 - e;
+        if (e < worst) { worst = e; wc[0] = i; wc[1] = j; wc[2] = k; }
+      }
+  // Random close packing leaves ε_g ≈ 0.36; a cell below 0.2 means the kernel is too
+  // narrow for the cells (particles larger than cells) or the particles overlap.
+  if (worst < 0.2) {
+    std::ostringstream os;
+    os << "the gas volume fraction fell to " << worst << " in cell (" << wc[0] << ", " << wc[1] << ", " << wc[2]
+       << ") at t = " << time_ << " s. Likely cause: cells too small for the particles (a cell should hold several "
+       << "particle volumes; coarsen gas.cells or widen the deposition with coupling.kernel = \"gaussian\" and a "
+       << "larger coupling.kernel_width)";
+    throw SimulationError(os.str());
+  }
+  g.fill_scalar_ghosts(eps);
+}
+
+void Simulation::deposit_impulses() {
+  ParticleStore& p = particles_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
+    particle_impulse_ += Vec3{jx, jy, jz};
+    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+      imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
+    });
+    p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
+  }
+}
+
+void Simulation::gas_step() {
+  fluid::GasSolver& gs = *solver_;
+  const fluid::StaggeredGrid& g = gas_->grid();
+  const double dtg = spec_.gas_dt;
+  gs.clear_force();
+  balance_ = {};
+  if (particles_.has_two_way()) {
+    // The drag reaction, deposited on the cells, as a force per unit volume on the faces:
+    // each cell gives half to each of its two faces along the component; the share of a
+    // face whose velocity is fixed (a wall or an inlet) goes to the cell's other face, so
+    // the gas receives all of it.
+    const double per = 1.0 / (g.cell_volume() * dtg);
+    std::vector<double>* force[3] = {&gs.force_u, &gs.force_v, &gs.force_w};
+    const std::vector<double>* imp[3] = {&imp_x_, &imp_y_, &imp_z_};
+    Vec3 cells, faces;
+    double* cc[3] = {&cells.x, &cells.y, &cells.z};
+    double* fc[3] = {&faces.x, &faces.y, &faces.z};
+    auto fixed_face = [&](int c, int f) {
+      if (g.spec().periodic(c) || (f > 0 && f < g.n(c))) return false;
+      return g.spec().faces[2 * c + (f == 0 ? 0 : 1)].kind != fluid::BoundaryKind::pressure_outlet;
+    };
+    for (int c = 0; c < g.dims(); ++c)
+      for (int k = 0; k < g.n(2); ++k)
+        for (int j = 0; j < g.n(1); ++j)
+          for (int i = 0; i < g.n(0); ++i) {
+            const double v = (*imp[c])[g.at(i, j, k)];
+            *cc[c] += v;
+            int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+            hi[c] += 1;
+            if (g.spec().periodic(c)) hi[c] %= g.n(c);
+            const bool lo_fixed = fixed_face(c, lo[c]), hi_fixed = fixed_face(c, lo[c] + 1);
+            double to_lo = 0.5 * v, to_hi = 0.5 * v;
+            if (lo_fixed && !hi_fixed) { to_hi = v; to_lo = 0.0; }
+            if (hi_fixed && !lo_fixed) { to_lo = v; to_hi = 0.0; }
+            if (lo_fixed && hi_fixed) to_lo = to_hi = 0.0;  // a single cell between walls: the walls take it
+            (*force[c])[g.at(lo[0], lo[1], lo[2])] += to_lo * per;
+            (*force[c])[g.at(hi[0], hi[1], hi[2])] += to_hi * per;
+            *fc[c] += to_lo + to_hi;
+          }
+    balance_ = {particle_impulse_, cells, faces};
+    particle_impulse_ = {};
+    std::fill(imp_x_.begin(), imp_x_.end(), 0.0);
+    std::fill(imp_y_.begin(), imp_y_.end(), 0.0);
+    std::fill(imp_z_.begin(), imp_z_.end(), 0.0);
+    deposit_void_fraction(eps_work_);
+  } else {
+    eps_work_ = gas_->eps_g;
+  }
+  gs.step(dtg, eps_work_);
+  const double cfl = gs.max_cfl(dtg);
+  bool finite = true;
+  for (double x : gas_->u) finite = finite && std::isfinite(x);
+  for (double x : gas_->v) finite = finite && std::isfinite(x);
+  for (double x : gas_->w) finite = finite && std::isfinite(x);
+  if (!finite || cfl > 1.0) {
+    std::ostringstream os;
+    os << "the gas " << (finite ? "velocity exceeds one cell per gas step" : "state is no longer finite") << " at t = "
+       << time_ << " s (Courant number " << cfl << ", diffusion number " << gs.diffusion_number(dtg)
+       << "). Likely cause: gas.dt = " << dtg << " s too large for the flow (keep |u| dt/h below 1 and "
+       << "mu dt/(rho h^2) summed over the axes below 1/2)";
+    throw SimulationError(os.str());
+  }
 }
 
 void Simulation::check_state() const {

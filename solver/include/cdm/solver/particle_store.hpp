@@ -30,14 +30,22 @@ struct ParticleStore {
   std::vector<double> drag_k;         // drag coefficient K, F = K (u_g - v) [kg/s]
   std::vector<double> ugx, ugy, ugz;  // gas velocity at the particle [m/s]
 
+  // Two-way coupling: the explicit drag force of the last evaluation and the drag
+  // impulse since the last deposition onto the gas grid.
+  std::vector<double> dfx, dfy, dfz;  // [N]
+  std::vector<double> jx, jy, jz;     // [N s]
+
   std::size_t size() const { return x.size(); }
   bool has_rotation() const { return rotation_enabled_; }
   bool has_drag_relaxation() const { return drag_relaxation_enabled_; }
+  bool has_two_way() const { return two_way_enabled_; }
 
   /// Switch on the rotational fields (called when a module that produces torque is built).
   void enable_rotation();
   /// Switch on the drag-relaxation fields (zero drag until a module fills them).
   void enable_drag_relaxation();
+  /// Switch on the two-way coupling fields (drag force and impulse, zero).
+  void enable_two_way();
   /// Append one particle; rotational fields get zero angular velocity if enabled.
   void add(Vec3 position, Vec3 velocity, double radius, double density, int material);
   void set_angular_velocity(std::size_t i, Vec3 w);
@@ -54,6 +62,7 @@ struct ParticleStore {
  private:
   bool rotation_enabled_ = false;
   bool drag_relaxation_enabled_ = false;
+  bool two_way_enabled_ = false;
 };
 
 }  // namespace cdm

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "cdm/solver/coupling/deposition.hpp"
 #include "cdm/solver/coupling/drag_laws.hpp"
+#include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/vec3.hpp"
@@ -18,7 +20,7 @@ namespace cdm {
 enum class NormalContactModel { none, linear_spring_dashpot };
 enum class TangentialModel { none, spring_coulomb };
 enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4, exponential_midpoint };
-enum class GasModel { none, prescribed };
+enum class GasModel { none, prescribed, solved };
 
 const char* to_string(IntegratorScheme s);
 
@@ -60,6 +62,14 @@ struct SceneSpec {
   coupling::DragUpdate drag_update = coupling::DragUpdate::explicit_force;
   double drag_void_fraction = 0.0;  // ε_g held in the drag law; 0 = from the grid
   bool pressure_gradient = false;   // −V_p ∇P module (eq 30)
+  // Solved gas only:
+  double gas_dt = 0.0;               // gas step [s]; particles sub-step inside it
+  fluid::AdvectionScheme advection = fluid::AdvectionScheme::central;
+  Vec3 gas_initial_velocity;         // [m/s]
+  bool two_way = false;              // the particles act on the gas (ε and drag reaction)
+  coupling::CouplingMethod coupling_method = coupling::CouplingMethod::interpolate;
+  coupling::Kernel kernel = coupling::Kernel::trilinear;
+  double kernel_width = 0.0;         // gaussian σ [m]
 
   std::vector<Material> materials;
   PairTable pairs;

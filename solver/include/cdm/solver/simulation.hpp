@@ -44,6 +44,17 @@ class Simulation {
   const LinearContactModule* contact() const { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
+  /// The gas for verification set-ups (manufactured solutions set ε, sources).
+  fluid::GasField* gas_mutable() { return gas_.get(); }
+  /// The gas solver (nullptr unless modules.gas = "solved").
+  fluid::GasSolver* gas_solver() { return solver_.get(); }
+  const fluid::GasSolver* gas_solver() const { return solver_.get(); }
+  /// Particle steps per gas step (1 without a solved gas).
+  std::uint64_t substeps() const { return substeps_; }
+  /// Momentum exchanged through drag over the last gas step [N s]: what the particles
+  /// received and what the gas received (on the unknown faces of the grid).
+  struct CouplingBalance { Vec3 particles, gas_cells, gas_faces; };
+  const CouplingBalance& coupling_balance() const { return balance_; }
   const coupling::DragModule* drag() const { return drag_; }
 
   /// Advance one time step (throws SimulationError if the state goes bad).
@@ -66,8 +77,17 @@ class Simulation {
   void step_tracers();
   /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
   /// solved implicitly or exactly when the scene asks for it (drag_module.hpp).
-  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz) const;
+  /// With @p impulse the drag impulse of the kick is added to the particle's two-way
+  /// accumulator (not for the velocity predictor of velocity Verlet).
+  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse = true);
   void wrap_positions();
+  void build_gas();
+  /// ε_g on the cells from the particles' volumes (deposition kernel); stops the run if
+  /// a cell is packed beyond what the gas equations can take.
+  void deposit_void_fraction(std::vector<double>& eps) const;
+  /// Move the particles' drag impulses onto the grid (as the reaction on the gas).
+  void deposit_impulses();
+  void gas_step();
 
   SceneSpec spec_;
   ParticleStore particles_;
@@ -75,6 +95,13 @@ class Simulation {
   LinearContactModule* contact_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;
+  std::unique_ptr<fluid::GasSolver> solver_;
+  std::unique_ptr<coupling::Deposition> deposition_;
+  std::uint64_t substeps_ = 1, substep_ = 0;
+  std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
+  std::vector<double> eps_work_;
+  Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
+  CouplingBalance balance_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   bool forces_valid_ = false;

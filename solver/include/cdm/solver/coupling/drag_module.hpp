@@ -22,6 +22,7 @@
 /// (ParticleStore::enable_drag_relaxation) instead of adding a force.
 #include <limits>
 
+#include "cdm/solver/coupling/deposition.hpp"
 #include "cdm/solver/coupling/drag_laws.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/modules.hpp"
@@ -30,9 +31,16 @@ namespace cdm::coupling {
 
 class DragModule final : public ForceModule {
  public:
-  /// @p fixed_void_fraction in (0, 1]: ε_g used in the law; 0 takes ε_g from the grid.
-  DragModule(const fluid::GasField& gas, DragLaw law, DragUpdate update, double fixed_void_fraction)
-      : gas_(&gas), law_(law), update_(update), eps_fixed_(fixed_void_fraction) {}
+  /// @p fixed_void_fraction in (0, 1]: ε_g used in the law; 0 takes ε_g from the grid,
+  /// averaged at the particle with @p kernel (the cell value without one).
+  /// @p method: the paper's cell-average drag (eqs 33–35; explicit update only) or the
+  /// gas velocity interpolated to each particle (eqs 30, 36). With @p two_way the explicit
+  /// drag force is also kept per particle, for the reaction on the gas.
+  DragModule(const fluid::GasField& gas, DragLaw law, DragUpdate update, double fixed_void_fraction,
+             CouplingMethod method = CouplingMethod::interpolate, const Deposition* kernel = nullptr,
+             bool two_way = false)
+      : gas_(&gas), law_(law), update_(update), eps_fixed_(fixed_void_fraction), method_(method), kernel_(kernel),
+        two_way_(two_way) {}
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
 
@@ -46,11 +54,16 @@ class DragModule final : public ForceModule {
 
  private:
   double void_fraction_at(Vec3 x) const;
+  void add_cell_average(ParticleStore& p);
 
   const fluid::GasField* gas_;
   DragLaw law_;
   DragUpdate update_;
   double eps_fixed_;
+  CouplingMethod method_;
+  const Deposition* kernel_;
+  bool two_way_;
+  std::vector<double> cell_vol_, cell_vx_, cell_vy_, cell_vz_;  // cell-average method
   double tau_min_ = std::numeric_limits<double>::infinity();
 };
 

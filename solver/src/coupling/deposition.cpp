@@ -1,0 +1,105 @@
+#include "cdm/solver/coupling/deposition.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdm::coupling {
+
+const char* to_string(Kernel k) {
+  switch (k) {
+    case Kernel::cell: return "cell";
+    case Kernel::trilinear: return "trilinear";
+    case Kernel::gaussian: return "gaussian";
+  }
+  return "?";
+}
+
+const char* to_string(CouplingMethod m) {
+  return m == CouplingMethod::cell_average ? "cell_average" : "interpolate";
+}
+
+Deposition::Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double width)
+    : grid_(&grid), kernel_(kernel), sigma_(width) {}
+
+int Deposition::fold(int axis, int i) const {
+  const int n = grid_->n(axis);
+  if (grid_->spec().periodic(axis)) return ((i % n) + n) % n;
+  // Reflect about the wall: cell −1 mirrors cell 0, cell n mirrors n − 1.
+  while (i < 0 || i >= n) i = i < 0 ? -1 - i : 2 * n - 1 - i;
+  return i;
+}
+
+void Deposition::weights(Vec3 x) const {
+  const fluid::StaggeredGrid& g = *grid_;
+  idx_.clear();
+  w_.clear();
+  const double xs[3] = {x.x, x.y, x.z};
+  const int dims = g.dims();
+  // Fractional cell-centre coordinate along each axis: centre of cell i at i.
+  double f[3];
+  for (int a = 0; a < 3; ++a) f[a] = (xs[a] - g.lo(a)) / g.h(a) - 0.5;
+  switch (kernel_) {
+    case Kernel::cell: {
+      int c[3] = {0, 0, 0};
+      for (int a = 0; a < dims; ++a) c[a] = std::clamp(static_cast<int>(std::floor(f[a] + 0.5)), 0, g.n(a) - 1);
+      idx_.push_back(g.at(c[0], c[1], c[2]));
+      w_.push_back(1.0);
+      return;
+    }
+    case Kernel::trilinear: {
+      int i0[3] = {0, 0, 0};
+      double t[3] = {0, 0, 0};
+      for (int a = 0; a < dims; ++a) {
+        i0[a] = static_cast<int>(std::floor(f[a]));
+        t[a] = f[a] - i0[a];
+      }
+      const int kz = dims == 3 ? 2 : 1;
+      for (int dk = 0; dk < kz; ++dk)
+        for (int dj = 0; dj < 2; ++dj)
+          for (int di = 0; di < 2; ++di) {
+            const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dims == 3 ? (dk ? t[2] : 1 - t[2]) : 1.0);
+            if (w == 0.0) continue;
+            idx_.push_back(g.at(fold(0, i0[0] + di), fold(1, i0[1] + dj), dims == 3 ? fold(2, i0[2] + dk) : 0));
+            w_.push_back(w);
+          }
+      return;
+    }
+    case Kernel::gaussian: {
+      int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+      for (int a = 0; a < dims; ++a) {
+        const double r = 3.0 * sigma_ / g.h(a);
+        lo[a] = static_cast<int>(std::floor(f[a] - r));
+        hi[a] = static_cast<int>(std::ceil(f[a] + r));
+      }
+      double sum = 0.0;
+      for (int k = lo[2]; k <= hi[2]; ++k)
+        for (int j = lo[1]; j <= hi[1]; ++j)
+          for (int i = lo[0]; i <= hi[0]; ++i) {
+            const double dx = (i - f[0]) * g.h(0), dy = (j - f[1]) * g.h(1), dz = dims == 3 ? (k - f[2]) * g.h(2) : 0.0;
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 > 9.0 * sigma_ * sigma_) continue;
+            const double w = std::exp(-0.5 * r2 / (sigma_ * sigma_));
+            idx_.push_back(g.at(fold(0, i), fold(1, j), dims == 3 ? fold(2, k) : 0));
+            w_.push_back(w);
+            sum += w;
+          }
+      if (sum <= 0.0) {  // narrower than a cell: fall back to the holding cell
+        int c[3] = {0, 0, 0};
+        for (int a = 0; a < dims; ++a) c[a] = std::clamp(static_cast<int>(std::floor(f[a] + 0.5)), 0, g.n(a) - 1);
+        idx_.assign(1, g.at(c[0], c[1], c[2]));
+        w_.assign(1, 1.0);
+        return;
+      }
+      for (double& w : w_) w /= sum;
+      return;
+    }
+  }
+}
+
+double Deposition::average(const std::vector<double>& cells, Vec3 x) const {
+  double s = 0.0;
+  for_each_weight(x, [&](std::size_t i, double w) { s += w * cells[i]; });
+  return s;
+}
+
+}  // namespace cdm::coupling
