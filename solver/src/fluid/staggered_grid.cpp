@@ -39,22 +39,28 @@ int wrap(int m, int n) { return ((m % n) + n) % n; }
 
 void StaggeredGrid::fill_component(std::vector<double>& a, Staggering s, bool even) const {
   const int g = ghosts;
-  for (int axis = 0; axis < 3; ++axis) {
+  // A 2D grid has one layer along z and nothing reads beyond it: no z pass, and the x and
+  // y passes touch layer 0 only.
+  const int axes = spec_.two_d ? 2 : 3;
+  for (int axis = 0; axis < axes; ++axis) {
     const int n = n_[axis];
     const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
     const bool normal = static_cast<int>(s) == axis;  // the component normal to these faces
     // Index with `m` along `axis` and (p, q) along the two other axes.
-    auto idx = [&](int m, int p, int q) {
-      int ijk[3];
-      ijk[axis] = m;
-      ijk[o1] = p;
-      ijk[o2] = q;
-      return at(ijk[0], ijk[1], ijk[2]);
+    // Index of (m along axis, p along o1, q along o2): a base and a stride (hot loop).
+    const std::size_t stride[3] = {1, ext_[0], ext_[0] * ext_[1]};
+    const std::size_t sa = stride[axis];
+    auto idx = [&, sa](int m, int p, int q) {
+      return static_cast<std::size_t>(static_cast<long>(at(0, 0, 0)) + static_cast<long>(m) * static_cast<long>(sa) +
+                                      static_cast<long>(p) * static_cast<long>(stride[o1]) +
+                                      static_cast<long>(q) * static_cast<long>(stride[o2]));
     };
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
-    for (int q = -g; q <= n_[o2] + g; ++q)
-      for (int p = -g; p <= n_[o1] + g; ++p) {
+    const int q0 = spec_.two_d && o2 == 2 ? 0 : -g, q1 = spec_.two_d && o2 == 2 ? 0 : n_[o2] + g;
+    const int p0 = spec_.two_d && o1 == 2 ? 0 : -g, p1 = spec_.two_d && o1 == 2 ? 0 : n_[o1] + g;
+    for (int q = q0; q <= q1; ++q)
+      for (int p = p0; p <= p1; ++p) {
         if (lower.kind == BoundaryKind::periodic) {
           for (int m = -g; m < 0; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
           for (int m = n; m <= n + g; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
@@ -112,20 +118,24 @@ void StaggeredGrid::fill_scalar_ghosts(std::vector<double>& s) const { fill_comp
 
 void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a) const {
   const int g = ghosts;
-  for (int axis = 0; axis < 3; ++axis) {
+  const int axes = spec_.two_d ? 2 : 3;
+  for (int axis = 0; axis < axes; ++axis) {
     const int n = n_[axis];
     const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
-    auto idx = [&](int m, int p, int q) {
-      int ijk[3];
-      ijk[axis] = m;
-      ijk[o1] = p;
-      ijk[o2] = q;
-      return at(ijk[0], ijk[1], ijk[2]);
+    // Index of (m along axis, p along o1, q along o2): a base and a stride (hot loop).
+    const std::size_t stride[3] = {1, ext_[0], ext_[0] * ext_[1]};
+    const std::size_t sa = stride[axis];
+    auto idx = [&, sa](int m, int p, int q) {
+      return static_cast<std::size_t>(static_cast<long>(at(0, 0, 0)) + static_cast<long>(m) * static_cast<long>(sa) +
+                                      static_cast<long>(p) * static_cast<long>(stride[o1]) +
+                                      static_cast<long>(q) * static_cast<long>(stride[o2]));
     };
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
-    for (int q = -g; q <= n_[o2] + g; ++q)
-      for (int p = -g; p <= n_[o1] + g; ++p) {
+    const int q0 = spec_.two_d && o2 == 2 ? 0 : -g, q1 = spec_.two_d && o2 == 2 ? 0 : n_[o2] + g;
+    const int p0 = spec_.two_d && o1 == 2 ? 0 : -g, p1 = spec_.two_d && o1 == 2 ? 0 : n_[o1] + g;
+    for (int q = q0; q <= q1; ++q)
+      for (int p = p0; p <= p1; ++p) {
         if (lower.kind == BoundaryKind::periodic) {
           for (int m = -g; m < 0; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
           for (int m = n; m <= n + g; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
