@@ -53,7 +53,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks"}},
       {"modules", {"gravity", "normal_contact", "tangential", "gas", "drag", "pressure_gradient", "tracers"}},
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
-               "dt", "advection", "initial_velocity"}},
+               "dt", "advection", "initial_velocity", "mean_pressure_gradient"}},
       {"gas.boundaries.*", {"type", "velocity", "pressure"}},
       {"coupling", {"mode", "method", "kernel", "kernel_width"}},
       {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
@@ -631,7 +631,10 @@ void Loader::read_gas() {
     else if (up == "implicit") spec_.drag_update = coupling::DragUpdate::implicit;
     else if (up == "exponential") spec_.drag_update = coupling::DragUpdate::exponential;
     else fail_value("drag.update", *d.get("update"), "\"explicit\", \"implicit\" or \"exponential\"");
-    spec_.drag_void_fraction = number_in(d, "void_fraction", "drag", Dim::none, false, 1.0, 0.0, true, 1.0, false,
+    // Default: a solved gas supplies ε_g from the particles (0 = from the grid); a
+    // prescribed gas has no particle volume, so a single particle's ε_g = 1.
+    spec_.drag_void_fraction = number_in(d, "void_fraction", "drag", Dim::none, false,
+                                         spec_.gas == GasModel::solved ? 0.0 : 1.0, 0.0, true, 1.0, false,
                                          "in (0, 1] (the gas volume fraction held in the drag law)");
   }
   if (!gt) return;
@@ -749,7 +752,7 @@ void Loader::read_gas() {
     read_solved_gas(*gt);
     return;
   }
-  for (const char* k : {"dt", "advection", "initial_velocity"})
+  for (const char* k : {"dt", "advection", "initial_velocity", "mean_pressure_gradient"})
     reject_unused(*gt, k, "gas", "modules.gas is \"prescribed\" (these set up a solved gas)");
   if (const toml::node* cn = root_.get("coupling"))
     throw SceneError(file_ + ": table [coupling] = " + show(*cn) + " is not used: modules.gas is not \"solved\"");
@@ -820,6 +823,7 @@ void Loader::read_solved_gas(const toml::table& gt) {
   else if (adv == "central") spec_.advection = fluid::AdvectionScheme::central;
   else fail_value("gas.advection", *gt.get("advection"), "\"upwind\" or \"central\"");
   spec_.gas_initial_velocity = vec3(gt, "initial_velocity", "gas", Dim::velocity).value_or(Vec3{});
+  spec_.mean_pressure_gradient = vec3(gt, "mean_pressure_gradient", "gas", Dim::pressure_gradient).value_or(Vec3{});
   if (spec_.gas_spec.grid.two_d && spec_.gas_initial_velocity.z != 0.0)
     fail_value("gas.initial_velocity", *gt.get("initial_velocity"), "no z component in a two-dimensional gas");
   const toml::table* ct = table(root_, "coupling", "", false);

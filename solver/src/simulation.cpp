@@ -294,7 +294,9 @@ void Simulation::build_gas() {
     imp_y_ = imp_z_ = imp_x_;
     deposit_void_fraction(gas_->eps_g);
   }
-  solver_ = std::make_unique<fluid::GasSolver>(*gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}});
+  gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
+  solver_ = std::make_unique<fluid::GasSolver>(
+      *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient});
 }
 
 void Simulation::deposit_void_fraction(std::vector<double>& eps) const {
@@ -399,7 +401,12 @@ void Simulation::gas_step() {
     os << "the gas " << (finite ? "velocity exceeds one cell per gas step" : "state is no longer finite") << " at t = "
        << time_ << " s (Courant number " << cfl << ", diffusion number " << gs.diffusion_number(dtg)
        << "). Likely cause: gas.dt = " << dtg << " s too large for the flow (keep |u| dt/h below 1 and "
-       << "mu dt/(rho h^2) summed over the axes below 1/2)";
+       << "mu dt/(rho h^2) summed over the axes below 1/2"
+       << (particles_.has_two_way() ? "; with two-way coupling the drag on the gas is explicit, so gas.dt must also "
+                                      "stay below 2 eps_g rho_g / beta, the time the gas takes to relax to the particles' "
+                                      "velocity, which dense or fine-particle regions make short"
+                                    : "")
+       << ")";
     throw SimulationError(os.str());
   }
 }

@@ -144,6 +144,7 @@ CaseDef load_case(const std::string& dir) {
     const toml::table& vt = *vn.as_table();
     Variant v;
     v.name = vt["name"].value_or(std::string{});
+    v.scene = vt["scene"] ? (fs::path(dir) / vt["scene"].value_or(std::string{})).string() : c.scene;
     v.family = vt["family"].value_or(std::string{});
     if (auto h = vt.get("h")) v.h = as_number(*h, file + ": variants.h");
     v.sweep_only = vt["sweep_only"].value_or(false);

@@ -23,6 +23,7 @@ Deposition::Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double w
 
 int Deposition::fold(int axis, int i) const {
   const int n = grid_->n(axis);
+  if (i >= 0 && i < n) return i;
   if (grid_->spec().periodic(axis)) return ((i % n) + n) % n;
   // Reflect about the wall: cell −1 mirrors cell 0, cell n mirrors n − 1.
   while (i < 0 || i >= n) i = i < 0 ? -1 - i : 2 * n - 1 - i;
@@ -37,7 +38,7 @@ void Deposition::weights(Vec3 x) const {
   const int dims = g.dims();
   // Fractional cell-centre coordinate along each axis: centre of cell i at i.
   double f[3];
-  for (int a = 0; a < 3; ++a) f[a] = (xs[a] - g.lo(a)) / g.h(a) - 0.5;
+  for (int a = 0; a < 3; ++a) f[a] = (xs[a] - g.lo(a)) * g.inv_h(a) - 0.5;
   switch (kernel_) {
     case Kernel::cell: {
       int c[3] = {0, 0, 0};

@@ -105,6 +105,7 @@ Vec3 GasField::wrap(Vec3 x) const {
   for (int a = 0; a < (grid_.two_d() ? 2 : 3); ++a) {  // a 2D gas has no z dependence: z is not wrapped
     if (!grid_.spec().periodic(a)) continue;
     const double L = grid_.length(a), lo = grid_.lo(a);
+    if (*c[a] >= lo && *c[a] < lo + L) continue;  // inside already: no fmod
     double r = std::fmod(*c[a] - lo, L);
     if (r < 0) r += L;
     if (r >= L) r = 0.0;  // fmod of a value just below 0 can round to L

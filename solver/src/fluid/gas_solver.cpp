@@ -97,6 +97,8 @@ void GasSolver::predictor(double dt) {
   std::vector<double>* star[3] = {&us_, &vs_, &ws_};
   const std::vector<double>* force[3] = {&force_u, &force_v, &force_w};
   const double gvec[3] = {spec_.gravity.x, spec_.gravity.y, spec_.gravity.z};
+  const double mean_gp[3] = {spec_.mean_pressure_gradient.x, spec_.mean_pressure_gradient.y,
+                             spec_.mean_pressure_gradient.z};
   const bool upwind = spec_.advection == AdvectionScheme::upwind;
   const bool advect = spec_.advection != AdvectionScheme::none;
   auto at = [&](const Ijk& x) { return g.at(x[0], x[1], x[2]); };
@@ -165,7 +167,7 @@ void GasSolver::predictor(double dt) {
           if (momentum_source) src += momentum_source(g.position(s, i, j, k), time_, c);
           // ε_f^{n+1} u* = ε_f^n u^n + Δt/ρ (−adv + diff + ε_f^n ρ g + f) − Δt/ρ ε_f^{n+1} ∂p^n/∂x:
           // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
-          out[at(f)] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * rho * gvec[c] + src);
+          out[at(f)] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * (rho * gvec[c] - mean_gp[c]) + src);
         }
   }
 }

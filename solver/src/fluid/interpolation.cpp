@@ -52,23 +52,22 @@ double VectorInterpolator::trilinear(const std::vector<double>& a, Staggering s,
   double t[3] = {0, 0, 0};
   const int dims = g.dims();
   for (int d = 0; d < dims; ++d) {
-    const double f = (xs[d] - g.lo(d)) / g.h(d) - StaggeredGrid::offset(s, d);
+    const double f = (xs[d] - g.lo(d)) * g.inv_h(d) - StaggeredGrid::offset(s, d);
     i0[d] = static_cast<int>(std::floor(f));
     t[d] = f - i0[d];
   }
-  if (dims == 2) {
-    const double a00 = a[g.at(i0[0], i0[1], 0)], a10 = a[g.at(i0[0] + 1, i0[1], 0)];
-    const double a01 = a[g.at(i0[0], i0[1] + 1, 0)], a11 = a[g.at(i0[0] + 1, i0[1] + 1, 0)];
-    return (1 - t[1]) * ((1 - t[0]) * a00 + t[0] * a10) + t[1] * ((1 - t[0]) * a01 + t[0] * a11);
-  }
-  double r = 0.0;
-  for (int dk = 0; dk < 2; ++dk)
-    for (int dj = 0; dj < 2; ++dj)
-      for (int di = 0; di < 2; ++di) {
-        const double wgt = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
-        r += wgt * a[g.at(i0[0] + di, i0[1] + dj, i0[2] + dk)];
-      }
-  return r;
+  // The 8 (2D: 4) samples from one base index and the array strides.
+  const std::size_t base = g.at(i0[0], i0[1], i0[2]);
+  const std::size_t sy = g.at(0, 1, 0) - g.at(0, 0, 0), sz = g.at(0, 0, 1) - g.at(0, 0, 0);
+  const double* p = a.data() + base;
+  const double x00 = (1 - t[0]) * p[0] + t[0] * p[1];
+  const double x10 = (1 - t[0]) * p[sy] + t[0] * p[sy + 1];
+  const double y0 = (1 - t[1]) * x00 + t[1] * x10;
+  if (dims == 2) return y0;
+  const double x01 = (1 - t[0]) * p[sz] + t[0] * p[sz + 1];
+  const double x11 = (1 - t[0]) * p[sz + sy] + t[0] * p[sz + sy + 1];
+  const double y1 = (1 - t[1]) * x01 + t[1] * x11;
+  return (1 - t[2]) * y0 + t[2] * y1;
 }
 
 Vec3 VectorInterpolator::lagrange2(Vec3 x) const {

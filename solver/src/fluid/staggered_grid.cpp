@@ -23,6 +23,7 @@ StaggeredGrid::StaggeredGrid(const GridSpec& spec) : spec_(spec) {
     if (n_[a] < 1 || !(hi[a] > lo[a])) throw std::invalid_argument("StaggeredGrid: bad extent or cell count");
     lo_[a] = lo[a];
     h_[a] = (hi[a] - lo[a]) / n_[a];
+    inv_h_[a] = 1.0 / h_[a];
     ext_[a] = static_cast<std::size_t>(n_[a] + 1 + 2 * ghosts);
   }
   if (spec.two_d && (n_[2] != 1 || !spec.periodic(2)))

@@ -66,6 +66,7 @@ struct SceneSpec {
   double gas_dt = 0.0;               // gas step [s]; particles sub-step inside it
   fluid::AdvectionScheme advection = fluid::AdvectionScheme::central;
   Vec3 gas_initial_velocity;         // [m/s]
+  Vec3 mean_pressure_gradient;       // imposed ∇P̄ [Pa/m] (solved gas)
   bool two_way = false;              // the particles act on the gas (ε and drag reaction)
   coupling::CouplingMethod coupling_method = coupling::CouplingMethod::interpolate;
   coupling::Kernel kernel = coupling::Kernel::trilinear;

@@ -20,6 +20,7 @@ namespace cdm::verification {
 /// and the oracle's parameters (SI), written independently of the scene.
 struct Variant {
   std::string name;
+  std::string scene;  // scene file path: the case's, unless the variant names its own
   std::vector<SceneOverride> set;
   std::map<std::string, double> oracle;  // SI parameters for the oracle
   /// Grid refinement: variants of one family with a cell size h each; the harness

@@ -54,8 +54,10 @@ class GasField {
   /// ∇p at a point, interpolated from the face differences of the cell-centred pressure.
   Vec3 pressure_gradient_at(Vec3 x) const {
     if (analytic_) return prescribed_->pressure_gradient(x);
-    return gradient_interp_.at(x);
+    return gradient_interp_.at(x) + mean_pressure_gradient;
   }
+  /// An imposed mean ∇P̄ [Pa/m] added to the grid's gradient (solved periodic gas).
+  Vec3 mean_pressure_gradient;
 
   /// Wrap @p x into the domain along periodic axes.
   Vec3 wrap(Vec3 x) const;

@@ -44,6 +44,10 @@ const char* to_string(AdvectionScheme a);
 struct GasSolverSpec {
   AdvectionScheme advection = AdvectionScheme::central;
   Vec3 gravity;  // g acting on the gas [m/s^2] (zero without gravity)
+  /// An imposed mean pressure gradient ∇P̄ [Pa/m] on top of the solved (periodic)
+  /// pressure: the gas feels −ε∇P̄ (and particles −V_p∇P̄). It lets a box periodic along
+  /// gravity carry the weight of what it holds.
+  Vec3 mean_pressure_gradient;
 };
 
 class GasSolver {

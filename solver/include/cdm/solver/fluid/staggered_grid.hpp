@@ -64,6 +64,7 @@ class StaggeredGrid {
   const GridSpec& spec() const { return spec_; }
   int n(int axis) const { return n_[axis]; }
   double h(int axis) const { return h_[axis]; }
+  double inv_h(int axis) const { return inv_h_[axis]; }
   double lo(int axis) const { return lo_[axis]; }
   double length(int axis) const { return n_[axis] * h_[axis]; }
   bool two_d() const { return spec_.two_d; }
@@ -110,7 +111,7 @@ class StaggeredGrid {
 
   GridSpec spec_;
   std::array<int, 3> n_;
-  std::array<double, 3> h_, lo_;
+  std::array<double, 3> h_, inv_h_, lo_;
   std::array<std::size_t, 3> ext_;
 };
 
