@@ -30,7 +30,7 @@ void ParticleStore::enable_two_way() {
   for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->assign(n, 0.0);
 }
 
-void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
+void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool fixed) {
   const double d = 2.0 * r;
   const double m = density * std::numbers::pi * d * d * d / 6.0;
   x.push_back(p.x); y.push_back(p.y); z.push_back(p.z);
@@ -38,7 +38,7 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   fx.push_back(0.0); fy.push_back(0.0); fz.push_back(0.0);
   radius.push_back(r);
   mass.push_back(m);
-  inv_mass.push_back(1.0 / m);
+  inv_mass.push_back(fixed ? 0.0 : 1.0 / m);
   material.push_back(mat);
   if (two_way_enabled_)
     for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->push_back(0.0);
@@ -49,7 +49,7 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat) {
   if (rotation_enabled_) {
     wx.push_back(0.0); wy.push_back(0.0); wz.push_back(0.0);
     tx.push_back(0.0); ty.push_back(0.0); tz.push_back(0.0);
-    inv_inertia.push_back(10.0 / (m * d * d));
+    inv_inertia.push_back(fixed ? 0.0 : 10.0 / (m * d * d));
   }
 }
 

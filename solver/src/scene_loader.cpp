@@ -60,9 +60,9 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},
       {"shells[]", {"material", "radius", "center", "shell_radius", "count", "dimension"}},
-      {"random_particles[]", {"material", "radius", "lower", "upper", "count", "seed"}},
+      {"random_particles[]", {"material", "radius", "lower", "upper", "count", "seed", "allow_overlap"}},
       {"gravity", {"g"}},
-      {"materials[]", {"name", "density"}},
+      {"materials[]", {"name", "density", "fixed"}},
       {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
       {"walls[]", {"name", "point", "normal", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
@@ -342,6 +342,13 @@ void Loader::read_materials() {
       if (other.name == *name) fail_value(path + ".name", *t.get("name"), "a name not used by another material");
     m.name = *name;
     m.density = positive(t, "density", path, Dim::density, false, 0.0);
+    m.fixed = boolean(t, "fixed", path).value_or(false);
+    if (m.fixed) {
+      if (spec_.normal_contact != NormalContactModel::none)
+        fail_value(path + ".fixed", *t.get("fixed"),
+                   "false while modules.normal_contact is set: contacts with fixed particles are not implemented");
+      if (spec_.tracers) fail_value(path + ".fixed", *t.get("fixed"), "false for tracers (they move with the gas)");
+    }
     spec_.materials.push_back(m);
   }
   spec_.pairs = PairTable(spec_.materials.size());
@@ -568,7 +575,8 @@ void Loader::read_particles() {
       }
       std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
       auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
-      const bool exclusive = spec_.normal_contact != NormalContactModel::none;
+      const bool exclusive =
+          !boolean(t, "allow_overlap", path).value_or(spec_.normal_contact == NormalContactModel::none);
       // Random sequential addition on a cell grid of edge 2r (contacts only).
       const double cell = 2.0 * r;
       std::map<std::tuple<long long, long long, long long>, std::vector<Vec3>> placed;
@@ -631,6 +639,12 @@ void Loader::read_gas() {
     else if (up == "implicit") spec_.drag_update = coupling::DragUpdate::implicit;
     else if (up == "exponential") spec_.drag_update = coupling::DragUpdate::exponential;
     else fail_value("drag.update", *d.get("update"), "\"explicit\", \"implicit\" or \"exponential\"");
+    if (spec_.drag_update != coupling::DragUpdate::explicit_force)
+      for (const auto& m : spec_.materials)
+        if (m.fixed)
+          fail_value("drag.update", *d.get("update"),
+                     "\"explicit\" while material '" + m.name + "' is fixed (a fixed particle's drag is a force on the "
+                     "gas, not a velocity relaxation)");
     // Default: a solved gas supplies ε_g from the particles (0 = from the grid); a
     // prescribed gas has no particle volume, so a single particle's ε_g = 1.
     spec_.drag_void_fraction = number_in(d, "void_fraction", "drag", Dim::none, false,

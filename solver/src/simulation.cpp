@@ -14,7 +14,8 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Build only the modules the scene names. Rotation exists only with friction.
   if (spec_.tangential != TangentialModel::none) particles_.enable_rotation();
   for (const auto& ps : spec_.particles) {
-    particles_.add(ps.position, ps.velocity, ps.radius, spec_.materials[ps.material].density, ps.material);
+    const Material& mat = spec_.materials[ps.material];
+    particles_.add(ps.position, ps.velocity, ps.radius, mat.density, ps.material, mat.fixed);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
   }
   if (spec_.gas != GasModel::none) build_gas();

@@ -66,24 +66,42 @@ void Deposition::weights(Vec3 x) const {
       return;
     }
     case Kernel::gaussian: {
+      // Separable: exp(−r²/2σ²) = Π_a exp(−Δ_a²/2σ²) over the cell centres within 3σ along
+      // each axis (a box-truncated gaussian), normalised to sum to one.
       int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-      for (int a = 0; a < dims; ++a) {
+      double wa[3][64];
+      for (int a = 0; a < 3; ++a) {
+        if (a >= dims) { wa[a][0] = 1.0; continue; }
         const double r = 3.0 * sigma_ / g.h(a);
         lo[a] = static_cast<int>(std::floor(f[a] - r));
-        hi[a] = static_cast<int>(std::ceil(f[a] + r));
+        hi[a] = std::min(static_cast<int>(std::ceil(f[a] + r)), lo[a] + 63);
+        for (int i = lo[a]; i <= hi[a]; ++i) {
+          const double dx = (i - f[a]) * g.h(a);
+          wa[a][i - lo[a]] = std::exp(-0.5 * dx * dx / (sigma_ * sigma_));
+        }
       }
+      // Folded index offsets per axis, combined by the array strides (hot loop).
+      const std::size_t base = g.at(0, 0, 0);
+      const std::size_t sy = g.at(0, 1, 0) - base, sz = g.at(0, 0, 1) - base;
+      std::size_t ox[64], oy[64], oz[64];
+      for (int i = lo[0]; i <= hi[0]; ++i) ox[i - lo[0]] = static_cast<std::size_t>(fold(0, i));
+      for (int j = lo[1]; j <= hi[1]; ++j) oy[j - lo[1]] = static_cast<std::size_t>(fold(1, j)) * sy;
+      for (int k = lo[2]; k <= hi[2]; ++k) oz[k - lo[2]] = dims == 3 ? static_cast<std::size_t>(fold(2, k)) * sz : 0;
+      const int nxw = hi[0] - lo[0] + 1;
+      idx_.reserve(static_cast<std::size_t>(nxw) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1));
+      w_.reserve(idx_.capacity());
       double sum = 0.0;
       for (int k = lo[2]; k <= hi[2]; ++k)
-        for (int j = lo[1]; j <= hi[1]; ++j)
-          for (int i = lo[0]; i <= hi[0]; ++i) {
-            const double dx = (i - f[0]) * g.h(0), dy = (j - f[1]) * g.h(1), dz = dims == 3 ? (k - f[2]) * g.h(2) : 0.0;
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            if (r2 > 9.0 * sigma_ * sigma_) continue;
-            const double w = std::exp(-0.5 * r2 / (sigma_ * sigma_));
-            idx_.push_back(g.at(fold(0, i), fold(1, j), dims == 3 ? fold(2, k) : 0));
+        for (int j = lo[1]; j <= hi[1]; ++j) {
+          const double wjk = wa[1][j - lo[1]] * wa[2][k - lo[2]];
+          const std::size_t row = base + oy[j - lo[1]] + oz[k - lo[2]];
+          for (int i = 0; i < nxw; ++i) {
+            const double w = wa[0][i] * wjk;
+            idx_.push_back(row + ox[i]);
             w_.push_back(w);
             sum += w;
           }
+        }
       if (sum <= 0.0) {  // narrower than a cell: fall back to the holding cell
         int c[3] = {0, 0, 0};
         for (int a = 0; a < dims; ++a) c[a] = std::clamp(static_cast<int>(std::floor(f[a] + 0.5)), 0, g.n(a) - 1);
@@ -91,7 +109,8 @@ void Deposition::weights(Vec3 x) const {
         w_.assign(1, 1.0);
         return;
       }
-      for (double& w : w_) w /= sum;
+      const double inv = 1.0 / sum;
+      for (double& w : w_) w *= inv;
       return;
     }
   }

@@ -17,6 +17,7 @@ namespace cdm {
 struct Material {
   std::string name;
   double density = 0.0;  // [kg/m^3]; 0 for a material used by walls only
+  bool fixed = false;    // particles of this material never move (a packed bed's grains)
 };
 
 /// Contact parameters for one unordered pair of materials.

@@ -46,8 +46,10 @@ struct ParticleStore {
   void enable_drag_relaxation();
   /// Switch on the two-way coupling fields (drag force and impulse, zero).
   void enable_two_way();
-  /// Append one particle; rotational fields get zero angular velocity if enabled.
-  void add(Vec3 position, Vec3 velocity, double radius, double density, int material);
+  /// Append one particle; rotational fields get zero angular velocity if enabled. A
+  /// @p fixed particle has zero inverse mass and inertia: forces act on it (its drag
+  /// reaches the gas) but never move it.
+  void add(Vec3 position, Vec3 velocity, double radius, double density, int material, bool fixed = false);
   void set_angular_velocity(std::size_t i, Vec3 w);
 
   Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }

@@ -7,7 +7,8 @@
 ///  - `cell`: all to the cell holding the centre (the paper's first method, eqs 33–35);
 ///  - `trilinear`: the 8 (2D: 4) nearest cell centres with trilinear weights ("cloud in
 ///    cell"); second order in the cell size, continuous as particles move;
-///  - `gaussian`: exp(−r²/2σ²) over the cell centres within 3σ, σ set in the scene and
+///  - `gaussian`: exp(−r²/2σ²) over the cell centres within 3σ along each axis (a box-
+///    truncated gaussian, evaluated as a product of 1D weights), σ set in the scene and
 ///    independent of the cell size, so refining the grid resolves the same smoothed field.
 /// Weights always sum to one, so deposited volume and momentum are conserved exactly.
 /// Across a periodic boundary weights wrap; a weight that would fall outside a wall is
