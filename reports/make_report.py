@@ -181,17 +181,24 @@ def clip_reference(ax, xs, anchor, orders):
     ax.set_ylim(lo, hi)
 
 
-def tidy_log_x(ax, xs):
-    """Minor tick labels on a log x axis only at 2 and 5 and only over a short range (no overlaps)."""
-    xs = [x for x in xs if x > 0]
-    if xs and max(xs) / min(xs) < 40:
-        def label(x, _):
-            mant = x / 10 ** math.floor(math.log10(x) + 1e-9)
-            return f"{x:.0e}".replace("e-0", "e-").replace("e+0", "e") if round(mant) in (2, 5) else ""
-        ax.xaxis.set_minor_formatter(FuncFormatter(label))
-        ax.tick_params(axis="x", which="minor", labelsize=7)
-    else:
-        ax.xaxis.set_minor_formatter(NullFormatter())
+def tidy_log(ax):
+    """On log axes showing at most one power of ten, minor tick labels at 2 and 5 only (the
+    default labels overlap or leave a single labelled tick); none on longer axes."""
+    def label(x, _):
+        if x <= 0:
+            return ""
+        mant = x / 10 ** math.floor(math.log10(x) + 1e-9)
+        return f"{x:.0e}".replace("e-0", "e-").replace("e+0", "e") if round(mant) in (2, 5) else ""
+
+    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if axis.get_scale() != "log" or lim[0] <= 0:
+            continue
+        lo, hi = sorted(lim)
+        if math.floor(math.log10(hi)) - math.ceil(math.log10(lo)) + 1 <= 1:
+            axis.set_minor_formatter(FuncFormatter(label))
+            ax.tick_params(axis="x" if axis is ax.xaxis else "y", which="minor", labelsize=7)
+        else:
+            axis.set_minor_formatter(NullFormatter())
 
 
 def symlog_index_axis(ax, bottom):
@@ -392,7 +399,7 @@ class Report:
                 sec.xaxis.set_minor_locator(NullLocator())
                 sec.set_xticklabels([fmt_div(t) for t in ticks], fontsize=7)
                 sec.set_xlabel(label, fontsize=8)
-            tidy_log_x(ax, xs)
+            tidy_log(ax)
             ax.set_xlabel(xlabel)
             ax.set_ylabel(ylabel)
             ax.set_title(f"{title}: {g}" if g else title, fontsize=10)
@@ -465,7 +472,7 @@ class Report:
             hs = sorted({p[0] for k, v in pts.items() if k[0] == integ for p in v})
             finest = [v[0][1] for k, v in pts.items() if k[0] == integ]
             clip_reference(ax, [hs[0], hs[-1]], (hs[0], 0.5 * min(finest)), (1, 2))
-            tidy_log_x(ax, hs)
+            tidy_log(ax)
             ax.set_xlabel("cell size h [m]")
             ax.set_ylabel(grid["ylabel"])
             ax.set_title(f"{case}: {q} against h, {integ}", fontsize=10)
