@@ -505,10 +505,21 @@ void Simulation::save_state(OutArchive& a) const {
   a.put(p.wx); a.put(p.wy); a.put(p.wz);
   a.put(p.tx); a.put(p.ty); a.put(p.tz);
   a.put(p.drag_k); a.put(p.ugx); a.put(p.ugy); a.put(p.ugz);
+  a.put(p.dfx); a.put(p.dfy); a.put(p.dfz); a.put(p.jx); a.put(p.jy); a.put(p.jz);
   a.put(static_cast<std::uint64_t>(modules_.size()));
   for (const auto& m : modules_) {
     a.put(m->name());
     m->save_state(a);
+  }
+  // A solved gas: its fields, the solver's clock, and the exchange accumulated so far in
+  // the current gas step.
+  a.put(static_cast<std::uint8_t>(solver_ ? 1 : 0));
+  if (solver_) {
+    a.put(gas_->u); a.put(gas_->v); a.put(gas_->w); a.put(gas_->p); a.put(gas_->eps_g);
+    a.put(solver_->time());
+    a.put(substep_);
+    a.put(imp_x_); a.put(imp_y_); a.put(imp_z_);
+    a.put(particle_impulse_.x); a.put(particle_impulse_.y); a.put(particle_impulse_.z);
   }
 }
 
@@ -532,6 +543,8 @@ void Simulation::load_state(InArchive& a) {
   for (auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz}) arr(*v, nr);
   const std::size_t nd = p.has_drag_relaxation() ? n0 : 0;
   for (auto* v : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz}) arr(*v, nd);
+  const std::size_t n2 = p.has_two_way() ? n0 : 0;
+  for (auto* v : {&p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz}) arr(*v, n2);
   std::uint64_t nm = 0;
   a.get(nm);
   if (nm != modules_.size()) throw ArchiveError("its modules differ from the scene's");
@@ -540,6 +553,22 @@ void Simulation::load_state(InArchive& a) {
     a.get(name);
     if (name != m->name()) throw ArchiveError("it has module '" + name + "' where the scene has '" + m->name() + "'");
     m->load_state(a);
+  }
+  std::uint8_t has_gas = 0;
+  a.get(has_gas);
+  if ((has_gas != 0) != static_cast<bool>(solver_)) throw ArchiveError("its gas differs from the scene's");
+  if (solver_) {
+    const std::size_t cells = gas_->grid().padded_size();
+    for (auto* v : {&gas_->u, &gas_->v, &gas_->w, &gas_->p, &gas_->eps_g}) arr(*v, cells);
+    double gt = 0.0;
+    a.get(gt);
+    a.get(substep_);
+    if (!std::isfinite(gt) || substep_ >= substeps_) throw ArchiveError("its gas clock is inconsistent");
+    const std::size_t ni = particles_.has_two_way() ? cells : 0;
+    for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) arr(*v, ni);
+    a.get(particle_impulse_.x); a.get(particle_impulse_.y); a.get(particle_impulse_.z);
+    solver_->set_time(gt);
+    gas_->refresh();
   }
   if (!a.done()) throw ArchiveError("it has data after the last module");
   if (steps > total_steps_ || !std::isfinite(time))

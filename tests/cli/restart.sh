@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Checkpoint and restart reproduce a run bit for bit: a frictional pile (1,000 spheres
-# of the settle benchmark, contact history in play) run for 2N steps, against N steps,
-# a checkpoint, and a restart for the rest — identical particle tables and identical
-# final checkpoints. Also: SIGINT writes a checkpoint and exits 130 and the run can be
+# of the settle benchmark, contact history in play) and a two-way coupled suspension
+# (gas fields and exchange in play) run for 2N steps, against N steps, a checkpoint, and a
+# restart for the rest — identical particle tables and identical final checkpoints. Also: SIGINT writes a checkpoint and exits 130 and the run can be
 # continued to the same result; truncated, corrupted or mismatched checkpoints are
 # refused with exit status 2 and a message, never half-loaded.
 set -u
@@ -20,6 +20,18 @@ cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
 "$cdm" run "$scene" -o "$work/split" "${set_args[@]}" --restart "$work/half.cdmck" > /dev/null || fail "restart"
 cmp -s "$work/full/particles.dat" "$work/split/particles.dat" || fail "restarted table differs from the uninterrupted one"
 cmp -s "$work/full/checkpoint.cdmck" "$work/split/checkpoint.cdmck" || fail "final states differ"
+
+# A two-way coupled gas–particle run (the uniform suspension, 4 particle sub-steps per gas
+# step) split in the middle of a gas step: gas fields, the exchange accumulated so far and
+# the drag impulses are restored, so the tables and final states match bit for bit.
+susp="$src/verification/cases/suspension/scene.toml"
+susp_args=(--set integrator.dt=5e-5 --set integrator.end_time=0.006 --set 'output={interval=0.0005, checkpoint_interval=0.003}' -q)
+"$cdm" run "$susp" -o "$work/cfull" "${susp_args[@]}" > /dev/null || fail "coupled full run"
+"$cdm" run "$susp" -o "$work/csplit" "${susp_args[@]}" --max-steps 61 > /dev/null || fail "coupled first part"
+cp "$work/csplit/checkpoint.cdmck" "$work/chalf.cdmck"
+"$cdm" run "$susp" -o "$work/csplit" "${susp_args[@]}" --restart "$work/chalf.cdmck" > /dev/null || fail "coupled restart"
+cmp -s "$work/cfull/particles.dat" "$work/csplit/particles.dat" || fail "coupled: restarted table differs from the uninterrupted one"
+cmp -s "$work/cfull/checkpoint.cdmck" "$work/csplit/checkpoint.cdmck" || fail "coupled: final states (gas included) differ"
 
 # Refused checkpoints: truncated, one byte flipped, another scene.
 head -c 1000 "$work/half.cdmck" > "$work/trunc.cdmck"

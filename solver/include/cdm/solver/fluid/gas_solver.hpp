@@ -80,6 +80,12 @@ class GasSolver {
   /// continuity residual, round-off for a converged pressure solve).
   double continuity_residual() const { return continuity_residual_; }
   std::size_t factorisations() const { return factorisations_; }
+  /// The solver's clock (for checkpoints).
+  double time() const { return time_; }
+  void set_time(double t) {
+    time_ = t;
+    gas_.set_time(t);
+  }
 
  private:
   struct PressureSystem;
