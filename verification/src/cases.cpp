@@ -782,6 +782,113 @@ RunOutput run_packed_bed(const CaseDef& c, const Variant& v, const RunConfig& rc
   return r;
 }
 
+// Fluidisation (issue #4): a settled bed under inflow raised in steps. The frictional
+// pressure drop across the bed, against the buoyant weight per area once fluidised (the
+// plateau), and the minimum-fluidisation velocity where the packed-bed branch meets it,
+// against the same drag law's U_mf at the settled bed's gas fraction.
+RunOutput run_fluidization(const CaseDef& c, const Variant& v, const RunConfig& rc) {
+  SceneSpec spec0 = load_scene(v.scene, v.set);
+  std::vector<SceneOverride> ov = v.set;
+  ov.push_back({"integrator.scheme", "\"" + rc.integrator + "\""});
+  ov.push_back({"integrator.dt", "\"auto\""});
+  char d[32];
+  std::snprintf(d, sizeof d, "%.17g", rc.dt_divisor);
+  ov.push_back({"integrator.dt_divisor", d});
+  SceneSpec spec = load_scene(v.scene, ov);
+  spec.output_particles = false;
+  const double t_settle = v.param("t_settle"), t_seg = v.param("t_segment");
+  const std::vector<double> factors = {0.25, 0.5, 0.75, 1.25, 1.5, 2.0};
+  spec.end_time = t_settle + t_seg * static_cast<double>(factors.size()) + spec.dt;
+  Simulation sim(spec);
+  fluid::GasField& gas = *sim.gas_mutable();
+  const fluid::StaggeredGrid& g = gas.grid();
+  const ParticleStore& p = sim.particles();
+  const double area = g.length(0) * g.length(2), floor_y = v.param("floor");
+  double vol = 0.0, mass = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    vol += std::numbers::pi * std::pow(2.0 * p.radius[i], 3) / 6.0;
+    mass += p.mass[i];
+  }
+  const double rho_g = gas.density(), grav = v.param("g");
+  const double weight = vol * (v.param("rho_p") - rho_g) * grav / area;  // buoyant weight per area [Pa]
+  auto layer_p = [&](int j) {
+    double s = 0.0;
+    for (int k = 0; k < g.n(2); ++k)
+      for (int i = 0; i < g.n(0); ++i) s += gas.p[g.at(i, j, k)];
+    return s / (g.n(0) * g.n(2));
+  };
+  const int j_lo = 0, j_hi = g.n(1) - 1;
+  const double dy = (j_hi - j_lo) * g.h(1);
+  auto frictional = [&] { return layer_p(j_lo) - layer_p(j_hi) - rho_g * grav * dy; };
+  const auto t0 = std::chrono::steady_clock::now();
+  auto advance = [&](double until) {
+    while (sim.time() < until - 0.5 * sim.dt()) sim.step();
+  };
+  advance(t_settle);
+  // The settled bed: height from the particles' mean height (uniform bed: H = 2 (ȳ − floor)).
+  double ybar = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) ybar += p.y[i];
+  ybar /= static_cast<double>(p.size());
+  const double H = 2.0 * (ybar - floor_y), eps_bed = 1.0 - vol / (area * H);
+  oracles::BedParams bp;
+  bp.law = oracles::DragLaw::Gidaspow;
+  bp.d = v.param("d");
+  bp.rho_p = v.param("rho_p");
+  bp.rho_g = v.param("rho_g");
+  bp.mu_g = v.param("mu_g");
+  bp.g = grav;
+  bp.eps_g = eps_bed;
+  const oracles::MinFluidisation mf = oracles::minimum_fluidisation(bp);
+  std::vector<double> U, dP;
+  for (double f : factors) {
+    const double u = f * mf.U;
+    gas.set_inlet_velocity(2, u);
+    const double start = sim.time();
+    advance(start + 0.5 * t_seg);
+    double s = 0.0;
+    int n = 0;
+    while (sim.time() < start + t_seg - 0.5 * sim.dt()) {
+      sim.step();
+      if (sim.steps() % sim.substeps() == 0) { s += frictional(); ++n; }
+    }
+    U.push_back(u);
+    dP.push_back(s / n);
+  }
+  RunOutput r;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.steps = sim.steps();
+  r.particles = p.size();
+  r.dt = sim.dt();
+  if (rc.timing_only) return r;
+  r.oracle_accuracy = accuracy_text(mf.accuracy);
+  // Plateau: the fluidised segments (U >= 1.25 U_mf).
+  double plateau = 0.0;
+  int np = 0;
+  for (std::size_t k = 0; k < U.size(); ++k)
+    if (factors[k] > 1.0) { plateau += dP[k]; ++np; }
+  plateau /= np;
+  // Packed branch: least-squares dP = a U + b U^2 through the packed segments, met with
+  // the measured plateau.
+  double s11 = 0, s12 = 0, s22 = 0, r1 = 0, r2 = 0;
+  for (std::size_t k = 0; k < U.size(); ++k)
+    if (factors[k] < 1.0) {
+      const double x1 = U[k], x2 = U[k] * U[k];
+      s11 += x1 * x1; s12 += x1 * x2; s22 += x2 * x2; r1 += x1 * dP[k]; r2 += x2 * dP[k];
+    }
+  const double det = s11 * s22 - s12 * s12, a = (r1 * s22 - r2 * s12) / det, b = (s11 * r2 - s12 * r1) / det;
+  const double umf = b != 0.0 ? (-a + std::sqrt(a * a + 4.0 * b * plateau)) / (2.0 * b) : plateau / a;
+  r.measurements.push_back({"plateau", "rel_pct_vs_weight", rel_pct(weight, plateau)});
+  r.measurements.push_back({"u_mf", "rel_pct_vs_drag_law", rel_pct(mf.U, umf)});
+  r.measurements.push_back({"u_mf", "rel_pct_vs_wen_yu_1966", rel_pct(oracles::wen_yu_minimum_fluidisation_estimate(bp), umf)});
+  if (!rc.series_path.empty()) {
+    TableWriter w(rc.series_path, {"U[m/s]", "dP_frictional[Pa]", "buoyant_weight_per_area[Pa]", "U_mf_oracle[m/s]"},
+                  {"fluidisation " + v.name + ", " + rc.integrator + ": settled bed height " + std::to_string(H) +
+                   " m, gas fraction " + std::to_string(eps_bed) + "; measured U_mf " + std::to_string(umf) + " m/s"});
+    for (std::size_t k = 0; k < U.size(); ++k) w.row({U[k], dP[k], weight, mf.U});
+  }
+  return r;
+}
+
 }  // namespace
 
 const std::map<std::string, CaseRunner>& case_runners() {
@@ -794,6 +901,7 @@ const std::map<std::string, CaseRunner>& case_runners() {
       {"gas_mms", run_gas_mms},
       {"suspension", run_suspension},
       {"packed_bed", run_packed_bed},
+      {"fluidization", run_fluidization},
       {"terminal_velocity_coupled", run_terminal_velocity_coupled},
       {"taylor_green", run_taylor_green},
       {"taylor_green_clustering", run_taylor_green_clustering},

@@ -10,6 +10,7 @@
 /// the shape is sampled once and the time factor c(t) applied on interpolation, which
 /// is exactly the grid sample of u(·, t) at each step (interpolation is linear).
 #include <memory>
+#include <stdexcept>
 #include <optional>
 #include <vector>
 
@@ -36,6 +37,12 @@ class GasField {
 
   const GasSpec& spec() const { return spec_; }
   const StaggeredGrid& grid() const { return grid_; }
+  /// Change the speed of the velocity inlet on @p face (0 x−, 1 x+, …, 5 z+).
+  void set_inlet_velocity(int face, double v) {
+    if (grid_.spec().faces[face].kind != BoundaryKind::velocity_inlet)
+      throw std::logic_error("set_inlet_velocity: the face is not a velocity inlet");
+    grid_.set_inlet_velocity(face, v);
+  }
   double density() const { return spec_.density; }
   double viscosity() const { return spec_.viscosity; }
   const PrescribedField* prescribed() const { return prescribed_ ? &*prescribed_ : nullptr; }

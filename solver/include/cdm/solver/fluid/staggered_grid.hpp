@@ -62,6 +62,8 @@ class StaggeredGrid {
   explicit StaggeredGrid(const GridSpec& spec);
 
   const GridSpec& spec() const { return spec_; }
+  /// Change a velocity inlet's speed (a run that ramps its inflow).
+  void set_inlet_velocity(int face, double v) { spec_.faces[face].normal_velocity = v; }
   int n(int axis) const { return n_[axis]; }
   double h(int axis) const { return h_[axis]; }
   double inv_h(int axis) const { return inv_h_[axis]; }
