@@ -163,9 +163,10 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   table.reset();  // flush the rows before anything else is said
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
-  std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s\n", loop_s,
-              static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
-              omp_get_max_threads(), loop_s > 0 ? psteps / loop_s : 0.0);
+  std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s; simulated "
+              "time %.6g s\n",
+              loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
+              omp_get_max_threads(), loop_s > 0 ? psteps / loop_s : 0.0, sim.time());
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
     cdm::write_checkpoint(ckpt, sim, origin);

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Install what is missing, build, and run every test with CTest: the release build's
-# full suite (unit, verification, stability), then the unit tests and the fast
+# suite (unit, verification, stability; not the runs labelled "long"), then the unit tests and the fast
 # verification cases labelled "fast" again under address and undefined-behaviour sanitizers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh release
-ctest --preset release
+ctest --preset release -LE long
 scripts/build.sh sanitize
 ctest --preset sanitize -L 'unit|fast'

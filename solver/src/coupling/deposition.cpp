@@ -30,7 +30,7 @@ int Deposition::fold(int axis, int i) const {
   return i;
 }
 
-void Deposition::weights(Vec3 x) const {
+void Deposition::weights(Vec3 x, std::vector<std::size_t>& idx_, std::vector<double>& w_) const {
   const fluid::StaggeredGrid& g = *grid_;
   idx_.clear();
   w_.clear();

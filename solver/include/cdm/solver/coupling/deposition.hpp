@@ -34,10 +34,13 @@ class Deposition {
   Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double width);
 
   /// Visit the (cell index, weight) pairs of the particle at @p x: f(padded index, w).
+  /// Thread-safe (the weights go to per-thread buffers); f must not call back into it.
   template <class F>
   void for_each_weight(Vec3 x, F&& f) const {
-    weights(x);
-    for (std::size_t k = 0; k < idx_.size(); ++k) f(idx_[k], w_[k]);
+    thread_local std::vector<std::size_t> idx;
+    thread_local std::vector<double> w;
+    weights(x, idx, w);
+    for (std::size_t k = 0; k < idx.size(); ++k) f(idx[k], w[k]);
   }
   /// Kernel-weighted average of a cell-centred array at @p x.
   double average(const std::vector<double>& cells, Vec3 x) const;
@@ -45,7 +48,7 @@ class Deposition {
   double width() const { return sigma_; }
 
  private:
-  void weights(Vec3 x) const;
+  void weights(Vec3 x, std::vector<std::size_t>& idx, std::vector<double>& w) const;
   /// Map a cell index along @p axis into the domain (wrap or reflect); false if it leaves
   /// a non-periodic axis by more than the grid (never for the stencils used).
   int fold(int axis, int i) const;
@@ -53,8 +56,6 @@ class Deposition {
   const fluid::StaggeredGrid* grid_;
   Kernel kernel_;
   double sigma_;
-  mutable std::vector<std::size_t> idx_;
-  mutable std::vector<double> w_;
 };
 
 }  // namespace cdm::coupling
