@@ -10,21 +10,25 @@
 namespace cdm {
 
 Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
-  // Build only the modules the scene names. Rotation exists only with friction.
-  if (spec_.tangential != TangentialModel::none) particles_.enable_rotation();
+  // Build only the modules the scene names. Rotation exists only with a module that
+  // makes torque (friction, rolling resistance).
+  if (spec_.tangential != TangentialModel::none || spec_.rolling != RollingModel::none) particles_.enable_rotation();
   for (const auto& ps : spec_.particles) {
     particles_.add(ps.position, ps.velocity, ps.radius, spec_.materials[ps.material].density, ps.material);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
   }
   if (spec_.gravity) modules_.push_back(std::make_unique<GravityModule>(spec_.g));
-  if (spec_.normal_contact == NormalContactModel::linear_spring_dashpot) {
+  if (spec_.normal_contact != NormalContactModel::none) {
     // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
     double d_max = 0.0;
     for (const auto& ps : spec_.particles) d_max = std::max(d_max, 2.0 * ps.radius);
-    auto c = std::make_unique<LinearContactModule>(spec_.pairs, spec_.walls,
-                                                   spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max);
+    const bool rolling = spec_.rolling == RollingModel::constant_torque;
+    auto c = std::make_unique<ContactModule>(spec_.pairs, spec_.walls,
+                                             spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max, rolling);
     contact_ = c.get();
     modules_.push_back(std::move(c));
+    // Rolling resistance acts through the contacts just evaluated, so it runs after them.
+    if (rolling) modules_.push_back(std::make_unique<RollingResistanceModule>(*contact_));
   }
   total_steps_ = static_cast<std::uint64_t>(std::ceil(spec_.end_time / spec_.dt - 1e-9));
   // The particles live in the store now; the scene keeps only where they came from.

@@ -13,8 +13,10 @@
 
 namespace cdm {
 
-enum class NormalContactModel { none, linear_spring_dashpot };
+/// The scene's default normal contact law (a [[contacts]] entry may name another).
+enum class NormalContactModel { none, linear_spring_dashpot, hertz_mindlin };
 enum class TangentialModel { none, spring_coulomb };
+enum class RollingModel { none, constant_torque };
 enum class IntegratorScheme { paper_euler, velocity_verlet };
 
 const char* to_string(IntegratorScheme s);
@@ -49,6 +51,7 @@ struct SceneSpec {
   Vec3 g;                                          // [m/s^2]
   NormalContactModel normal_contact = NormalContactModel::none;
   TangentialModel tangential = TangentialModel::none;
+  RollingModel rolling = RollingModel::none;
 
   std::vector<Material> materials;
   PairTable pairs;
@@ -60,7 +63,10 @@ struct SceneSpec {
   bool dt_auto = true;
   double dt_divisor = 50.0;  // dt = t_col,min / dt_divisor when dt_auto
   double dt = 0.0;           // [s], explicit or resolved from auto
-  double t_col_min = 0.0;    // [s], smallest collision time among pairs that can meet (0 if none)
+  double t_col_min = 0.0;    // [s], smallest collision time among pairs that can meet (0 if none or unknown)
+  double impact_velocity = 0.0;    // [m/s] largest expected impact speed (Hertz collision time); 0 = not given
+  double rayleigh_fraction = 0.0;  // dt = rayleigh_fraction * T_R,min when > 0 (dt_auto only)
+  double rayleigh_time_min = 0.0;  // [s] smallest Rayleigh time of the Hertz–Mindlin particles (0 if none)
   double end_time = 0.0;     // [s]
 
   double output_interval = 0.0;  // [s] between rows of the particle table

@@ -39,7 +39,7 @@ class Simulation {
   std::uint64_t total_steps() const { return total_steps_; }
   /// Names of the modules built for this scene, in evaluation order.
   std::vector<std::string> module_names() const;
-  const LinearContactModule* contact() const { return contact_; }
+  const ContactModule* contact() const { return contact_; }
 
   /// Advance one time step (throws SimulationError if the state goes bad).
   void step();
@@ -62,7 +62,7 @@ class Simulation {
   SceneSpec spec_;
   ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
-  LinearContactModule* contact_ = nullptr;
+  ContactModule* contact_ = nullptr;
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   bool forces_valid_ = false;
