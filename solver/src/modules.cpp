@@ -41,7 +41,6 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   if (record_) {
     fn_pair_.resize(pi_.size());
     fn_wall_.resize(p.size() * walls_.size());
-    n_contacts_.assign(p.size(), 0);
   }
   // One compiled kernel per (friction, laws present): no per-pair dispatch unless mixed.
   switch (laws_) {
@@ -200,12 +199,14 @@ bool worse(const OverlapRecord& a, const OverlapRecord& b) {
 // Force on i for one contact (j's force is its negative) under force law @p Law; j may
 // be a wall. @p hist and @p touch are the contact's tangential history slot; @p r_star
 // is used by Hertz–Mindlin only. Writes the normal force magnitude to @p fn_mag if given.
+// @p vrel is the relative contact velocity the forces are evaluated at; @p vrel_step
+// the one the positions moved with over the last step (Hertz–Mindlin's history).
 template <ContactLaw Law, bool Friction>
-inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, const PairParams& pp, double m_eff,
-                            double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
+inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp,
+                            double m_eff, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
                             double* fn_mag) {
   if constexpr (Law == ContactLaw::linear_spring_dashpot) {
-    (void)r_star;
+    (void)r_star; (void)vrel_step;
     const double eta_n = normal_damping(pp, m_eff);
     const double vn_mag = dot(vrel, eta);
     const Vec3 vn = vn_mag * eta;
@@ -238,14 +239,18 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, cons
     if (fn_mag) *fn_mag = fn_abs;
     if constexpr (Friction) {
       const Vec3 vt = vrel - vn;
-      hist = contact::update_tangential_displacement(hist, touch == 0, vt, std::abs(vn_mag), overlap, dt, eta);
+      // The history follows the tangential displacement the contact points actually
+      // made over the step (see ContactModule::set_step_velocities).
+      const double vs_n = dot(vrel_step, eta);
+      hist = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n), overlap,
+                                                     dt, eta);
       touch = 1;
       const double kt = 8.0 * pp.g_star * sqrt_r * sqrt_d;
       const double eta_t = pp.etat_hertz_factor * eta_n;
       ft_out = contact::mindlin_tangential_force(kt, eta_t, pp.mu, fn_abs, hist, vt);
       f_out += ft_out;
     } else {
-      (void)hist; (void)touch; (void)dt;
+      (void)hist; (void)touch; (void)dt; (void)vrel_step;
       ft_out = Vec3{};
     }
   }
@@ -255,22 +260,32 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, cons
 
 template <bool Friction, ContactModule::Laws L>
 void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
-  auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, const PairParams& pp, double m_eff, double r_star,
-                      Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out, double* fn_mag) {
+  auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp, double m_eff,
+                      double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out, double* fn_mag) {
     if constexpr (L == Laws::linear)
-      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, pp, m_eff, r_star, hist,
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
                                                                    touch, f_out, ft_out, fn_mag);
     else if constexpr (L == Laws::hertz)
-      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, pp, m_eff, r_star, hist, touch,
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
                                                            f_out, ft_out, fn_mag);
     else if (pp.law == ContactLaw::hertz_mindlin)
-      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, pp, m_eff, r_star, hist, touch,
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
                                                            f_out, ft_out, fn_mag);
     else
-      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, pp, m_eff, r_star, hist,
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
                                                                    touch, f_out, ft_out, fn_mag);
   };
   const bool record = record_;
+  // Velocities the positions moved with over the last step, where the integrator keeps
+  // them apart from v (velocity Verlet); before the first step, v itself.
+  const bool step_vel = Friction && L != Laws::linear && step_.vx && step_.vx->size() == p.size() &&
+                        step_.wx && step_.wx->size() == p.size();
+  auto step_velocity = [&](std::uint32_t i) {
+    return step_vel ? Vec3{(*step_.vx)[i], (*step_.vy)[i], (*step_.vz)[i]} : p.velocity(i);
+  };
+  auto step_spin = [&](std::uint32_t i) {
+    return step_vel ? Vec3{(*step_.wx)[i], (*step_.wy)[i], (*step_.wz)[i]} : p.angular_velocity(i);
+  };
 
   // Particle–particle, slab by slab: even slabs in parallel, then odd ones.
   const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
@@ -301,17 +316,18 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       Vec3 vrel = p.velocity(i) - p.velocity(j);
       if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i) + Lj * p.angular_velocity(j), eta);
       const PairParams& pp = pairs_.get(p.material[i], p.material[j]);
+      Vec3 vrel_step = vrel;
+      if constexpr (Friction && L != Laws::linear)
+        if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
+          vrel_step = step_velocity(i) - step_velocity(j) + cross(Li * step_spin(i) + Lj * step_spin(j), eta);
       const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
       const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
       double* fn_rec = nullptr;
-      if (record) {
-        fn_rec = &fn_pair_[k];
-        ++n_contacts_[i];
-        ++n_contacts_[j];
-      }
+      if (record) fn_rec = &fn_pair_[k];
       Vec3 f, ft;
-      if constexpr (Friction) resolve(overlap, eta, vrel, pp, m_eff, r_star, hist_[k], touch_[k], f, ft, fn_rec);
-      else resolve(overlap, eta, vrel, pp, m_eff, r_star, no_hist, no_touch, f, ft, fn_rec);
+      if constexpr (Friction)
+        resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist_[k], touch_[k], f, ft, fn_rec);
+      else resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, no_hist, no_touch, f, ft, fn_rec);
       p.add_force(i, f);
       p.add_force(j, -f);
       if constexpr (Friction) {
@@ -371,17 +387,18 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         Vec3 vrel = p.velocity(i);
         if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
         const PairParams& pp = pairs_.get(p.material[i], wall.material);
+        Vec3 vrel_step = vrel;
+        if constexpr (Friction && L != Laws::linear)
+          if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
+            vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
         double* fn_rec = nullptr;
-        if (record) {
-          fn_rec = &fn_wall_[ii * nw + w];
-          ++n_contacts_[ii];
-        }
+        if (record) fn_rec = &fn_wall_[ii * nw + w];
         // Against a wall R* = R_i and m* = m_i.
         Vec3 f, ft;
         if constexpr (Friction)
-          resolve(overlap, eta, vrel, pp, p.mass[i], p.radius[i], wall_hist_[ii * nw + w], wall_touch_[ii * nw + w], f,
-                  ft, fn_rec);
-        else resolve(overlap, eta, vrel, pp, p.mass[i], p.radius[i], no_hist, no_touch, f, ft, fn_rec);
+          resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], wall_hist_[ii * nw + w],
+                  wall_touch_[ii * nw + w], f, ft, fn_rec);
+        else resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], no_hist, no_touch, f, ft, fn_rec);
         p.add_force(i, f);
         if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
         const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
@@ -417,10 +434,19 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
   const std::vector<std::uint32_t>& slab_start = c_.slab_start();
   const std::vector<double>& fn_pair = c_.pair_normal_force();
   const std::vector<double>& fn_wall = c_.wall_normal_force();
-  const std::vector<std::uint32_t>& count = c_.contact_count();
   const std::vector<PlaneWall>& walls = c_.walls();
   const std::size_t n = p.size(), nw = walls.size();
   const bool threads = n > parallel_threshold;
+  // The spin the integrator's next kick starts from: ω itself for the first-order
+  // scheme, the half-step spin for velocity Verlet (ContactModule::set_step_velocities).
+  const ContactModule::StepVelocities& sv = c_.step_velocities();
+  const bool half = sv.wx && sv.wx->size() == n;
+  // ω_i after the next kick with the torques accumulated so far (the contact module's,
+  // and the rolling torques of contacts visited before this one).
+  auto free_spin = [&](std::uint32_t i) {
+    const Vec3 w0 = half ? Vec3{(*sv.wx)[i], (*sv.wy)[i], (*sv.wz)[i]} : p.angular_velocity(i);
+    return w0 + (dt * p.inv_inertia[i]) * Vec3{p.tx[i], p.ty[i], p.tz[i]};
+  };
 
   auto pair_range = [&](std::uint32_t k0, std::uint32_t k1) {
     for (std::uint32_t k = k0; k < k1; ++k) {
@@ -432,15 +458,14 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       const Vec3 eta = (1.0 / norm(d)) * d;
       const double ri = p.radius[i], rj = p.radius[j];
       const double inertia_eff = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
-      const double share = static_cast<double>(std::max(count[i], count[j]));
       const Vec3 t = contact::rolling_torque(pp.rolling_mu, ri * rj / (ri + rj), fn_pair[k],
-                                             p.angular_velocity(i) - p.angular_velocity(j), eta, inertia_eff, dt,
-                                             share);
+                                             free_spin(i) - free_spin(j), eta, inertia_eff, dt);
       p.add_torque(i, t);
       p.add_torque(j, -t);
     }
   };
-  // The contact module's slab order: even slabs, then odd slabs (see ContactModule).
+  // The contact module's slab order: even slabs, then odd slabs (see ContactModule), so
+  // the contacts of a particle are visited in the same order for any thread count.
   const std::size_t nslab = slab_start.empty() ? 0 : slab_start.size() - 1;
   for (std::size_t pass = 0; pass < 2; ++pass) {
     if (!threads) {
@@ -455,15 +480,16 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
     }
   }
   if (!nw) return;
-  parallel_for(n, [&](std::size_t i) {
+  parallel_for(n, [&](std::size_t ii) {
+    const auto i = static_cast<std::uint32_t>(ii);
     for (std::size_t w = 0; w < nw; ++w) {
-      const double fn = fn_wall[i * nw + w];
+      const double fn = fn_wall[ii * nw + w];
       if (fn < 0.0) continue;
       const PairParams& pp = pairs.get(p.material[i], walls[w].material);
       if (pp.rolling_mu == 0.0) continue;
       // Against a wall: ω_rel = ω_i, R* = R_i, I* = I_i.
-      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, p.angular_velocity(i), -walls[w].normal,
-                                             1.0 / p.inv_inertia[i], dt, static_cast<double>(count[i]));
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i), -walls[w].normal,
+                                             1.0 / p.inv_inertia[i], dt);
       p.add_torque(i, t);
     }
   });

@@ -26,6 +26,9 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     auto c = std::make_unique<ContactModule>(spec_.pairs, spec_.walls,
                                              spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max, rolling);
     contact_ = c.get();
+    // Velocity Verlet moves positions with its half-step velocities (hv, hw below).
+    if (spec_.integrator == IntegratorScheme::velocity_verlet)
+      contact_->set_step_velocities({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
     modules_.push_back(std::move(c));
     // Rolling resistance acts through the contacts just evaluated, so it runs after them.
     if (rolling) modules_.push_back(std::make_unique<RollingResistanceModule>(*contact_));

@@ -240,11 +240,21 @@ RunOutput run_slipping(const CaseDef& c, const Variant& v, const RunConfig& rc) 
 
 }  // namespace
 
+// Hertz–Mindlin and rolling resistance (cases_hertz.cpp).
+RunOutput run_hertz_impact(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_hertz_restitution(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_oblique_impact(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_rolling_resistance(const CaseDef&, const Variant&, const RunConfig&);
+
 const std::map<std::string, CaseRunner>& case_runners() {
   static const std::map<std::string, CaseRunner> r = {
       {"free_fall", run_free_fall},
       {"stacked", run_stacked},
       {"slipping_ball", run_slipping},
+      {"hertz_impact", run_hertz_impact},
+      {"hertz_restitution", run_hertz_restitution},
+      {"oblique_impact", run_oblique_impact},
+      {"rolling_resistance", run_rolling_resistance},
   };
   return r;
 }

@@ -71,8 +71,8 @@ struct OverlapRecord {
 /// of threads: trajectories are bit-identical for 1, 2, … threads.
 ///
 /// With @p record_normal_forces the module also keeps, for the current evaluation, each
-/// contact's normal force magnitude and each particle's number of contacts, for
-/// modules that act through the same contacts (rolling resistance).
+/// contact's normal force magnitude, for modules that act through the same contacts
+/// (rolling resistance).
 class ContactModule final : public ForceModule {
  public:
   /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
@@ -101,8 +101,22 @@ class ContactModule final : public ForceModule {
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
   /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
   const std::vector<double>& wall_normal_force() const { return fn_wall_; }
-  /// Number of contacts (particles and walls) per particle.
-  const std::vector<std::uint32_t>& contact_count() const { return n_contacts_; }
+
+  /// Velocities [m/s] and angular velocities [rad/s] with which the integrator moved the
+  /// particles over the last step, when they differ from the velocities forces are
+  /// evaluated at (velocity Verlet: x(t+Δt) = x(t) + Δt v(t+Δt/2), forces at the
+  /// predicted v(t) + Δt a(t)). Hertz–Mindlin's tangential history is incremented with
+  /// these, so that it follows the contact points' actual displacement; incrementing
+  /// with the predicted velocity is an O(Δt) error per step in the spring, which makes
+  /// a sticking contact first order. The arrays are read at each evaluation; they are
+  /// ignored until they hold one value per particle (before the first step). The
+  /// linear law keeps the paper's rule (the velocity of the evaluation), unchanged.
+  struct StepVelocities {
+    const std::vector<double>*vx = nullptr, *vy = nullptr, *vz = nullptr;
+    const std::vector<double>*wx = nullptr, *wy = nullptr, *wz = nullptr;
+  };
+  void set_step_velocities(StepVelocities s) { step_ = s; }
+  const StepVelocities& step_velocities() const { return step_; }
 
  private:
   enum class Laws { linear, hertz, mixed };
@@ -128,7 +142,7 @@ class ContactModule final : public ForceModule {
   std::vector<std::uint8_t> wall_touch_;
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
-  std::vector<std::uint32_t> n_contacts_;     // record_: contacts per particle
+  StepVelocities step_;                       // see set_step_velocities
   bool built_ = false;
   std::size_t builds_ = 0;
   OverlapRecord worst_;
@@ -137,9 +151,10 @@ class ContactModule final : public ForceModule {
 
 /// Constant-torque rolling resistance (contact/rolling_resistance.hpp) on every contact
 /// of a ContactModule, with each pair's μ_r. Runs after the contact module in the same
-/// force evaluation and reads its normal forces; it keeps no state of its own. Pairs
-/// are visited in the contact module's slab order, so results stay independent of the
-/// thread count.
+/// force evaluation (it must be the last module to add torques: it reads the torques
+/// already accumulated, to stop a rolling contact exactly) and reads the contact
+/// module's normal forces; it keeps no state of its own. Pairs are visited in the
+/// contact module's slab order, so results stay independent of the thread count.
 class RollingResistanceModule final : public ForceModule {
  public:
   explicit RollingResistanceModule(const ContactModule& contacts) : c_(contacts) {}

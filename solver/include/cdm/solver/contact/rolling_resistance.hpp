@@ -10,15 +10,18 @@
 /// is resisted, not the part about the normal (twisting). R* = R_i R_j/(R_i+R_j)
 /// (wall: R_i); |F_n| is the magnitude of the contact's normal force (spring + dashpot).
 ///
-/// Switching off at rest: a constant torque would overshoot ω_r = 0 in the step that
-/// reaches it and then chatter about zero with amplitude μ_r R*|F_n| Δt/I. The torque
-/// is therefore capped at the torque that stops the relative rotation in one step,
-///   |M_r| = min(μ_r R* |F_n|,  I* |ω_r| / (Δt n)),   I* = I_i I_j/(I_i+I_j) (wall: I_i),
-/// where n ≥ 1 is the larger number of contacts of i or j (each may be stopped by all of
-/// its contacts at once, so each takes its share). With the first-order scheme a lone
-/// contact stops ω_r exactly in one step; velocity Verlet (which evaluates the torque at
-/// a predicted ω) halves ω_r every step from there, without changing its sign. The cap
-/// acts only when |ω_r| < n μ_r R*|F_n| Δt/I*, so it changes nothing else.
+/// Switching off at rest. Applied as it stands, a constant torque overshoots ω_r = 0 in
+/// the step that reaches it and then chatters about zero (with velocity Verlet, which
+/// uses each torque for a whole step, it can settle into a period-2 cycle that creeps).
+/// The torque is therefore chosen implicitly, as Coulomb friction is: let ω_free be the
+/// relative rotation the contact would have after the next kick of the integrator
+/// without rolling resistance (the spins that kick starts from, plus Δt times the other
+/// torques already on both particles divided by their inertia). If the resistance can
+/// stop it within the step, |ω_free,r| I*/Δt ≤ μ_r R*|F_n| (I* = I_i I_j/(I_i+I_j),
+/// wall: I_i), the torque is exactly the one that stops it, −I* ω_free,r/Δt; otherwise
+/// it is the full μ_r R*|F_n| against ω_free,r. A rolling contact therefore decelerates
+/// at the constant torque, stops in the step where it reaches rest, and then stays at
+/// rest (a torque below μ_r R*|F_n| does not start it rolling), with no chatter.
 #include <algorithm>
 #include <cmath>
 
@@ -27,14 +30,15 @@
 namespace cdm::contact {
 
 /// Rolling-resistance torque on i [N m] (j receives its negative).
-/// @p w_rel = ω_i − ω_j [rad/s], @p eta the contact normal from i to j,
-/// @p inertia_eff I* [kg m²], @p dt the step [s], @p n_share ≥ 1 (see the file comment).
-inline Vec3 rolling_torque(double mu_r, double r_star, double fn_mag, Vec3 w_rel, Vec3 eta, double inertia_eff,
-                           double dt, double n_share) {
-  const Vec3 wr = w_rel - dot(w_rel, eta) * eta;
+/// @p w_free: ω_i − ω_j after the next kick without rolling resistance [rad/s] (see the
+/// file comment); @p eta: the contact normal from i to j; @p inertia_eff: I* [kg m²];
+/// @p dt: the step [s].
+inline Vec3 rolling_torque(double mu_r, double r_star, double fn_mag, Vec3 w_free, Vec3 eta, double inertia_eff,
+                           double dt) {
+  const Vec3 wr = w_free - dot(w_free, eta) * eta;
   const double w = norm(wr);
   if (!(w > 0.0)) return Vec3{};
-  const double m = std::min(mu_r * r_star * fn_mag, inertia_eff * w / (dt * n_share));
+  const double m = std::min(mu_r * r_star * fn_mag, inertia_eff * w / dt);
   return (-m / w) * wr;
 }
 
