@@ -283,15 +283,125 @@ class Report:
         ax.legend(fontsize=6)
         self.figure(fig, "fig10", "Fig 10: non-dimensional velocity and spin; slip ends at t' = 2/7 with v' = omega' R/v0 = 5/7")
 
+    # ---------------------------------------------------------------- Hertz-Mindlin (issue 8)
+    def fig_hertz_impact(self, case):
+        rows = [(v, integ) for v, integ in (("v1", "velocity_verlet"), ("steel_v1", "velocity_verlet"))
+                if self.series_path(case, v, integ, 50).exists()]
+        if not rows:
+            self.note(f"{case}: force-time series missing.")
+            return
+        variant, integ = rows[0]
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        for div, style in ((50, "o"), (400, "-")):
+            sp = self.series_path(case, variant, integ, div)
+            if not sp.exists():
+                continue
+            _, d = read_series(sp)
+            t = [x * 1e6 for x in d[0]]
+            if div == 50:
+                a1.plot(t, d[4], "k-", lw=1.5, label="oracle (CVODE of the Hertz equation)")
+                a1.plot(t, d[3], "r" + style, ms=3, label="cdm, t_H/50")
+            fmax = max(d[4]) or 1.0
+            a2.plot(t, [100 * (b - a) / fmax for a, b in zip(d[4], d[3])], style if div == 400 else "o-", ms=2, lw=1,
+                    label=f"t_H/{div}")
+        a1.set_ylabel("contact force [N]")
+        a1.legend(fontsize=7)
+        a1.set_title(f"{case}: force on the sphere, {variant}")
+        a2.set_xlabel("t [us]")
+        a2.set_ylabel("error, % of F_max")
+        a2.legend(fontsize=7)
+        self.figure(fig, f"{case}_force", f"{case}: Hertz contact force against time, cdm and the CVODE oracle, and the error")
+
+    def fig_restitution(self, case):
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        shown = False
+        for variant, marker in (("exact_restitution", "o"), ("tsuji", "s")):
+            for integ, div, color in (("velocity_verlet", 100, "r"), ("velocity_verlet", 800, "b")):
+                sp = self.series_path(case, variant, integ, div)
+                if not sp.exists():
+                    continue
+                _, d = read_series(sp)
+                ax.plot(d[0], [100 * (m - a) / a for a, m in zip(d[0], d[2])], marker + "-", color=color, ms=4, lw=1,
+                        mfc="none" if variant == "tsuji" else color, label=f"cdm {variant}, {integ} t_H/{div}")
+                if div == 800:
+                    ax.plot(d[0], [100 * (o - a) / a for a, o in zip(d[0], d[3])], marker + ":", color="k", ms=4,
+                            mfc="none", lw=1, label=f"the rule itself (CVODE), {variant}")
+                shown = True
+        if not shown:
+            self.note(f"{case}: series missing.")
+            plt.close(fig)
+            return
+        for sgn in (1, -1):
+            ax.axhline(0.5 * sgn, color="grey", ls="--", lw=0.8)
+        ax.set_xlabel("en asked for")
+        ax.set_ylabel("(e measured - en)/en [%]")
+        ax.set_title("Hertz restitution: rebound/incident speed against en (issue: within 0.5 %)")
+        ax.legend(fontsize=6)
+        self.figure(fig, f"{case}_en", f"{case}: restitution measured against the en asked for, for both damping rules")
+
+    def fig_oblique(self, case):
+        sp = self.series_path(case, "alumina_on_glass", "velocity_verlet", 50)
+        if not sp.exists():
+            self.note(f"{case}: series missing.")
+            return
+        _, d = read_series(sp)
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+        a1.plot(d[0], d[2], "k-", lw=1.5, label="oracle: CVODE Mindlin ODE")
+        a1.plot(d[0], d[3], "g--", lw=2, label="gross-sliding closed form")
+        a1.plot(d[0], d[4], "c:", lw=1, label="rigid sphere 5 mu v_n/R")
+        a1.plot(d[0], d[1], "ro", ms=4, label="cdm, t_H/50")
+        a1.set_xlabel("incidence angle from the normal [deg]")
+        a1.set_ylabel("rebound spin [rad/s]")
+        a1.legend(fontsize=7)
+        a2.plot(d[0], d[6], "k-", lw=1.5, label="oracle: CVODE Mindlin ODE")
+        a2.plot(d[0], d[7], "g--", lw=2, label="1 - 2 mu / tan(theta)")
+        a2.plot(d[0], d[5], "ro", ms=4, label="cdm, t_H/50")
+        a2.set_xlabel("incidence angle from the normal [deg]")
+        a2.set_ylabel("tangential restitution v_t'/v_t")
+        a2.legend(fontsize=7)
+        fig.suptitle("Oblique impact, alumina on glass at 3.9 m/s, mu = 0.092 (Kharaz et al. 2001 / MFIX DEM05)")
+        self.figure(fig, f"{case}_angles", f"{case}: rebound spin and tangential restitution over the incidence angle")
+
+    def fig_rolling(self, case):
+        fig, ax = plt.subplots(figsize=(7, 4.2))
+        shown = False
+        for variant, color in (("linear", "r"), ("hertz_mindlin", "b")):
+            sp = self.series_path(case, variant, "velocity_verlet", 50)
+            if not sp.exists():
+                continue
+            cols, d = read_series(sp)
+            ax.plot(d[0], d[2], "k-", lw=2.5, alpha=0.4)
+            ax.plot(d[0], d[1], "--", color=color, lw=1, label=f"cdm {variant}, velocity Verlet t_col/50")
+            unit = cols[1] if cols else ""
+            shown = True
+        if not shown:
+            self.note(f"{case}: series missing.")
+            plt.close(fig)
+            return
+        ax.plot([], [], "k-", lw=2.5, alpha=0.4, label="closed form")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(unit)
+        ax.set_title(f"{case}: deceleration by rolling resistance and the stop")
+        ax.legend(fontsize=7)
+        self.figure(fig, f"{case}_series", f"{case}: cdm against the closed form, both contact laws")
+
     # ---------------------------------------------------------------- assemble
     MAIN = {
         "free_fall": ("y", "max_rel_pct", "error in y [%]"),
         "free_fall_bounces": ("apex_soft", "max_rel_pct", "error in apex height [%]"),
         "stacked": ("y1", "max_rel_pct", "error in y1 [%]"),
         "slipping_ball": ("v", "max_rel_pct", "error in v [%]"),
+        "hertz_impact_wall": ("force", "max_abs_pct_of_peak", "force error [% of F_max]"),
+        "hertz_impact_pair": ("force", "max_abs_pct_of_peak", "force error [% of F_max]"),
+        "hertz_restitution": ("e_vs_ode", "max_rel_pct", "restitution error vs CVODE [%]"),
+        "oblique_impact": ("omega", "max_abs_pct_of_peak", "rebound spin error [% of max]"),
+        "rolling_resistance_spin": ("omega", "max_abs_pct_of_initial", "spin error [% of initial]"),
     }
     PAPER = {"free_fall": "fig_free_fall", "free_fall_bounces": "fig_bounces", "stacked": "fig_stacked",
-             "slipping_ball": "fig_slipping"}
+             "slipping_ball": "fig_slipping", "hertz_impact_wall": "fig_hertz_impact",
+             "hertz_impact_pair": "fig_hertz_impact", "hertz_restitution": "fig_restitution",
+             "oblique_impact": "fig_oblique", "rolling_resistance": "fig_rolling",
+             "rolling_resistance_spin": "fig_rolling"}
 
     def build(self):
         summary = self.src / "summary.dat"
