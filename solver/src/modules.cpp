@@ -42,19 +42,26 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
     fn_pair_.resize(pi_.size());
     fn_wall_.resize(p.size() * walls_.size());
   }
-  // One compiled kernel per (friction, laws present): no per-pair dispatch unless mixed.
+  // One compiled kernel per (friction, laws present, recording): no per-pair dispatch
+  // unless mixed, and nothing recorded unless a module reads it.
+  if (record_) dispatch<true>(p, dt);
+  else dispatch<false>(p, dt);
+}
+
+template <bool Record>
+void ContactModule::dispatch(ParticleStore& p, double dt) {
   switch (laws_) {
     case Laws::linear:
-      if (friction_) add_forces_impl<true, Laws::linear>(p, dt);
-      else add_forces_impl<false, Laws::linear>(p, dt);
+      if (friction_) add_forces_impl<true, Laws::linear, Record>(p, dt);
+      else add_forces_impl<false, Laws::linear, Record>(p, dt);
       break;
     case Laws::hertz:
-      if (friction_) add_forces_impl<true, Laws::hertz>(p, dt);
-      else add_forces_impl<false, Laws::hertz>(p, dt);
+      if (friction_) add_forces_impl<true, Laws::hertz, Record>(p, dt);
+      else add_forces_impl<false, Laws::hertz, Record>(p, dt);
       break;
     case Laws::mixed:
-      if (friction_) add_forces_impl<true, Laws::mixed>(p, dt);
-      else add_forces_impl<false, Laws::mixed>(p, dt);
+      if (friction_) add_forces_impl<true, Laws::mixed, Record>(p, dt);
+      else add_forces_impl<false, Laws::mixed, Record>(p, dt);
       break;
   }
 }
@@ -258,7 +265,7 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
 
 }  // namespace
 
-template <bool Friction, ContactModule::Laws L>
+template <bool Friction, ContactModule::Laws L, bool Record>
 void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp, double m_eff,
                       double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out, double* fn_mag) {
@@ -275,7 +282,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
                                                                    touch, f_out, ft_out, fn_mag);
   };
-  const bool record = record_;
+  constexpr bool record = Record;
   // Velocities the positions moved with over the last step, where the integrator keeps
   // them apart from v (velocity Verlet); before the first step, v itself.
   const bool step_vel = Friction && L != Laws::linear && step_.vx && step_.vx->size() == p.size() &&
@@ -304,7 +311,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const double d2 = dot(d, d);
       if (d2 >= reach * reach) {
         if constexpr (Friction) touch_[k] = 0;  // contact over: history forgotten
-        if (record) fn_pair_[k] = -1.0;
+        if constexpr (record) fn_pair_[k] = -1.0;
         continue;
       }
       const double dist = std::sqrt(d2);
@@ -323,7 +330,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
       const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
       double* fn_rec = nullptr;
-      if (record) fn_rec = &fn_pair_[k];
+      if constexpr (record) fn_rec = &fn_pair_[k];
       Vec3 f, ft;
       if constexpr (Friction)
         resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist_[k], touch_[k], f, ft, fn_rec);
@@ -378,7 +385,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const double overlap = p.radius[i] - dist;
         if (overlap <= 0.0) {
           if constexpr (Friction) wall_touch_[ii * nw + w] = 0;
-          if (record) fn_wall_[ii * nw + w] = -1.0;
+          if constexpr (record) fn_wall_[ii * nw + w] = -1.0;
           continue;
         }
         ++my_active;
@@ -392,7 +399,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
           if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
             vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
         double* fn_rec = nullptr;
-        if (record) fn_rec = &fn_wall_[ii * nw + w];
+        if constexpr (record) fn_rec = &fn_wall_[ii * nw + w];
         // Against a wall R* = R_i and m* = m_i.
         Vec3 f, ft;
         if constexpr (Friction)

@@ -10,7 +10,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 scene="$src/tests/cli/scenes/hertz_pile.toml"
 
 # Threads (4,800 particles: above the 4,096 where threads start).
-args=(run "$scene" -q --set output.interval=0.001)
+args=(run "$scene" -q --set integrator.end_time=0.002 --set output.interval=0.0005)
 "$cdm" "${args[@]}" -o "$work/one" -j 1 > /dev/null || fail "1-thread run"
 "$cdm" "${args[@]}" -o "$work/two" -j 2 > /dev/null || fail "2-thread run"
 cmp -s "$work/one/particles.dat" "$work/two/particles.dat" || fail "1 and 2 threads differ"

@@ -120,7 +120,9 @@ class ContactModule final : public ForceModule {
 
  private:
   enum class Laws { linear, hertz, mixed };
-  template <bool Friction, Laws L>
+  template <bool Record>
+  void dispatch(ParticleStore& p, double dt);
+  template <bool Friction, Laws L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
   bool needs_rebuild(const ParticleStore& p) const;
   void rebuild(const ParticleStore& p);
