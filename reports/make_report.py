@@ -1028,6 +1028,108 @@ class Report:
                     f"({m.divisor}, N = {fmt_div(div)}) against the CVODE solution of eq 48 and the force-balance "
                     f"terminal velocity; right: the error over time for each drag update and integrator.")
 
+    # ---------------------------------------------------------------- Hertz-Mindlin (issue 8)
+    def fig_hertz_impact(self, case):
+        rows = [(v, integ) for v, integ in (("v1", "velocity_verlet"), ("steel_v1", "velocity_verlet"))
+                if self.series_path(case, v, integ, 50).exists()]
+        if not rows:
+            self.note(f"{case}: force-time series missing.")
+            return
+        variant, integ = rows[0]
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        for div, style in ((50, "o"), (400, "-")):
+            sp = self.series_path(case, variant, integ, div)
+            if not sp.exists():
+                continue
+            _, d = read_series(sp)
+            t = [x * 1e6 for x in d[0]]
+            if div == 50:
+                a1.plot(t, d[4], "k-", lw=1.5, label="oracle (CVODE of the Hertz equation)")
+                a1.plot(t, d[3], "r" + style, ms=3, label="cdm, t_H/50")
+            fmax = max(d[4]) or 1.0
+            a2.plot(t, [100 * (b - a) / fmax for a, b in zip(d[4], d[3])], style if div == 400 else "o-", ms=2, lw=1,
+                    label=f"t_H/{div}")
+        a1.set_ylabel("contact force [N]")
+        a1.legend(fontsize=7)
+        a1.set_title(f"{case}: force on the sphere, {variant}")
+        a2.set_xlabel("t [us]")
+        a2.set_ylabel("error, % of F_max")
+        a2.legend(fontsize=7)
+        self.figure(fig, f"{case}_force", f"{case}: Hertz contact force against time, cdm and the CVODE oracle, and the error")
+
+    def fig_restitution(self, case):
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        shown = False
+        for variant, marker in (("exact_restitution", "o"), ("tsuji", "s")):
+            for integ, div, color in (("velocity_verlet", 100, "r"), ("velocity_verlet", 800, "b")):
+                sp = self.series_path(case, variant, integ, div)
+                if not sp.exists():
+                    continue
+                _, d = read_series(sp)
+                ax.plot(d[0], [100 * (m - a) / a for a, m in zip(d[0], d[2])], marker + "-", color=color, ms=4, lw=1,
+                        mfc="none" if variant == "tsuji" else color, label=f"cdm {variant}, {integ} t_H/{div}")
+                if div == 800:
+                    ax.plot(d[0], [100 * (o - a) / a for a, o in zip(d[0], d[3])], marker + ":", color="k", ms=4,
+                            mfc="none", lw=1, label=f"the rule itself (CVODE), {variant}")
+                shown = True
+        if not shown:
+            self.note(f"{case}: series missing.")
+            plt.close(fig)
+            return
+        for sgn in (1, -1):
+            ax.axhline(0.5 * sgn, color="grey", ls="--", lw=0.8)
+        ax.set_xlabel("en asked for")
+        ax.set_ylabel("(e measured - en)/en [%]")
+        ax.set_title("Hertz restitution: rebound/incident speed against en (issue: within 0.5 %)")
+        ax.legend(fontsize=6)
+        self.figure(fig, f"{case}_en", f"{case}: restitution measured against the en asked for, for both damping rules")
+
+    def fig_oblique(self, case):
+        sp = self.series_path(case, "alumina_on_glass", "velocity_verlet", 50)
+        if not sp.exists():
+            self.note(f"{case}: series missing.")
+            return
+        _, d = read_series(sp)
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+        a1.plot(d[0], d[2], "k-", lw=1.5, label="oracle: CVODE Mindlin ODE")
+        a1.plot(d[0], d[3], "g--", lw=2, label="gross-sliding closed form")
+        a1.plot(d[0], d[4], "c:", lw=1, label="rigid sphere 5 mu v_n/R")
+        a1.plot(d[0], d[1], "ro", ms=4, label="cdm, t_H/50")
+        a1.set_xlabel("incidence angle from the normal [deg]")
+        a1.set_ylabel("rebound spin [rad/s]")
+        a1.legend(fontsize=7)
+        a2.plot(d[0], d[6], "k-", lw=1.5, label="oracle: CVODE Mindlin ODE")
+        a2.plot(d[0], d[7], "g--", lw=2, label="1 - 2 mu / tan(theta)")
+        a2.plot(d[0], d[5], "ro", ms=4, label="cdm, t_H/50")
+        a2.set_xlabel("incidence angle from the normal [deg]")
+        a2.set_ylabel("tangential restitution v_t'/v_t")
+        a2.legend(fontsize=7)
+        fig.suptitle("Oblique impact, alumina on glass at 3.9 m/s, mu = 0.092 (Kharaz et al. 2001 / MFIX DEM05)")
+        self.figure(fig, f"{case}_angles", f"{case}: rebound spin and tangential restitution over the incidence angle")
+
+    def fig_rolling(self, case):
+        fig, ax = plt.subplots(figsize=(7, 4.2))
+        shown = False
+        for variant, color in (("linear", "r"), ("hertz_mindlin", "b")):
+            sp = self.series_path(case, variant, "velocity_verlet", 50)
+            if not sp.exists():
+                continue
+            cols, d = read_series(sp)
+            ax.plot(d[0], d[2], "k-", lw=2.5, alpha=0.4)
+            ax.plot(d[0], d[1], "--", color=color, lw=1, label=f"cdm {variant}, velocity Verlet t_col/50")
+            unit = cols[1] if cols else ""
+            shown = True
+        if not shown:
+            self.note(f"{case}: series missing.")
+            plt.close(fig)
+            return
+        ax.plot([], [], "k-", lw=2.5, alpha=0.4, label="closed form")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(unit)
+        ax.set_title(f"{case}: deceleration by rolling resistance and the stop")
+        ax.legend(fontsize=7)
+        self.figure(fig, f"{case}_series", f"{case}: cdm against the closed form, both contact laws")
+
     # ------------------------------------------------------------------ configuration
     # Main quantity per case for the dt-convergence and work-precision plots (a case not
     # listed uses its first quantity held to a tolerance), the grid-convergence quantity,
@@ -1048,6 +1150,12 @@ class Report:
         "taylor_green_clustering": None,
         "terminal_velocity": dict(quantity="v", norm="max_abs_pct_of_terminal",
                                   ylabel="max |v - v_ODE| over 0.5 s [% of |v_t|]"),
+        "hertz_impact_wall": dict(quantity="force", norm="max_abs_pct_of_peak", ylabel="force error [% of F_max]"),
+        "hertz_impact_pair": dict(quantity="force", norm="max_abs_pct_of_peak", ylabel="force error [% of F_max]"),
+        "hertz_restitution": dict(quantity="e_vs_ode", norm="max_rel_pct", ylabel="restitution error vs CVODE [%]"),
+        "oblique_impact": dict(quantity="omega", norm="max_abs_pct_of_peak", ylabel="rebound spin error [% of max]"),
+        "rolling_resistance_spin": dict(quantity="omega", norm="max_abs_pct_of_initial",
+                                        ylabel="spin error [% of initial]"),
     }
     GRID = {
         "circle_advection": dict(quantity="path", norm="max_abs_first_period",
@@ -1076,6 +1184,12 @@ class Report:
             "taylor_green": [("Fig 14 trajectories", self.fig_taylor_green, case)],
             "taylor_green_clustering": [("Fig 14", self.fig_clustering, case, rows)],
             "terminal_velocity": [("Fig 15", self.fig_terminal, case)],
+            "hertz_impact_wall": [("force-time", self.fig_hertz_impact, case)],
+            "hertz_impact_pair": [("force-time", self.fig_hertz_impact, case)],
+            "hertz_restitution": [("restitution", self.fig_restitution, case)],
+            "oblique_impact": [("oblique impact", self.fig_oblique, case)],
+            "rolling_resistance": [("rolling", self.fig_rolling, case)],
+            "rolling_resistance_spin": [("spinning", self.fig_rolling, case)],
         }
         for what, fn, *args in figs.get(case, []):
             self.guarded(f"{case}: {what}", fn, *args)

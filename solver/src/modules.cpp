@@ -1,6 +1,8 @@
 #include "cdm/solver/modules.hpp"
 
+#include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/contact/linear_spring_dashpot.hpp"
+#include "cdm/solver/contact/rolling_resistance.hpp"
 #include "cdm/solver/parallel.hpp"
 
 #include <algorithm>
@@ -17,22 +19,54 @@ void GravityModule::add_forces(ParticleStore& p, double /*dt*/) {
   });
 }
 
-LinearContactModule::LinearContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin)
-    : pairs_(std::move(pairs)), walls_(std::move(walls)), friction_(with_friction), skin_(skin) {}
-
-std::string LinearContactModule::name() const {
-  return friction_ ? "linear_spring_dashpot+spring_coulomb" : "linear_spring_dashpot";
+ContactModule::ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin,
+                             bool record_normal_forces)
+    : pairs_(std::move(pairs)), walls_(std::move(walls)), friction_(with_friction), skin_(skin),
+      record_(record_normal_forces) {
+  const bool lin = pairs_.uses(ContactLaw::linear_spring_dashpot), hz = pairs_.uses(ContactLaw::hertz_mindlin);
+  laws_ = lin && hz ? Laws::mixed : hz ? Laws::hertz : Laws::linear;
 }
 
-void LinearContactModule::add_forces(ParticleStore& p, double dt) {
+std::string ContactModule::name() const {
+  const char* laws = laws_ == Laws::linear  ? "linear_spring_dashpot"
+                     : laws_ == Laws::hertz ? "hertz_mindlin"
+                                            : "linear_spring_dashpot,hertz_mindlin";
+  return std::string(laws) + (friction_ ? "+spring_coulomb" : "");
+}
+
+void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;
   if (!built_ || needs_rebuild(p)) rebuild(p);
-  if (friction_) add_forces_impl<true>(p, dt);
-  else add_forces_impl<false>(p, dt);
+  if (record_) {
+    fn_pair_.resize(pi_.size());
+    fn_wall_.resize(p.size() * walls_.size());
+  }
+  // One compiled kernel per (friction, laws present, recording): no per-pair dispatch
+  // unless mixed, and nothing recorded unless a module reads it.
+  if (record_) dispatch<true>(p, dt);
+  else dispatch<false>(p, dt);
 }
 
-void LinearContactModule::save_state(OutArchive& a) const {
+template <bool Record>
+void ContactModule::dispatch(ParticleStore& p, double dt) {
+  switch (laws_) {
+    case Laws::linear:
+      if (friction_) add_forces_impl<true, Laws::linear, Record>(p, dt);
+      else add_forces_impl<false, Laws::linear, Record>(p, dt);
+      break;
+    case Laws::hertz:
+      if (friction_) add_forces_impl<true, Laws::hertz, Record>(p, dt);
+      else add_forces_impl<false, Laws::hertz, Record>(p, dt);
+      break;
+    case Laws::mixed:
+      if (friction_) add_forces_impl<true, Laws::mixed, Record>(p, dt);
+      else add_forces_impl<false, Laws::mixed, Record>(p, dt);
+      break;
+  }
+}
+
+void ContactModule::save_state(OutArchive& a) const {
   a.put(static_cast<std::uint8_t>(built_));
   a.put(static_cast<std::uint64_t>(builds_));
   a.put(static_cast<std::uint64_t>(n_active_));
@@ -42,7 +76,7 @@ void LinearContactModule::save_state(OutArchive& a) const {
   a.put(x0_); a.put(y0_); a.put(z0_);
 }
 
-void LinearContactModule::load_state(InArchive& a) {
+void ContactModule::load_state(InArchive& a) {
   std::uint8_t built = 0;
   std::uint64_t builds = 0, active = 0;
   a.get(built); a.get(builds); a.get(active);
@@ -63,7 +97,7 @@ void LinearContactModule::load_state(InArchive& a) {
   n_active_ = active;
 }
 
-bool LinearContactModule::needs_rebuild(const ParticleStore& p) const {
+bool ContactModule::needs_rebuild(const ParticleStore& p) const {
   if (skin_ <= 0.0 || p.size() != x0_.size()) return true;
   const double lim2 = 0.25 * skin_ * skin_;
   const std::size_t n = p.size();
@@ -74,7 +108,7 @@ bool LinearContactModule::needs_rebuild(const ParticleStore& p) const {
   return worst > lim2;
 }
 
-void LinearContactModule::rebuild(const ParticleStore& p) {
+void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
   search_.find_contacts(p, skin_, candidates_);  // sorted by (i, j)
 
@@ -168,19 +202,24 @@ bool worse(const OverlapRecord& a, const OverlapRecord& b) {
   if (a.particle != b.particle) return a.particle < b.particle;
   return a.partner < b.partner;
 }
-}  // namespace
 
-template <bool Friction>
-void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
-  // Force on i for one contact (j's force is its negative); j may be a wall.
-  // @p hist and @p touch are the contact's tangential history slot.
-  auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, const PairParams& pp, double m_eff, Vec3& hist,
-                      std::uint8_t& touch, Vec3& f_out, Vec3& ft_out) {
+// Force on i for one contact (j's force is its negative) under force law @p Law; j may
+// be a wall. @p hist and @p touch are the contact's tangential history slot; @p r_star
+// is used by Hertz–Mindlin only. Writes the normal force magnitude to @p fn_mag if given.
+// @p vrel is the relative contact velocity the forces are evaluated at; @p vrel_step
+// the one the positions moved with over the last step (Hertz–Mindlin's history).
+template <ContactLaw Law, bool Friction>
+inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp,
+                            double m_eff, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
+                            double* fn_mag) {
+  if constexpr (Law == ContactLaw::linear_spring_dashpot) {
+    (void)r_star; (void)vrel_step;
     const double eta_n = normal_damping(pp, m_eff);
     const double vn_mag = dot(vrel, eta);
     const Vec3 vn = vn_mag * eta;
     const Vec3 fn = contact::normal_force(pp.kn, eta_n, overlap, eta, vn);
     f_out = fn;
+    if (fn_mag) *fn_mag = norm(fn);
     if constexpr (Friction) {
       const Vec3 vt = vrel - vn;
       hist = contact::update_tangential_displacement(hist, touch == 0, vt, std::abs(vn_mag), overlap, dt, eta);
@@ -193,6 +232,66 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
       (void)hist; (void)touch; (void)dt;
       ft_out = Vec3{};
     }
+  } else {
+    // Hertz–Mindlin (contact/hertz_mindlin.hpp), with √R* and √δ taken once:
+    // K = 4/3 E* √R*, F_n = −(K √δ) δ η − η_n V_n, η_n = α √(m* K √δ), k_t = 8 G* √R* √δ.
+    const double sqrt_r = std::sqrt(r_star), sqrt_d = std::sqrt(overlap);
+    const double k_hertz = 4.0 / 3.0 * pp.e_star * sqrt_r;
+    const double eta_n = pp.hertz_alpha * std::sqrt(m_eff * k_hertz * sqrt_d);
+    const double vn_mag = dot(vrel, eta);
+    const Vec3 vn = vn_mag * eta;
+    const Vec3 fn = contact::normal_force(k_hertz * sqrt_d, eta_n, overlap, eta, vn);
+    f_out = fn;
+    const double fn_abs = norm(fn);
+    if (fn_mag) *fn_mag = fn_abs;
+    if constexpr (Friction) {
+      const Vec3 vt = vrel - vn;
+      // The history follows the tangential displacement the contact points actually
+      // made over the step (see ContactModule::set_step_velocities).
+      const double vs_n = dot(vrel_step, eta);
+      hist = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n), overlap,
+                                                     dt, eta);
+      touch = 1;
+      const double kt = 8.0 * pp.g_star * sqrt_r * sqrt_d;
+      const double eta_t = pp.etat_hertz_factor * eta_n;
+      ft_out = contact::mindlin_tangential_force(kt, eta_t, pp.mu, fn_abs, hist, vt);
+      f_out += ft_out;
+    } else {
+      (void)hist; (void)touch; (void)dt; (void)vrel_step;
+      ft_out = Vec3{};
+    }
+  }
+}
+
+}  // namespace
+
+template <bool Friction, ContactModule::Laws L, bool Record>
+void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
+  auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp, double m_eff,
+                      double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out, double* fn_mag) {
+    if constexpr (L == Laws::linear)
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
+                                                                   touch, f_out, ft_out, fn_mag);
+    else if constexpr (L == Laws::hertz)
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
+                                                           f_out, ft_out, fn_mag);
+    else if (pp.law == ContactLaw::hertz_mindlin)
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
+                                                           f_out, ft_out, fn_mag);
+    else
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
+                                                                   touch, f_out, ft_out, fn_mag);
+  };
+  constexpr bool record = Record;
+  // Velocities the positions moved with over the last step, where the integrator keeps
+  // them apart from v (velocity Verlet); before the first step, v itself.
+  const bool step_vel = Friction && L != Laws::linear && step_.vx && step_.vx->size() == p.size() &&
+                        step_.wx && step_.wx->size() == p.size();
+  auto step_velocity = [&](std::uint32_t i) {
+    return step_vel ? Vec3{(*step_.vx)[i], (*step_.vy)[i], (*step_.vz)[i]} : p.velocity(i);
+  };
+  auto step_spin = [&](std::uint32_t i) {
+    return step_vel ? Vec3{(*step_.wx)[i], (*step_.wy)[i], (*step_.wz)[i]} : p.angular_velocity(i);
   };
 
   // Particle–particle, slab by slab: even slabs in parallel, then odd ones.
@@ -212,6 +311,7 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const double d2 = dot(d, d);
       if (d2 >= reach * reach) {
         if constexpr (Friction) touch_[k] = 0;  // contact over: history forgotten
+        if constexpr (record) fn_pair_[k] = -1.0;
         continue;
       }
       const double dist = std::sqrt(d2);
@@ -223,10 +323,18 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
       Vec3 vrel = p.velocity(i) - p.velocity(j);
       if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i) + Lj * p.angular_velocity(j), eta);
       const PairParams& pp = pairs_.get(p.material[i], p.material[j]);
+      Vec3 vrel_step = vrel;
+      if constexpr (Friction && L != Laws::linear)
+        if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
+          vrel_step = step_velocity(i) - step_velocity(j) + cross(Li * step_spin(i) + Lj * step_spin(j), eta);
       const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+      const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
+      double* fn_rec = nullptr;
+      if constexpr (record) fn_rec = &fn_pair_[k];
       Vec3 f, ft;
-      if constexpr (Friction) resolve(overlap, eta, vrel, pp, m_eff, hist_[k], touch_[k], f, ft);
-      else resolve(overlap, eta, vrel, pp, m_eff, no_hist, no_touch, f, ft);
+      if constexpr (Friction)
+        resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist_[k], touch_[k], f, ft, fn_rec);
+      else resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, no_hist, no_touch, f, ft, fn_rec);
       p.add_force(i, f);
       p.add_force(j, -f);
       if constexpr (Friction) {
@@ -277,6 +385,7 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const double overlap = p.radius[i] - dist;
         if (overlap <= 0.0) {
           if constexpr (Friction) wall_touch_[ii * nw + w] = 0;
+          if constexpr (record) fn_wall_[ii * nw + w] = -1.0;
           continue;
         }
         ++my_active;
@@ -285,10 +394,18 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
         Vec3 vrel = p.velocity(i);
         if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
         const PairParams& pp = pairs_.get(p.material[i], wall.material);
+        Vec3 vrel_step = vrel;
+        if constexpr (Friction && L != Laws::linear)
+          if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
+            vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
+        double* fn_rec = nullptr;
+        if constexpr (record) fn_rec = &fn_wall_[ii * nw + w];
+        // Against a wall R* = R_i and m* = m_i.
         Vec3 f, ft;
         if constexpr (Friction)
-          resolve(overlap, eta, vrel, pp, p.mass[i], wall_hist_[ii * nw + w], wall_touch_[ii * nw + w], f, ft);
-        else resolve(overlap, eta, vrel, pp, p.mass[i], no_hist, no_touch, f, ft);
+          resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], wall_hist_[ii * nw + w],
+                  wall_touch_[ii * nw + w], f, ft, fn_rec);
+        else resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], no_hist, no_touch, f, ft, fn_rec);
         p.add_force(i, f);
         if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
         const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
@@ -315,6 +432,74 @@ void LinearContactModule::add_forces_impl(ParticleStore& p, double dt) {
   }
   n_active_ = active;
   worst_ = worst;
+}
+
+void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
+  const PairTable& pairs = c_.pairs();
+  const std::vector<std::uint32_t>& pi = c_.list_i();
+  const std::vector<std::uint32_t>& pj = c_.list_j();
+  const std::vector<std::uint32_t>& slab_start = c_.slab_start();
+  const std::vector<double>& fn_pair = c_.pair_normal_force();
+  const std::vector<double>& fn_wall = c_.wall_normal_force();
+  const std::vector<PlaneWall>& walls = c_.walls();
+  const std::size_t n = p.size(), nw = walls.size();
+  const bool threads = n > parallel_threshold;
+  // The spin the integrator's next kick starts from: ω itself for the first-order
+  // scheme, the half-step spin for velocity Verlet (ContactModule::set_step_velocities).
+  const ContactModule::StepVelocities& sv = c_.step_velocities();
+  const bool half = sv.wx && sv.wx->size() == n;
+  // ω_i after the next kick with the torques accumulated so far (the contact module's,
+  // and the rolling torques of contacts visited before this one).
+  auto free_spin = [&](std::uint32_t i) {
+    const Vec3 w0 = half ? Vec3{(*sv.wx)[i], (*sv.wy)[i], (*sv.wz)[i]} : p.angular_velocity(i);
+    return w0 + (dt * p.inv_inertia[i]) * Vec3{p.tx[i], p.ty[i], p.tz[i]};
+  };
+
+  auto pair_range = [&](std::uint32_t k0, std::uint32_t k1) {
+    for (std::uint32_t k = k0; k < k1; ++k) {
+      if (fn_pair[k] < 0.0) continue;  // not in contact
+      const std::uint32_t i = pi[k], j = pj[k];
+      const PairParams& pp = pairs.get(p.material[i], p.material[j]);
+      if (pp.rolling_mu == 0.0) continue;
+      const Vec3 d = p.position(j) - p.position(i);
+      const Vec3 eta = (1.0 / norm(d)) * d;
+      const double ri = p.radius[i], rj = p.radius[j];
+      const double inertia_eff = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, ri * rj / (ri + rj), fn_pair[k],
+                                             free_spin(i) - free_spin(j), eta, inertia_eff, dt);
+      p.add_torque(i, t);
+      p.add_torque(j, -t);
+    }
+  };
+  // The contact module's slab order: even slabs, then odd slabs (see ContactModule), so
+  // the contacts of a particle are visited in the same order for any thread count.
+  const std::size_t nslab = slab_start.empty() ? 0 : slab_start.size() - 1;
+  for (std::size_t pass = 0; pass < 2; ++pass) {
+    if (!threads) {
+      for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start[s], slab_start[s + 1]);
+      continue;
+    }
+    const long jobs = static_cast<long>((nslab + 1 - pass) / 2);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long t = 0; t < jobs; ++t) {
+      const std::size_t s = pass + 2 * static_cast<std::size_t>(t);
+      pair_range(slab_start[s], slab_start[s + 1]);
+    }
+  }
+  if (!nw) return;
+  parallel_for(n, [&](std::size_t ii) {
+    const auto i = static_cast<std::uint32_t>(ii);
+    for (std::size_t w = 0; w < nw; ++w) {
+      const double fn = fn_wall[ii * nw + w];
+      if (fn < 0.0) continue;
+      const PairParams& pp = pairs.get(p.material[i], walls[w].material);
+      if (pp.rolling_mu == 0.0) continue;
+      // Against a wall: ω_rel = ω_i, R* = R_i, I* = I_i.
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i), -walls[w].normal,
+                                             1.0 / p.inv_inertia[i], dt);
+      p.add_torque(i, t);
+    }
+  });
 }
 
 }  // namespace cdm

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <toml++/toml.h>
 
+#include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 
 namespace cdm {
@@ -51,7 +52,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks"}},
-      {"modules", {"gravity", "normal_contact", "tangential", "gas", "drag", "pressure_gradient", "tracers"}},
+      {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
+                   "tracers"}},
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
                "dt", "advection", "initial_velocity", "mean_pressure_gradient"}},
       {"gas.boundaries.*", {"type", "velocity", "pressure"}},
@@ -62,12 +64,12 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"shells[]", {"material", "radius", "center", "shell_radius", "count", "dimension"}},
       {"random_particles[]", {"material", "radius", "lower", "upper", "count", "seed", "allow_overlap"}},
       {"gravity", {"g"}},
-      {"materials[]", {"name", "density", "fixed"}},
-      {"contacts[]", {"pair", "kn", "en", "kt_factor", "etat_factor", "mu"}},
+      {"materials[]", {"name", "density", "youngs_modulus", "poisson_ratio", "fixed"}},
+      {"contacts[]", {"pair", "model", "kn", "en", "damping", "kt_factor", "etat_factor", "mu", "rolling_mu"}},
       {"walls[]", {"name", "point", "normal", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
-      {"integrator", {"scheme", "dt", "dt_divisor", "end_time"}},
+      {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
       {"output", {"interval", "particles", "vtk", "checkpoint_interval"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
@@ -253,6 +255,7 @@ class Loader {
   void read_modules();
   void read_materials();
   void read_contacts();
+  void check_elastic_constants_used() const;
   void read_walls();
   void read_particles();
   void read_gas();
@@ -280,7 +283,10 @@ void Loader::read_modules() {
   const std::string nc = string(*m, "normal_contact", "modules").value_or("none");
   if (nc == "none") spec_.normal_contact = NormalContactModel::none;
   else if (nc == "linear_spring_dashpot") spec_.normal_contact = NormalContactModel::linear_spring_dashpot;
-  else fail_value("modules.normal_contact", *m->get("normal_contact"), "\"none\" or \"linear_spring_dashpot\"");
+  else if (nc == "hertz_mindlin") spec_.normal_contact = NormalContactModel::hertz_mindlin;
+  else
+    fail_value("modules.normal_contact", *m->get("normal_contact"),
+               "\"none\", \"linear_spring_dashpot\" or \"hertz_mindlin\"");
   const std::string tg = string(*m, "tangential", "modules").value_or("none");
   if (tg == "none") spec_.tangential = TangentialModel::none;
   else if (tg == "spring_coulomb") spec_.tangential = TangentialModel::spring_coulomb;
@@ -288,6 +294,13 @@ void Loader::read_modules() {
   if (spec_.tangential != TangentialModel::none && spec_.normal_contact == NormalContactModel::none)
     fail_value("modules.tangential", *m->get("tangential"),
                "\"none\" while modules.normal_contact is \"none\" (friction is bounded by the normal force)");
+  const std::string rr = string(*m, "rolling_resistance", "modules").value_or("none");
+  if (rr == "none") spec_.rolling = RollingModel::none;
+  else if (rr == "constant_torque") spec_.rolling = RollingModel::constant_torque;
+  else fail_value("modules.rolling_resistance", *m->get("rolling_resistance"), "\"none\" or \"constant_torque\"");
+  if (spec_.rolling != RollingModel::none && spec_.normal_contact == NormalContactModel::none)
+    fail_value("modules.rolling_resistance", *m->get("rolling_resistance"),
+               "\"none\" while modules.normal_contact is \"none\" (the torque is bounded by the normal force)");
 
   // The gas and what couples particles to it.
   const std::string gas = string(*m, "gas", "modules").value_or("none");
@@ -342,6 +355,15 @@ void Loader::read_materials() {
       if (other.name == *name) fail_value(path + ".name", *t.get("name"), "a name not used by another material");
     m.name = *name;
     m.density = positive(t, "density", path, Dim::density, false, 0.0);
+    // Elastic constants: only Hertz–Mindlin pairs use them (checked in read_contacts).
+    if (t.get("youngs_modulus") || t.get("poisson_ratio")) {
+      if (!t.get("youngs_modulus"))
+        fail_missing(path + ".youngs_modulus", "a number > 0 [Pa] (poisson_ratio is given, so the pair is needed)");
+      if (!t.get("poisson_ratio"))
+        fail_missing(path + ".poisson_ratio", "a number in (-1, 0.5) (youngs_modulus is given, so the pair is needed)");
+      m.youngs_modulus = positive(t, "youngs_modulus", path, Dim::pressure, true);
+      m.poisson_ratio = number_in(t, "poisson_ratio", path, Dim::none, true, 0.0, -1.0, true, 0.5, true, "in (-1, 0.5)");
+    }
     m.fixed = boolean(t, "fixed", path).value_or(false);
     if (m.fixed) {
       if (spec_.normal_contact != NormalContactModel::none)
@@ -381,21 +403,78 @@ void Loader::read_contacts() {
     if (spec_.pairs.get(idx[0], idx[1]).defined)
       fail_value(path + ".pair", *pn, "a pair not already given by an earlier [[contacts]] entry");
     PairParams p;
-    p.kn = positive(t, "kn", path, Dim::stiffness, true);
+    // The pair's force law: the scene's default (modules.normal_contact) unless it names one.
+    p.law = spec_.normal_contact == NormalContactModel::hertz_mindlin ? ContactLaw::hertz_mindlin
+                                                                      : ContactLaw::linear_spring_dashpot;
+    if (auto model = string(t, "model", path)) {
+      if (*model == "linear_spring_dashpot") p.law = ContactLaw::linear_spring_dashpot;
+      else if (*model == "hertz_mindlin") p.law = ContactLaw::hertz_mindlin;
+      else fail_value(path + ".model", *t.get("model"), "\"linear_spring_dashpot\" or \"hertz_mindlin\"");
+    }
+    const bool hertz = p.law == ContactLaw::hertz_mindlin;
     p.en = number_in(t, "en", path, Dim::none, true, 1.0, 0.0, true, 1.0, false, "in (0, 1]");
+    if (!hertz) {
+      p.kn = positive(t, "kn", path, Dim::stiffness, true);
+      reject_unused(t, "damping", path, "the pair's model is linear_spring_dashpot, whose dashpot follows from en (eq 29)");
+    } else {
+      const std::string why = "the pair's model is hertz_mindlin, whose stiffnesses follow from the materials' "
+                              "youngs_modulus and poisson_ratio";
+      reject_unused(t, "kn", path, why);
+      reject_unused(t, "kt_factor", path, why);
+      reject_unused(t, "etat_factor", path, why);
+      for (int k = 0; k < 2; ++k)
+        if (!(spec_.materials[idx[k]].youngs_modulus > 0.0))
+          fail_missing("materials[" + std::to_string(idx[k]) + "].youngs_modulus",
+                       "Young's modulus and Poisson ratio of material '" + spec_.materials[idx[k]].name + "', because " +
+                           path + " uses model hertz_mindlin");
+      const Material& a = spec_.materials[idx[0]];
+      const Material& b = spec_.materials[idx[1]];
+      p.e_star = contact::effective_youngs_modulus(a.youngs_modulus, a.poisson_ratio, b.youngs_modulus, b.poisson_ratio);
+      p.g_star = contact::effective_shear_modulus(a.youngs_modulus, a.poisson_ratio, b.youngs_modulus, b.poisson_ratio);
+      const std::string damping = string(t, "damping", path).value_or("exact_restitution");
+      if (damping == "exact_restitution") p.hertz_damping = HertzDamping::exact_restitution;
+      else if (damping == "tsuji") p.hertz_damping = HertzDamping::tsuji;
+      else fail_value(path + ".damping", *t.get("damping"), "\"exact_restitution\" or \"tsuji\"");
+    }
     if (spec_.tangential == TangentialModel::none) {
       const std::string why = "modules.tangential is \"none\"";
       reject_unused(t, "kt_factor", path, why);
       reject_unused(t, "etat_factor", path, why);
       reject_unused(t, "mu", path, why);
     } else {
-      p.kt_factor = positive(t, "kt_factor", path, Dim::none, false, 0.4);
-      p.etat_factor = number_in(t, "etat_factor", path, Dim::none, false, 0.5, 0.0, false,
-                                std::numeric_limits<double>::infinity(), false, ">= 0");
+      if (!hertz) {
+        p.kt_factor = positive(t, "kt_factor", path, Dim::none, false, 0.4);
+        p.etat_factor = number_in(t, "etat_factor", path, Dim::none, false, 0.5, 0.0, false,
+                                  std::numeric_limits<double>::infinity(), false, ">= 0");
+      }
       p.mu = number_in(t, "mu", path, Dim::none, true, 0.0, 0.0, false, std::numeric_limits<double>::infinity(),
                        false, ">= 0");
     }
+    if (spec_.rolling == RollingModel::none)
+      reject_unused(t, "rolling_mu", path, "modules.rolling_resistance is \"none\"");
+    else
+      p.rolling_mu = number_in(t, "rolling_mu", path, Dim::none, true, 0.0, 0.0, false,
+                               std::numeric_limits<double>::infinity(), false, ">= 0");
     spec_.pairs.set(idx[0], idx[1], p);
+  }
+}
+
+// A material's Young's modulus and Poisson ratio are used only by hertz_mindlin pairs.
+void Loader::check_elastic_constants_used() const {
+  const std::size_t nm = spec_.materials.size();
+  for (std::size_t a = 0; a < nm; ++a) {
+    if (!(spec_.materials[a].youngs_modulus > 0.0)) continue;
+    bool used = false;
+    for (std::size_t b = 0; b < nm && !used; ++b) {
+      const PairParams& pp = spec_.pairs.get(static_cast<int>(a), static_cast<int>(b));
+      used = pp.defined && pp.law == ContactLaw::hertz_mindlin;
+    }
+    if (!used) {
+      const std::string path = "materials[" + std::to_string(a) + "]";
+      const toml::table& t = *root_.get("materials")->as_array()->get(a)->as_table();
+      reject_unused(t, "youngs_modulus", path,
+                    "no [[contacts]] entry with model hertz_mindlin involves material '" + spec_.materials[a].name + "'");
+    }
   }
 }
 
@@ -439,8 +518,9 @@ void Loader::read_particles() {
       p.position = vec3_required(t, "position", path, Dim::length);
       if (spec_.tracers) reject_unused(t, "velocity", path, "modules.tracers is true: a tracer moves with the gas");
       p.velocity = vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
-      if (spec_.tangential == TangentialModel::none)
-        reject_unused(t, "angular_velocity", path, "modules.tangential is \"none\", so nothing makes particles rotate");
+      if (spec_.tangential == TangentialModel::none && spec_.rolling == RollingModel::none)
+        reject_unused(t, "angular_velocity", path,
+                      "modules.tangential and modules.rolling_resistance are \"none\", so particles do not rotate");
       p.angular_velocity = vec3(t, "angular_velocity", path, Dim::angular_velocity).value_or(Vec3{});
       spec_.groups.push_back({path, spec_.particles.size(), 1, 0, 0});
       spec_.particles.push_back(p);
@@ -904,17 +984,31 @@ void Loader::read_integrator() {
 }
 
 void Loader::resolve_dt(const toml::table* t) {
-  // Smallest collision time over every pair of materials that can meet (eq 28).
-  double t_col = std::numeric_limits<double>::infinity();
-  std::string t_col_pair;
+  // Hertz–Mindlin pairs have no collision time of their own (it depends on the impact
+  // speed): the scene states the largest expected impact speed, or asks for a fraction
+  // of the Rayleigh time instead. Either key is refused when no pair is Hertz–Mindlin.
+  const bool any_hertz = spec_.pairs.uses(ContactLaw::hertz_mindlin);
+  const std::string no_hertz = "no [[contacts]] entry uses model hertz_mindlin";
+  spec_.impact_velocity = 0.0;
+  if (t->get("impact_velocity")) {
+    if (!any_hertz) reject_unused(*t, "impact_velocity", "integrator", no_hertz);
+    spec_.impact_velocity = positive(*t, "impact_velocity", "integrator", Dim::velocity, true);
+  }
+
+  // Smallest collision time over every pair of materials that can meet: eq 28 for
+  // linear pairs, the Hertz time t_H at integrator.impact_velocity for Hertz–Mindlin
+  // ones; and the smallest Rayleigh time of the particles in Hertz–Mindlin contacts.
+  double t_col = std::numeric_limits<double>::infinity(), t_ray = std::numeric_limits<double>::infinity();
+  std::string t_col_pair, t_ray_material;
+  bool hertz_meets = false;
   if (spec_.normal_contact != NormalContactModel::none) {
     const std::size_t nm = spec_.materials.size();
-    std::vector<double> m_min(nm, std::numeric_limits<double>::infinity());
+    std::vector<double> m_min(nm, std::numeric_limits<double>::infinity()), r_min(nm, 0.0);
     std::vector<std::size_t> count(nm, 0);
     for (const auto& p : spec_.particles) {
       const double d = 2.0 * p.radius;
       const double m = spec_.materials[p.material].density * std::numbers::pi * d * d * d / 6.0;
-      m_min[p.material] = std::min(m_min[p.material], m);
+      if (m < m_min[p.material]) { m_min[p.material] = m; r_min[p.material] = p.radius; }
       ++count[p.material];
     }
     auto need = [&](int a, int b, const std::string& what) -> const PairParams& {
@@ -924,6 +1018,22 @@ void Loader::resolve_dt(const toml::table* t) {
                          spec_.materials[b].name + "\"]: expected a [[contacts]] entry, because " + what);
       return pp;
     };
+    auto rayleigh = [&](std::size_t a) {
+      const Material& mat = spec_.materials[a];
+      const double tr = contact::rayleigh_time(r_min[a], mat.density, mat.youngs_modulus, mat.poisson_ratio);
+      if (tr < t_ray) { t_ray = tr; t_ray_material = mat.name; }
+    };
+    auto consider = [&](const PairParams& pp, double m_eff, double r_star, const std::string& what) {
+      double tc = std::numeric_limits<double>::infinity();
+      if (pp.law == ContactLaw::linear_spring_dashpot) {
+        tc = collision_time(pp, m_eff);
+      } else {
+        hertz_meets = true;
+        if (spec_.impact_velocity > 0.0)
+          tc = contact::hertz_collision_time(m_eff, r_star, pp.e_star, spec_.impact_velocity);
+      }
+      if (tc < t_col) { t_col = tc; t_col_pair = what; }
+    };
     for (std::size_t a = 0; a < nm; ++a) {
       if (!count[a]) continue;
       for (std::size_t b = a; b < nm; ++b) {
@@ -931,40 +1041,72 @@ void Loader::resolve_dt(const toml::table* t) {
         const PairParams& pp = need(static_cast<int>(a), static_cast<int>(b),
                                     "particles of both materials are in the scene");
         const double me = m_min[a] * m_min[b] / (m_min[a] + m_min[b]);
-        const double tc = collision_time(pp, me);
-        if (tc < t_col) { t_col = tc; t_col_pair = spec_.materials[a].name + "-" + spec_.materials[b].name; }
+        consider(pp, me, r_min[a] * r_min[b] / (r_min[a] + r_min[b]),
+                 spec_.materials[a].name + "-" + spec_.materials[b].name);
+        if (pp.law == ContactLaw::hertz_mindlin) { rayleigh(a); rayleigh(b); }
       }
       for (const auto& w : spec_.walls) {
         const PairParams& pp = need(static_cast<int>(a), w.material, "wall '" + w.name + "' can touch particles of material '" + spec_.materials[a].name + "'");
-        const double tc = collision_time(pp, m_min[a]);
-        if (tc < t_col) { t_col = tc; t_col_pair = spec_.materials[a].name + "-wall '" + w.name + "'"; }
+        consider(pp, m_min[a], r_min[a], spec_.materials[a].name + "-wall '" + w.name + "'");
+        if (pp.law == ContactLaw::hertz_mindlin) rayleigh(a);
       }
     }
   }
   spec_.t_col_min = std::isfinite(t_col) ? t_col : 0.0;
+  spec_.rayleigh_time_min = std::isfinite(t_ray) ? t_ray : 0.0;
 
   const toml::node* dtn = t->get("dt");
   if (!dtn) fail_missing("integrator.dt", "\"auto\" or a time step > 0 [s]");
   if (dtn->is_string()) {
     if (dtn->as_string()->get() != "auto") fail_value("integrator.dt", *dtn, "\"auto\" or a time step > 0 [s]");
-    if (!std::isfinite(t_col))
+    spec_.dt_auto = true;
+    spec_.rayleigh_fraction = 0.0;
+    if (t->get("rayleigh_fraction")) {
+      if (!any_hertz) reject_unused(*t, "rayleigh_fraction", "integrator", no_hertz);
+      spec_.rayleigh_fraction = number_in(*t, "rayleigh_fraction", "integrator", Dim::none, true, 0.0, 0.0, true, 1.0,
+                                          false, "in (0, 1] (dt = rayleigh_fraction x the smallest Rayleigh time)");
+    }
+    if (hertz_meets && spec_.impact_velocity == 0.0 && spec_.rayleigh_fraction == 0.0)
+      fail_value("integrator.dt", *dtn,
+                 "integrator.impact_velocity (the largest expected impact speed: dt = t_H/dt_divisor with the Hertz "
+                 "collision time t_H = 2.868 (m*^2/(R* E*^2 v))^(1/5)) or integrator.rayleigh_fraction (dt = fraction "
+                 "x the Rayleigh time) beside dt = \"auto\": a Hertz-Mindlin contact's duration depends on the impact "
+                 "speed");
+    if (!std::isfinite(t_col) && spec_.rayleigh_fraction == 0.0)
       fail_value("integrator.dt", *dtn,
                  "an explicit time step: \"auto\" derives dt from the collision time, and this scene has no contacts");
-    spec_.dt_auto = true;
-    spec_.dt_divisor = number_in(*t, "dt_divisor", "integrator", Dim::none, false, 50.0, 10.0, false,
-                                 std::numeric_limits<double>::infinity(), false,
-                                 ">= 10 (dt = t_col/dt_divisor; fewer than 10 steps per collision is not resolved)");
-    spec_.dt = t_col / spec_.dt_divisor;
+    if (std::isfinite(t_col)) {
+      spec_.dt_divisor = number_in(*t, "dt_divisor", "integrator", Dim::none, false, 50.0, 10.0, false,
+                                   std::numeric_limits<double>::infinity(), false,
+                                   ">= 10 (dt = t_col/dt_divisor; fewer than 10 steps per collision is not resolved)");
+      spec_.dt = t_col / spec_.dt_divisor;
+    } else {
+      reject_unused(*t, "dt_divisor", "integrator",
+                    "no collision time is known (no linear pair meets, and integrator.impact_velocity is not given)");
+      spec_.dt = std::numeric_limits<double>::infinity();
+    }
+    if (spec_.rayleigh_fraction > 0.0) spec_.dt = std::min(spec_.dt, spec_.rayleigh_fraction * t_ray);
   } else {
     reject_unused(*t, "dt_divisor", "integrator", "integrator.dt is not \"auto\"");
+    reject_unused(*t, "rayleigh_fraction", "integrator", "integrator.dt is not \"auto\"");
     spec_.dt_auto = false;
     spec_.dt = positive(*t, "dt", "integrator", Dim::time, true);
     if (std::isfinite(t_col) && spec_.dt > t_col / 10.0) {
       std::ostringstream os;
       os << "a time step <= t_col/10 = " << t_col / 10.0 << " s: the shortest collision (" << t_col_pair
-         << ") lasts t_col = " << t_col << " s, and with fewer than 10 steps per collision the spring-dashpot "
-         << "force is not resolved (overlaps and restitution come out wrong, or the run blows up); "
-         << "use dt = \"auto\" (t_col/50, as Garg et al. 2012) or a smaller dt";
+         << ") lasts t_col = " << t_col << " s";
+      if (spec_.impact_velocity > 0.0) os << " (Hertz pairs at integrator.impact_velocity)";
+      os << ", and with fewer than 10 steps per collision the contact force is not resolved (overlaps and "
+         << "restitution come out wrong, or the run blows up); use dt = \"auto\" (t_col/50, as Garg et al. 2012) or "
+         << "a smaller dt";
+      fail_value("integrator.dt", *dtn, os.str());
+    }
+    if (hertz_meets && spec_.dt > t_ray) {
+      std::ostringstream os;
+      os << "a time step <= the Rayleigh time T_R = " << t_ray << " s of material '" << t_ray_material
+         << "' (T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766), the time an elastic surface wave takes across the "
+         << "smallest particle): Hertz-Mindlin contact networks are unstable with longer steps (DEM codes use "
+         << "0.1-0.3 T_R); use a smaller dt, or dt = \"auto\" with integrator.rayleigh_fraction";
       fail_value("integrator.dt", *dtn, os.str());
     }
   }
@@ -1059,6 +1201,7 @@ SceneSpec Loader::load() {
   read_modules();
   read_materials();
   read_contacts();
+  check_elastic_constants_used();
   read_walls();
   read_gas();
   read_particles();

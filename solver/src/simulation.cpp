@@ -11,8 +11,9 @@
 namespace cdm {
 
 Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
-  // Build only the modules the scene names. Rotation exists only with friction.
-  if (spec_.tangential != TangentialModel::none) particles_.enable_rotation();
+  // Build only the modules the scene names. Rotation exists only with a module that
+  // makes torque (friction, rolling resistance).
+  if (spec_.tangential != TangentialModel::none || spec_.rolling != RollingModel::none) particles_.enable_rotation();
   for (const auto& ps : spec_.particles) {
     const Material& mat = spec_.materials[ps.material];
     particles_.add(ps.position, ps.velocity, ps.radius, mat.density, ps.material, mat.fixed);
@@ -20,14 +21,20 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   }
   if (spec_.gas != GasModel::none) build_gas();
   if (spec_.gravity) modules_.push_back(std::make_unique<GravityModule>(spec_.g));
-  if (spec_.normal_contact == NormalContactModel::linear_spring_dashpot) {
+  if (spec_.normal_contact != NormalContactModel::none) {
     // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
     double d_max = 0.0;
     for (const auto& ps : spec_.particles) d_max = std::max(d_max, 2.0 * ps.radius);
-    auto c = std::make_unique<LinearContactModule>(spec_.pairs, spec_.walls,
-                                                   spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max);
+    const bool rolling = spec_.rolling == RollingModel::constant_torque;
+    auto c = std::make_unique<ContactModule>(spec_.pairs, spec_.walls,
+                                             spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max, rolling);
     contact_ = c.get();
+    // Velocity Verlet moves positions with its half-step velocities (hv, hw below).
+    if (spec_.integrator == IntegratorScheme::velocity_verlet)
+      contact_->set_step_velocities({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
     modules_.push_back(std::move(c));
+    // Rolling resistance acts through the contacts just evaluated, so it runs after them.
+    if (rolling) modules_.push_back(std::make_unique<RollingResistanceModule>(*contact_));
   }
   if (spec_.drag) {
     if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();

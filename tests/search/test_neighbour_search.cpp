@@ -97,7 +97,7 @@ TEST(NeighbourSearch, WallContactsMatchBruteForce) {
   pp.en = 0.9;
   for (int a = 0; a < 3; ++a)
     for (int b = a; b < 3; ++b) table.set(a, b, pp);
-  cdm::LinearContactModule contact(table, walls, false);
+  cdm::ContactModule contact(table, walls, false);
   contact.add_forces(p, 1e-6);
   EXPECT_EQ(contact.active_contacts(), pair_contacts + wall_contacts);
 }

@@ -38,7 +38,7 @@ std::string accuracy_text(const oracles::OracleAccuracy& a) {
 }
 
 /// The scene with the variant's overrides, the sweep point's integrator and dt = t_col/divisor.
-SceneSpec scene_for(const CaseDef& c, const Variant& v, const RunConfig& rc) {
+SceneSpec scene_for(const CaseDef& /*c*/, const Variant& v, const RunConfig& rc) {
   std::vector<SceneOverride> ov = v.set;
   ov.push_back({"integrator.scheme", "\"" + rc.integrator + "\""});
   ov.push_back({"integrator.dt", "\"auto\""});
@@ -258,7 +258,7 @@ RunOutput run_slipping(const CaseDef& c, const Variant& v, const RunConfig& rc) 
 // (CVODE oracle) at sample times within the first period measures the interpolation.
 // ------------------------------------------------------------------------------------
 /// The scene with the variant's overrides, the sweep point's integrator and dt = T/N.
-SceneSpec scene_with_dt(const CaseDef& c, const Variant& v, const RunConfig& rc, double dt) {
+SceneSpec scene_with_dt(const CaseDef& /*c*/, const Variant& v, const RunConfig& rc, double dt) {
   std::vector<SceneOverride> ov = v.set;
   ov.push_back({"integrator.scheme", "\"" + rc.integrator + "\""});
   char d[32];
@@ -570,7 +570,7 @@ RunOutput run_terminal_velocity_coupled(const CaseDef& c, const Variant& v, cons
 // the oracle's sources added every step, the error at the end on four grids. dt = C h²/N
 // keeps the first-order time error below the second-order space error.
 // ------------------------------------------------------------------------------------
-RunOutput run_gas_mms(const CaseDef& c, const Variant& v, const RunConfig& rc) {
+RunOutput run_gas_mms(const CaseDef& /*c*/, const Variant& v, const RunConfig& rc) {
   oracles::GasMmsParams q;
   q.u0 = v.param("u0");
   q.v0 = v.param("v0");
@@ -786,7 +786,7 @@ RunOutput run_packed_bed(const CaseDef& c, const Variant& v, const RunConfig& rc
 // pressure drop across the bed, against the buoyant weight per area once fluidised (the
 // plateau), and the minimum-fluidisation velocity where the packed-bed branch meets it,
 // against the same drag law's U_mf at the settled bed's gas fraction.
-RunOutput run_fluidization(const CaseDef& c, const Variant& v, const RunConfig& rc) {
+RunOutput run_fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& rc) {
   SceneSpec spec0 = load_scene(v.scene, v.set);
   std::vector<SceneOverride> ov = v.set;
   ov.push_back({"integrator.scheme", "\"" + rc.integrator + "\""});
@@ -891,6 +891,12 @@ RunOutput run_fluidization(const CaseDef& c, const Variant& v, const RunConfig& 
 
 }  // namespace
 
+// Hertz–Mindlin and rolling resistance (cases_hertz.cpp).
+RunOutput run_hertz_impact(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_hertz_restitution(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_oblique_impact(const CaseDef&, const Variant&, const RunConfig&);
+RunOutput run_rolling_resistance(const CaseDef&, const Variant&, const RunConfig&);
+
 const std::map<std::string, CaseRunner>& case_runners() {
   static const std::map<std::string, CaseRunner> r = {
       {"free_fall", run_free_fall},
@@ -905,6 +911,10 @@ const std::map<std::string, CaseRunner>& case_runners() {
       {"terminal_velocity_coupled", run_terminal_velocity_coupled},
       {"taylor_green", run_taylor_green},
       {"taylor_green_clustering", run_taylor_green_clustering},
+      {"hertz_impact", run_hertz_impact},
+      {"hertz_restitution", run_hertz_restitution},
+      {"oblique_impact", run_oblique_impact},
+      {"rolling_resistance", run_rolling_resistance},
   };
   return r;
 }

@@ -45,8 +45,17 @@ struct OverlapRecord {
   long partner = -1;          // other particle, or -1 - wall index for a wall
 };
 
-/// Linear spring–dashpot normal contact, with the tangential spring, history and
-/// Coulomb friction when @p with_friction (only then is tangential history kept).
+/// Normal contact between particles and with walls, each pair of materials with its own
+/// force law (PairParams::law): the linear spring–dashpot (contact/
+/// linear_spring_dashpot.hpp) or Hertz–Mindlin (contact/hertz_mindlin.hpp). With
+/// @p with_friction each law adds its tangential spring with history and Coulomb limit
+/// (only then is tangential history kept).
+///
+/// The kernel is compiled once per combination of friction on/off and the laws present
+/// (linear only, Hertz only, both): a scene with one law has no per-pair dispatch at
+/// all, and in a mixed scene one well-predicted branch picks the law per contact. The
+/// linear arithmetic is the same in every variant, so linear results do not depend on
+/// which other laws a scene defines.
 ///
 /// Contacts are found through a Verlet list: the cell-list search collects every pair
 /// closer than r_i + r_j + skin, and the list is rebuilt only once some particle has
@@ -60,10 +69,15 @@ struct OverlapRecord {
 /// in parallel, then odd ones; each slab is one thread's, in a fixed order. Every
 /// particle therefore receives its contributions in the same order whatever the number
 /// of threads: trajectories are bit-identical for 1, 2, … threads.
-class LinearContactModule final : public ForceModule {
+///
+/// With @p record_normal_forces the module also keeps, for the current evaluation, each
+/// contact's normal force magnitude, for modules that act through the same contacts
+/// (rolling resistance).
+class ContactModule final : public ForceModule {
  public:
   /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
-  LinearContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0);
+  ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0,
+                bool record_normal_forces = false);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
 
@@ -74,11 +88,41 @@ class LinearContactModule final : public ForceModule {
   std::size_t list_builds() const { return builds_; }
   std::size_t listed_pairs() const { return pi_.size(); }
   const std::vector<PlaneWall>& walls() const { return walls_; }
+  const PairTable& pairs() const { return pairs_; }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
 
+  // The contacts of the last evaluation (record_normal_forces only).
+  const std::vector<std::uint32_t>& list_i() const { return pi_; }
+  const std::vector<std::uint32_t>& list_j() const { return pj_; }
+  /// Listed pairs of slab s are [slab_start()[s], slab_start()[s+1]).
+  const std::vector<std::uint32_t>& slab_start() const { return slab_start_; }
+  /// |F_n| [N] per listed pair, or -1 where the pair is not in contact.
+  const std::vector<double>& pair_normal_force() const { return fn_pair_; }
+  /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
+  const std::vector<double>& wall_normal_force() const { return fn_wall_; }
+
+  /// Velocities [m/s] and angular velocities [rad/s] with which the integrator moved the
+  /// particles over the last step, when they differ from the velocities forces are
+  /// evaluated at (velocity Verlet: x(t+Δt) = x(t) + Δt v(t+Δt/2), forces at the
+  /// predicted v(t) + Δt a(t)). Hertz–Mindlin's tangential history is incremented with
+  /// these, so that it follows the contact points' actual displacement; incrementing
+  /// with the predicted velocity is an O(Δt) error per step in the spring, which makes
+  /// a sticking contact first order. The arrays are read at each evaluation; they are
+  /// ignored until they hold one value per particle (before the first step). The
+  /// linear law keeps the paper's rule (the velocity of the evaluation), unchanged.
+  struct StepVelocities {
+    const std::vector<double>*vx = nullptr, *vy = nullptr, *vz = nullptr;
+    const std::vector<double>*wx = nullptr, *wy = nullptr, *wz = nullptr;
+  };
+  void set_step_velocities(StepVelocities s) { step_ = s; }
+  const StepVelocities& step_velocities() const { return step_; }
+
  private:
-  template <bool Friction>
+  enum class Laws { linear, hertz, mixed };
+  template <bool Record>
+  void dispatch(ParticleStore& p, double dt);
+  template <bool Friction, Laws L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
   bool needs_rebuild(const ParticleStore& p) const;
   void rebuild(const ParticleStore& p);
@@ -87,6 +131,8 @@ class LinearContactModule final : public ForceModule {
   std::vector<PlaneWall> walls_;
   bool friction_;
   double skin_;
+  bool record_;
+  Laws laws_;
   CellListSearch search_;
   std::vector<ContactPair> candidates_;
   // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
@@ -97,10 +143,28 @@ class LinearContactModule final : public ForceModule {
   std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
   std::vector<std::uint8_t> wall_touch_;
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
+  StepVelocities step_;                       // see set_step_velocities
   bool built_ = false;
   std::size_t builds_ = 0;
   OverlapRecord worst_;
   std::size_t n_active_ = 0;
+};
+
+/// Constant-torque rolling resistance (contact/rolling_resistance.hpp) on every contact
+/// of a ContactModule, with each pair's μ_r. Runs after the contact module in the same
+/// force evaluation (it must be the last module to add torques: it reads the torques
+/// already accumulated, to stop a rolling contact exactly) and reads the contact
+/// module's normal forces; it keeps no state of its own. Pairs are visited in the
+/// contact module's slab order, so results stay independent of the thread count.
+class RollingResistanceModule final : public ForceModule {
+ public:
+  explicit RollingResistanceModule(const ContactModule& contacts) : c_(contacts) {}
+  std::string name() const override { return "rolling_resistance(constant_torque)"; }
+  void add_forces(ParticleStore& p, double dt) override;
+
+ private:
+  const ContactModule& c_;
 };
 
 }  // namespace cdm

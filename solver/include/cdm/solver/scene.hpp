@@ -17,8 +17,10 @@
 
 namespace cdm {
 
-enum class NormalContactModel { none, linear_spring_dashpot };
+/// The scene's default normal contact law (a [[contacts]] entry may name another).
+enum class NormalContactModel { none, linear_spring_dashpot, hertz_mindlin };
 enum class TangentialModel { none, spring_coulomb };
+enum class RollingModel { none, constant_torque };
 enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4, exponential_midpoint };
 enum class GasModel { none, prescribed, solved };
 
@@ -54,6 +56,7 @@ struct SceneSpec {
   Vec3 g;                                          // [m/s^2]
   NormalContactModel normal_contact = NormalContactModel::none;
   TangentialModel tangential = TangentialModel::none;
+  RollingModel rolling = RollingModel::none;
   /// Gas phase: none (a DEM-only scene builds no grid) or a prescribed field.
   GasModel gas = GasModel::none;
   fluid::GasSpec gas_spec;  // when gas != none
@@ -82,7 +85,10 @@ struct SceneSpec {
   bool dt_auto = true;
   double dt_divisor = 50.0;  // dt = t_col,min / dt_divisor when dt_auto
   double dt = 0.0;           // [s], explicit or resolved from auto
-  double t_col_min = 0.0;    // [s], smallest collision time among pairs that can meet (0 if none)
+  double t_col_min = 0.0;    // [s], smallest collision time among pairs that can meet (0 if none or unknown)
+  double impact_velocity = 0.0;    // [m/s] largest expected impact speed (Hertz collision time); 0 = not given
+  double rayleigh_fraction = 0.0;  // dt = rayleigh_fraction * T_R,min when > 0 (dt_auto only)
+  double rayleigh_time_min = 0.0;  // [s] smallest Rayleigh time of the Hertz–Mindlin particles (0 if none)
   double end_time = 0.0;     // [s]
 
   double output_interval = 0.0;  // [s] between rows of the particle table

@@ -41,7 +41,7 @@ class Simulation {
   std::uint64_t total_steps() const { return total_steps_; }
   /// Names of the modules built for this scene, in evaluation order.
   std::vector<std::string> module_names() const;
-  const LinearContactModule* contact() const { return contact_; }
+  const ContactModule* contact() const { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
@@ -92,7 +92,7 @@ class Simulation {
   SceneSpec spec_;
   ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
-  LinearContactModule* contact_ = nullptr;
+  ContactModule* contact_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;
   std::unique_ptr<fluid::GasSolver> solver_;
