@@ -213,7 +213,7 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
                             double m_eff, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
                             double* fn_mag) {
   if constexpr (Law == ContactLaw::linear_spring_dashpot) {
-    (void)r_star; (void)vrel_step;
+    (void)r_star;
     const double eta_n = normal_damping(pp, m_eff);
     const double vn_mag = dot(vrel, eta);
     const Vec3 vn = vn_mag * eta;
@@ -222,7 +222,11 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
     if (fn_mag) *fn_mag = norm(fn);
     if constexpr (Friction) {
       const Vec3 vt = vrel - vn;
-      hist = contact::update_tangential_displacement(hist, touch == 0, vt, std::abs(vn_mag), overlap, dt, eta);
+      // The history follows the displacement the contact points actually made over the
+      // step (see ContactModule::set_step_velocities), as for Hertz–Mindlin.
+      const double vs_n = dot(vrel_step, eta);
+      hist = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n), overlap,
+                                                     dt, eta);
       touch = 1;
       const double kt = pp.kt_factor * pp.kn;
       const double eta_t = pp.etat_factor * eta_n;
@@ -285,7 +289,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   constexpr bool record = Record;
   // Velocities the positions moved with over the last step, where the integrator keeps
   // them apart from v (velocity Verlet); before the first step, v itself.
-  const bool step_vel = Friction && L != Laws::linear && step_.vx && step_.vx->size() == p.size() &&
+  const bool step_vel = Friction && step_.vx && step_.vx->size() == p.size() &&
                         step_.wx && step_.wx->size() == p.size();
   auto step_velocity = [&](std::uint32_t i) {
     return step_vel ? Vec3{(*step_.vx)[i], (*step_.vy)[i], (*step_.vz)[i]} : p.velocity(i);
