@@ -134,4 +134,31 @@ TEST(GasSolver, InletOutletChannelConservesMass) {
   EXPECT_NEAR(0.5 * (gas.p[g.at(19, 3, 0)] + gas.p[g.at(20, 3, 0)]), 5.0, 1e-12);
 }
 
+// A layer of particles (ε = 0.4) on the inlet must not throttle the inflow: the inlet
+// velocity is superficial (the entering gas carries no particles), so every cross-section
+// carries V · area, through the layer (ε u = V) and above it (u = V).
+TEST(GasSolver, InletVelocityIsSuperficialUnderAParticleLayer) {
+  GasSpec s = box(8, 20, BoundaryKind::free_slip, BoundaryKind::no_slip, 1.0, 2.0);
+  s.grid.faces[2].kind = BoundaryKind::velocity_inlet;
+  s.grid.faces[2].normal_velocity = 0.3;
+  s.grid.faces[3].kind = BoundaryKind::pressure_outlet;
+  GasField gas(s, {}, true, true);
+  GasSolver solver(gas, {AdvectionScheme::upwind, {}, {}});
+  const StaggeredGrid& g = gas.grid();
+  std::vector<double> eps = gas.eps_g;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 8; ++i) eps[g.at(i, j, 0)] = 0.4;
+  g.fill_scalar_ghosts(eps);
+  for (int m = 0; m < 50; ++m) solver.step(1e-3, eps);
+  for (int j : {1, 3, 5, 6, 12, 20}) {  // faces inside the layer, at its top, above it
+    double flux = 0.0;
+    for (int i = 0; i < 8; ++i) {
+      const double ef = 0.5 * (eps[g.at(i, j - 1, 0)] + eps[g.at(i, j, 0)]);
+      flux += (j == 20 ? 1.0 : ef) * gas.v[g.at(i, j, 0)] / 8.0;
+    }
+    EXPECT_NEAR(flux, 0.3, 1e-10) << "superficial flux through face row " << j;
+  }
+  EXPECT_NEAR(gas.v[g.at(3, 2, 0)], 0.3 / 0.4, 1e-10) << "interstitial speed in the layer";
+}
+
 }  // namespace
