@@ -679,19 +679,23 @@ void Loader::read_particles() {
         return true;
       };
       spec_.groups.push_back({path, spec_.particles.size(), count, 0, 0});
-      std::size_t attempts = 0;
-      const std::size_t max_attempts = 1000 * count + 1000;
+      // Jammed when this many tries in a row find no free place: the free volume left is
+      // then below ~5e-5 of the box, and going on would only burn time (a bound on the
+      // consecutive misses, not on the total, keeps the work per placed particle bounded).
+      std::size_t misses = 0;
+      const std::size_t max_misses = 20000;
       for (std::size_t k = 0; k < count;) {
         const double a = uniform(), b = uniform(), c = uniform();
         const Vec3 x{lo.x + a * (hi.x - lo.x), lo.y + b * (hi.y - lo.y), lo.z + c * (hi.z - lo.z)};
         if (exclusive && !clear(x)) {
-          if (++attempts > max_attempts)
+          if (++misses > max_misses)
             fail_value(path + ".count", *cn,
-                       "fewer particles: only " + std::to_string(k) + " fit without overlap after " +
-                           std::to_string(max_attempts) + " random tries (random sequential addition jams near a solids "
-                           "fraction of 0.38; use [[lattices]] for denser packings)");
+                       "fewer particles: only " + std::to_string(k) + " fit without overlap (" +
+                           std::to_string(max_misses) + " random tries in a row found no free place; random sequential "
+                           "addition jams near a solids fraction of 0.38; use [[lattices]] for denser packings)");
           continue;
         }
+        misses = 0;
         if (exclusive) placed[key(x)].push_back(x);
         ParticleSpec p;
         p.material = mat;
