@@ -102,7 +102,10 @@ bool ContactModule::needs_rebuild(const ParticleStore& p) const {
   const double lim2 = 0.25 * skin_ * skin_;
   const std::size_t n = p.size();
   const double worst = parallel_max(n, [&](std::size_t i) {
-    const double dx = p.x[i] - x0_[i], dy = p.y[i] - y0_[i], dz = p.z[i] - z0_[i];
+    // Along a periodic axis a particle may have wrapped since the build: its displacement
+    // is the nearest image of the jump.
+    const double dx = box_.min_image(p.x[i] - x0_[i], 0), dy = box_.min_image(p.y[i] - y0_[i], 1),
+                 dz = box_.min_image(p.z[i] - z0_[i], 2);
     return dx * dx + dy * dy + dz * dz;
   });
   return worst > lim2;
@@ -110,11 +113,17 @@ bool ContactModule::needs_rebuild(const ParticleStore& p) const {
 
 void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
-  search_.find_contacts(p, skin_, candidates_);  // sorted by (i, j)
+  search_.find_contacts(p, skin_, candidates_, box_);  // sorted by (i, j)
+  // Two fixed particles never move: their contact does nothing, so it is not listed.
+  candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
+                                   [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
+                    candidates_.end());
 
   // Slabs along the longest side of the particles' bounding box, each at least one
   // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
   // neighbouring slab. The slab count depends on the geometry only, never on threads.
+  // A periodic axis is never cut (partners across its faces would sit in the first and
+  // the last slab); with all three periodic, one slab.
   const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, rmax = 0.0;
   if (n) {
@@ -127,10 +136,12 @@ void ContactModule::rebuild(const ParticleStore& p) {
       rmax = std::max(rmax, p.radius[i]);
     }
   }
-  int axis = 0;
-  for (int a = 1; a < 3; ++a)
-    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
-  const double range = 2.0 * rmax + skin_, extent = hi[axis] - lo[axis];
+  int axis = -1;
+  for (int a = 0; a < 3; ++a)
+    if (!box_.on[a] && (axis < 0 || hi[a] - lo[a] > hi[axis] - lo[axis])) axis = a;
+  const bool cut = axis >= 0;
+  if (!cut) axis = 0;
+  const double range = 2.0 * rmax + skin_, extent = cut ? hi[axis] - lo[axis] : 0.0;
   const std::size_t nslab =
       range > 0.0 ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / range))) : 1;
   const double width = nslab > 1 ? extent / static_cast<double>(nslab) : 1.0;
@@ -302,6 +313,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
+  const bool periodic = box_.any();
   std::size_t active = 0;
   OverlapRecord worst;
   auto pair_range = [&](std::uint32_t k0, std::uint32_t k1, std::size_t& my_active, OverlapRecord& my_worst) {
@@ -309,7 +321,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     std::uint8_t no_touch = 0;
     for (std::uint32_t k = k0; k < k1; ++k) {
       const std::uint32_t i = pi_[k], j = pj_[k];
-      const Vec3 d = p.position(j) - p.position(i);
+      Vec3 d = p.position(j) - p.position(i);
+      if (periodic) d = box_.min_image(d);
       const double ri = p.radius[i], rj = p.radius[j];
       const double reach = ri + rj;
       const double d2 = dot(d, d);
@@ -331,7 +344,10 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       if constexpr (Friction && L != Laws::linear)
         if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
           vrel_step = step_velocity(i) - step_velocity(j) + cross(Li * step_spin(i) + Lj * step_spin(j), eta);
-      const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+      // A fixed particle is a body of infinite mass: m* is the other's mass.
+      const double m_eff = p.inv_mass[i] == 0.0   ? p.mass[j]
+                           : p.inv_mass[j] == 0.0 ? p.mass[i]
+                                                  : p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
       const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
       double* fn_rec = nullptr;
       if constexpr (record) fn_rec = &fn_pair_[k];
@@ -465,7 +481,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       const std::uint32_t i = pi[k], j = pj[k];
       const PairParams& pp = pairs.get(p.material[i], p.material[j]);
       if (pp.rolling_mu == 0.0) continue;
-      const Vec3 d = p.position(j) - p.position(i);
+      const Vec3 d = c_.periodic_box().min_image(p.position(j) - p.position(i));
       const Vec3 eta = (1.0 / norm(d)) * d;
       const double ri = p.radius[i], rj = p.radius[j];
       const double inertia_eff = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);

@@ -7,8 +7,17 @@
 namespace cdm {
 
 namespace {
-inline bool test_pair(const ParticleStore& p, std::uint32_t i, std::uint32_t j, double margin, double& overlap) {
-  const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i], dz = p.z[j] - p.z[i];
+template <bool Periodic>
+inline bool test_pair(const ParticleStore& p, std::uint32_t i, std::uint32_t j, double margin, double& overlap,
+                      const PeriodicBox& box) {
+  double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i], dz = p.z[j] - p.z[i];
+  if constexpr (Periodic) {
+    dx = box.min_image(dx, 0);
+    dy = box.min_image(dy, 1);
+    dz = box.min_image(dz, 2);
+  } else {
+    (void)box;
+  }
   const double reach = p.radius[i] + p.radius[j] + margin;
   const double d2 = dx * dx + dy * dy + dz * dz;
   if (d2 >= reach * reach) return false;
@@ -18,17 +27,20 @@ inline bool test_pair(const ParticleStore& p, std::uint32_t i, std::uint32_t j, 
 bool by_pair(const ContactPair& a, const ContactPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
 }  // namespace
 
-void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out) const {
+void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                                   const PeriodicBox& box) const {
   out.clear();
   const auto n = static_cast<std::uint32_t>(p.size());
   for (std::uint32_t i = 0; i < n; ++i)
     for (std::uint32_t j = i + 1; j < n; ++j) {
       double ov;
-      if (test_pair(p, i, j, margin, ov)) out.push_back({i, j, ov});
+      if (box.any() ? test_pair<true>(p, i, j, margin, ov, box) : test_pair<false>(p, i, j, margin, ov, box))
+        out.push_back({i, j, ov});
     }
 }
 
-void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out) {
+void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                                   const PeriodicBox& box) {
   out.clear();
   const std::size_t n = p.size();
   if (n < 2) return;
@@ -41,14 +53,25 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
     for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], c[k]); hi[k] = std::max(hi[k], c[k]); }
     rmax = std::max(rmax, p.radius[i]);
   }
+  // Along a periodic axis the cells tile the period exactly, so the cells at either
+  // face are neighbours.
+  for (int k = 0; k < 3; ++k)
+    if (box.on[k]) { lo[k] = box.lo[k]; hi[k] = box.lo[k] + box.len[k]; }
   // Cell edge >= the largest possible contact distance, so only the 27 neighbouring
   // cells can hold partners; grown further if the box would need more than ~2N cells.
   double h = 2.0 * rmax + margin;
   long dims[3];
+  double w[3];  // cell edge per axis [m]
   for (;;) {
     double cells = 1.0;
     for (int k = 0; k < 3; ++k) {
-      dims[k] = std::max(1L, static_cast<long>((hi[k] - lo[k]) / h) + 1);
+      if (box.on[k]) {
+        dims[k] = std::max(1L, static_cast<long>(box.len[k] / h));
+        w[k] = box.len[k] / static_cast<double>(dims[k]);
+      } else {
+        dims[k] = std::max(1L, static_cast<long>((hi[k] - lo[k]) / h) + 1);
+        w[k] = h;
+      }
       cells *= static_cast<double>(dims[k]);
     }
     if (cells <= 2.0 * static_cast<double>(n) + 27.0) break;
@@ -56,7 +79,7 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
   }
   const std::size_t ncell = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
   auto coord = [&](double v, int k) {
-    return std::min(dims[k] - 1, std::max(0L, static_cast<long>((v - lo[k]) / h)));
+    return std::min(dims[k] - 1, std::max(0L, static_cast<long>((v - lo[k]) / w[k])));
   };
   cell_of_.resize(n);
   cell_start_.assign(ncell + 1, 0);
@@ -71,18 +94,36 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
     std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   }
+  // The neighbouring cell coordinates along axis k of cell coordinate c: c-1..c+1 cut at
+  // the ends, or wrapped along a periodic axis (each cell once when there are < 3).
+  auto neighbours = [&](long c, int k, long (&out)[3]) {
+    int m = 0;
+    for (long d = -1; d <= 1; ++d) {
+      long q = c + d;
+      if (box.on[k]) q = (q + dims[k]) % dims[k];
+      else if (q < 0 || q >= dims[k]) continue;
+      bool seen = false;
+      for (int r = 0; r < m; ++r) seen |= out[r] == q;
+      if (!seen) out[m++] = q;
+    }
+    return m;
+  };
+  const bool periodic = box.any();
   for (std::size_t i = 0; i < n; ++i) {
-    const long cx = coord(p.x[i], 0), cy = coord(p.y[i], 1), cz = coord(p.z[i], 2);
-    for (long z = std::max(0L, cz - 1); z <= std::min(dims[2] - 1, cz + 1); ++z)
-      for (long y = std::max(0L, cy - 1); y <= std::min(dims[1] - 1, cy + 1); ++y)
-        for (long x = std::max(0L, cx - 1); x <= std::min(dims[0] - 1, cx + 1); ++x) {
-          const long c = (z * dims[1] + y) * dims[0] + x;
+    long nx[3], ny[3], nz[3];
+    const int mx = neighbours(coord(p.x[i], 0), 0, nx), my = neighbours(coord(p.y[i], 1), 1, ny),
+              mz = neighbours(coord(p.z[i], 2), 2, nz);
+    for (int a = 0; a < mz; ++a)
+      for (int b = 0; b < my; ++b)
+        for (int e = 0; e < mx; ++e) {
+          const long c = (nz[a] * dims[1] + ny[b]) * dims[0] + nx[e];
           for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
             const std::uint32_t j = sorted_[s];
             if (j <= i) continue;
             double ov;
-            if (test_pair(p, static_cast<std::uint32_t>(i), j, margin, ov))
-              out.push_back({static_cast<std::uint32_t>(i), j, ov});
+            const auto ii = static_cast<std::uint32_t>(i);
+            if (periodic ? test_pair<true>(p, ii, j, margin, ov, box) : test_pair<false>(p, ii, j, margin, ov, box))
+              out.push_back({ii, j, ov});
           }
         }
   }

@@ -51,7 +51,9 @@ namespace {
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
-            "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks"}},
+            "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
+            "periodic"}},
+      {"periodic", {"x", "y", "z"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
                    "tracers"}},
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
@@ -257,6 +259,7 @@ class Loader {
   void read_contacts();
   void check_elastic_constants_used() const;
   void read_walls();
+  void read_periodic();
   void read_particles();
   void read_gas();
   void read_solved_gas(const toml::table& gt);
@@ -366,9 +369,6 @@ void Loader::read_materials() {
     }
     m.fixed = boolean(t, "fixed", path).value_or(false);
     if (m.fixed) {
-      if (spec_.normal_contact != NormalContactModel::none)
-        fail_value(path + ".fixed", *t.get("fixed"),
-                   "false while modules.normal_contact is set: contacts with fixed particles are not implemented");
       if (spec_.tracers) fail_value(path + ".fixed", *t.get("fixed"), "false for tracers (they move with the gas)");
     }
     spec_.materials.push_back(m);
@@ -497,6 +497,50 @@ void Loader::read_walls() {
     w.material = material_index(t, "material", path);
     spec_.walls.push_back(w);
   }
+}
+
+void Loader::read_periodic() {
+  PeriodicBox& box = spec_.periodic;
+  if (spec_.gas != GasModel::none) {
+    // The particles share the gas's periodic axes (a 2D gas has no z to wrap).
+    if (const toml::node* n = root_.get("periodic"))
+      fail_value("periodic", *n, "no [periodic] table with a gas: the particles are periodic where gas.boundaries are");
+    const fluid::GridSpec& g = spec_.gas_spec.grid;
+    const double lo[3] = {g.lo.x, g.lo.y, g.lo.z}, hi[3] = {g.hi.x, g.hi.y, g.hi.z};
+    for (int a = 0; a < (g.two_d ? 2 : 3); ++a)
+      if (g.periodic(a)) {
+        box.on[a] = true;
+        box.lo[a] = lo[a];
+        box.len[a] = hi[a] - lo[a];
+      }
+    return;
+  }
+  const toml::node* n = root_.get("periodic");
+  if (!n) return;
+  const toml::table* t = n->as_table();
+  if (!t) fail_value("periodic", *n, "a table with x, y and/or z = [lower, upper]");
+  check_keys(*t, "periodic", "periodic");
+  const char* axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    const toml::node* e = t->get(axes[a]);
+    if (!e) continue;
+    const std::string key = std::string("periodic.") + axes[a];
+    const toml::array* arr = e->as_array();
+    double c[2] = {0.0, 0.0};
+    if (!arr || arr->size() != 2) fail_value(key, *e, "an array [lower, upper] of 2 numbers");
+    for (int i = 0; i < 2; ++i) {
+      const toml::node& v = *arr->get(static_cast<std::size_t>(i));
+      if (auto iv = v.as_integer()) c[i] = static_cast<double>(iv->get());
+      else if (auto fv = v.as_floating_point()) c[i] = fv->get();
+      else fail_value(key, *e, "an array [lower, upper] of 2 numbers");
+    }
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !(c[1] > c[0]))
+      fail_value(key, *e, "[lower, upper] with finite lower < upper");
+    box.on[a] = true;
+    box.lo[a] = c[0] * factor(Dim::length);
+    box.len[a] = (c[1] - c[0]) * factor(Dim::length);
+  }
+  if (!box.any()) fail_value("periodic", *n, "at least one of x, y, z");
 }
 
 void Loader::read_particles() {
@@ -905,12 +949,6 @@ void Loader::read_gas() {
     throw SceneError(file_ + ": key 'modules.pressure_gradient' = true: expected false with gas.field.type = \"" + *type +
                      "\", which defines no pressure (only \"uniform\" and \"taylor_green\" do)");
   gs.prescribed = f;
-  // Contacts do not act across periodic boundaries (yet): refuse rather than miss them.
-  for (int a = 0; a < 3; ++a)
-    if (grid.periodic(a) && spec_.normal_contact != NormalContactModel::none && !(dim == 2 && a == 2))
-      fail_value("gas.boundaries." + std::string(face_names[2 * a]), *bt->get(face_names[2 * a]),
-                 "a wall boundary while modules.normal_contact is set: particle contacts across periodic "
-                 "boundaries are not implemented");
 }
 
 void Loader::read_solved_gas(const toml::table& gt) {
@@ -1042,9 +1080,12 @@ void Loader::resolve_dt(const toml::table* t) {
       if (!count[a]) continue;
       for (std::size_t b = a; b < nm; ++b) {
         if (!count[b] || (a == b && count[a] < 2)) continue;
+        const bool fa = spec_.materials[a].fixed, fb = spec_.materials[b].fixed;
+        if (fa && fb) continue;  // two fixed particles never interact
         const PairParams& pp = need(static_cast<int>(a), static_cast<int>(b),
                                     "particles of both materials are in the scene");
-        const double me = m_min[a] * m_min[b] / (m_min[a] + m_min[b]);
+        // A fixed particle is of infinite mass in a contact: m* is the other's mass.
+        const double me = fa ? m_min[b] : fb ? m_min[a] : m_min[a] * m_min[b] / (m_min[a] + m_min[b]);
         consider(pp, me, r_min[a] * r_min[b] / (r_min[a] + r_min[b]),
                  spec_.materials[a].name + "-" + spec_.materials[b].name);
         if (pp.law == ContactLaw::hertz_mindlin) { rayleigh(a); rayleigh(b); }
@@ -1164,6 +1205,38 @@ void Loader::check_initial_state() {
       }
     }
   }
+  // Along a periodic axis every particle starts inside the period, and contacts (with
+  // the Verlet skin, a tenth of the largest diameter) must reach less than half of it:
+  // particles meet only their nearest images.
+  const PeriodicBox& box = spec_.periodic;
+  if (box.any()) {
+    double rmax = 0.0;
+    for (const auto& p : spec_.particles) rmax = std::max(rmax, p.radius);
+    const char* axes[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      if (!box.on[a]) continue;
+      const std::string where = spec_.gas != GasModel::none ? std::string("gas.boundaries.") + axes[a] + "_lower"
+                                                            : std::string("periodic.") + axes[a];
+      for (std::size_t i = 0; i < spec_.particles.size(); ++i) {
+        const Vec3 x = spec_.particles[i].position;
+        const double c = a == 0 ? x.x : a == 1 ? x.y : x.z;
+        if (c < box.lo[a] || c >= box.lo[a] + box.len[a]) {
+          std::ostringstream os;
+          os << file_ << ": key '" << particle_source(spec_, i) << ".position' = [" << x.x << ", " << x.y << ", " << x.z
+             << "] (SI) lies outside the period [" << box.lo[a] << ", " << box.lo[a] + box.len[a] << ") m along "
+             << axes[a] << " (" << where << "): expected every particle inside it";
+          throw SceneError(os.str());
+        }
+      }
+      if (spec_.normal_contact != NormalContactModel::none && 2.0 * 2.2 * rmax >= box.len[a]) {
+        std::ostringstream os;
+        os << file_ << ": the period along " << axes[a] << " (" << where << ") is " << box.len[a]
+           << " m: expected more than 4.4 times the largest radius (" << 4.4 * rmax
+           << " m), so that a particle's contacts (2.2 r with the Verlet skin) reach less than half of it";
+        throw SceneError(os.str());
+      }
+    }
+  }
   // A centre outside a wall is always an error; touching a wall or another particle
   // only when the scene says the initial overlap is intended.
   for (std::size_t i = 0; i < spec_.particles.size(); ++i) {
@@ -1186,7 +1259,7 @@ void Loader::check_initial_state() {
   for (const auto& p : spec_.particles) tmp.add(p.position, {}, p.radius, 1.0, p.material);
   std::vector<ContactPair> pairs;
   CellListSearch search;
-  search.find_contacts(tmp, 0.0, pairs);
+  search.find_contacts(tmp, 0.0, pairs, spec_.periodic);
   if (!pairs.empty()) {
     const auto& c = pairs.front();
     std::ostringstream os;
@@ -1208,6 +1281,7 @@ SceneSpec Loader::load() {
   check_elastic_constants_used();
   read_walls();
   read_gas();
+  read_periodic();
   read_particles();
   read_integrator();
   read_output_and_checks();

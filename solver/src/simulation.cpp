@@ -29,6 +29,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     auto c = std::make_unique<ContactModule>(spec_.pairs, spec_.walls,
                                              spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max, rolling);
     contact_ = c.get();
+    contact_->set_periodic_box(spec_.periodic);
     // Velocity Verlet moves positions with its half-step velocities (hv, hw below).
     if (spec_.integrator == IntegratorScheme::velocity_verlet)
       contact_->set_step_velocities({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
@@ -104,13 +105,13 @@ void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double&
 }
 
 void Simulation::wrap_positions() {
-  if (!gas_) return;
-  const fluid::StaggeredGrid& g = gas_->grid();
-  if (!g.spec().periodic(0) && !g.spec().periodic(1) && !g.spec().periodic(2)) return;
+  const PeriodicBox& box = spec_.periodic;
+  if (!box.any()) return;
   ParticleStore& p = particles_;
   parallel_for(p.size(), [&](std::size_t i) {
-    const Vec3 x = gas_->wrap(p.position(i));
-    p.x[i] = x.x; p.y[i] = x.y; p.z[i] = x.z;
+    p.x[i] = box.wrap(p.x[i], 0);
+    p.y[i] = box.wrap(p.y[i], 1);
+    p.z[i] = box.wrap(p.z[i], 2);
   });
 }
 

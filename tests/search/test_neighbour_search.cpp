@@ -1,5 +1,6 @@
 // The O(N) cell-list search finds exactly the contacts of the O(N^2) all-pairs
-// reference: >= 10,000 random polydisperse particles, some touching walls.
+// reference: >= 10,000 random polydisperse particles, some touching walls; and with
+// periodic boundaries, where contacts reach across the faces to the nearest image.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -100,6 +101,116 @@ TEST(NeighbourSearch, WallContactsMatchBruteForce) {
   cdm::ContactModule contact(table, walls, false);
   contact.add_forces(p, 1e-6);
   EXPECT_EQ(contact.active_contacts(), pair_contacts + wall_contacts);
+}
+
+// Periodic along x and y (z bounded): the cell list, whose cells tile each period, finds
+// exactly the all-pairs search's nearest-image contacts, including those across the
+// faces — a tenth of the particles are placed straddling a face or a corner.
+TEST(NeighbourSearch, PeriodicCellListEqualsAllPairs) {
+  cdm::PeriodicBox box;
+  box.on[0] = box.on[1] = true;
+  box.lo[0] = -0.01; box.len[0] = 0.05;
+  box.lo[1] = 0.0; box.len[1] = 0.03;
+  cdm::ParticleStore p = random_packing(12000, 5, 0.05, 0.5e-3, 2e-3);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.x[i] = box.wrap(p.x[i] - 0.01, 0);
+    p.y[i] = box.wrap(0.6 * p.y[i], 1);
+    if (i % 10 == 0) p.x[i] = box.wrap(box.lo[0] + (u(rng) < 0.5 ? 1.0 : -1.0) * 1.5e-3 * u(rng), 0);
+    if (i % 20 == 0) p.y[i] = box.wrap(box.lo[1] + (u(rng) < 0.5 ? 1.0 : -1.0) * 1.5e-3 * u(rng), 1);
+  }
+  std::vector<cdm::ContactPair> cells, brute, open;
+  cdm::CellListSearch cl;
+  for (double margin : {0.0, 0.3e-3}) {
+    cl.find_contacts(p, margin, cells, box);
+    cdm::AllPairsSearch().find_contacts(p, margin, brute, box);
+    cdm::AllPairsSearch().find_contacts(p, margin, open);
+    EXPECT_GT(brute.size(), open.size() + 100) << "contacts across the faces must be found";
+    expect_same(cells, brute);
+  }
+  // A period of only two or one cells (each neighbouring cell visited once).
+  box.len[1] = 0.009;
+  box.len[0] = 0.005;
+  cdm::ParticleStore q;
+  for (std::size_t i = 0; i < 300; ++i)
+    q.add({box.lo[0] + box.len[0] * u(rng), box.len[1] * u(rng), 0.02 * u(rng)}, {}, 0.9e-3 + 0.2e-3 * u(rng), 2500.0, 0);
+  cl.find_contacts(q, 0.1e-3, cells, box);
+  cdm::AllPairsSearch().find_contacts(q, 0.1e-3, brute, box);
+  expect_same(cells, brute);
+}
+
+cdm::PairTable linear_table() {
+  cdm::PairTable table(1);
+  cdm::PairParams pp;
+  pp.kn = 1e3;
+  pp.en = 0.9;
+  pp.mu = 0.5;
+  table.set(0, 0, pp);
+  return table;
+}
+
+// A pair touching across the x face gets, bit for bit, the forces and torques of the
+// same pair in the interior; momentum is conserved over a periodic random packing.
+TEST(PeriodicContacts, ForceAcrossTheFaceEqualsInteriorForce) {
+  cdm::PeriodicBox box;
+  box.on[0] = true;
+  box.lo[0] = 0.0;
+  box.len[0] = 0.02;
+  auto pair_forces = [&](double x1, double x2) {
+    cdm::ParticleStore p;
+    p.enable_rotation();
+    p.add({x1, 0.01, 0.01}, {0.1, 0.02, 0.0}, 1e-3, 2500.0, 0);
+    p.add({x2, 0.0105, 0.01}, {-0.1, 0.0, 0.03}, 1e-3, 2500.0, 0);
+    p.set_angular_velocity(0, {1.0, 2.0, 3.0});
+    cdm::ContactModule c(linear_table(), {}, true, 0.2e-3);
+    c.set_periodic_box(box);
+    c.add_forces(p, 1e-6);
+    c.add_forces(p, 1e-6);  // twice: the tangential history grows
+    EXPECT_EQ(c.active_contacts(), 1u);
+    return std::vector<double>{p.fx[0], p.fy[0], p.fz[0], p.fx[1], p.fy[1], p.fz[1], p.tx[0], p.ty[0], p.tz[0], p.tx[1]};
+  };
+  // Centres 1.9 mm apart along x (overlap 0.1 mm): inside, and across x = 0 / 0.02. The
+  // positions are exact binary fractions apart so the separations agree bit for bit.
+  const double s = 0.0019;
+  const auto inside = pair_forces(0.01 - 0.5 * s, 0.01 + 0.5 * s);
+  const auto across = pair_forces(0.02 - 0.5 * s, 0.5 * s);
+  for (std::size_t k = 0; k < inside.size(); ++k) EXPECT_NEAR(across[k], inside[k], 1e-12 * std::abs(inside[0])) << k;
+  EXPECT_NE(inside[0], 0.0);
+
+  cdm::ParticleStore p = random_packing(3000, 11, 0.02, 0.5e-3, 1e-3);
+  p.enable_rotation();  // friction makes torque
+  cdm::PeriodicBox all;
+  for (int a = 0; a < 3; ++a) { all.on[a] = true; all.len[a] = 0.02; }
+  cdm::ContactModule c(linear_table(), {}, true, 0.1e-3);
+  c.set_periodic_box(all);
+  for (std::size_t i = 0; i < p.size(); ++i) p.vx[i] = 0.01 * std::sin(static_cast<double>(i));
+  c.add_forces(p, 1e-6);
+  double fx = 0, fy = 0, fz = 0, fabs = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    fx += p.fx[i]; fy += p.fy[i]; fz += p.fz[i];
+    fabs += std::abs(p.fx[i]);
+  }
+  EXPECT_GT(c.active_contacts(), 500u);
+  EXPECT_LT(std::abs(fx) + std::abs(fy) + std::abs(fz), 1e-12 * fabs);
+}
+
+// A fixed particle is an immovable body in contacts: against a mobile one, the force is
+// that of a wall (m* = the mobile particle's mass); two fixed particles are not listed.
+TEST(PeriodicContacts, FixedParticlesActAsInfiniteMass) {
+  cdm::ParticleStore p;
+  p.add({0.0, 0.0, 0.0}, {}, 1e-3, 2500.0, 0, true);
+  p.add({0.0, 0.0019, 0.0}, {0.0, -0.1, 0.0}, 1e-3, 2500.0, 0);
+  p.add({0.0019, 0.0, 0.0}, {}, 1e-3, 2500.0, 0, true);  // overlaps the first: not a contact
+  cdm::ContactModule c(linear_table(), {}, false);
+  c.add_forces(p, 1e-6);
+  EXPECT_EQ(c.listed_pairs(), 1u);
+  cdm::ParticleStore w;
+  w.add({0.0, 0.0019, 0.0}, {0.0, -0.1, 0.0}, 1e-3, 2500.0, 0);
+  cdm::ContactModule cw(linear_table(), {{"floor", {0.0, 0.001, 0.0}, {0.0, 1.0, 0.0}, 0}}, false);
+  cw.add_forces(w, 1e-6);
+  EXPECT_DOUBLE_EQ(p.fy[1], w.fy[0]);
+  EXPECT_DOUBLE_EQ(p.fy[0], -w.fy[0]);
 }
 
 }  // namespace

@@ -89,6 +89,9 @@ class ContactModule final : public ForceModule {
   std::size_t listed_pairs() const { return pi_.size(); }
   const std::vector<PlaneWall>& walls() const { return walls_; }
   const PairTable& pairs() const { return pairs_; }
+  /// Particles interact through their nearest images along the box's periodic axes.
+  void set_periodic_box(const PeriodicBox& box) { box_ = box; }
+  const PeriodicBox& periodic_box() const { return box_; }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
 
@@ -134,6 +137,7 @@ class ContactModule final : public ForceModule {
   bool record_;
   Laws laws_;
   CellListSearch search_;
+  PeriodicBox box_;
   std::vector<ContactPair> candidates_;
   // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
   // [slab_start_[s], slab_start_[s+1]).

@@ -3,10 +3,13 @@
 /// @brief Particle–particle contact detection. CellListSearch is O(N) (cell-linked
 /// lists, cell edge = largest diameter + margin); AllPairsSearch is the O(N^2)
 /// reference the tests compare it with. Both return pairs i < j sorted by (i, j).
+/// With a PeriodicBox, distances are to the nearest image along its periodic axes
+/// (particles must lie inside the box along those axes).
 #include <cstdint>
 #include <vector>
 
 #include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/periodic_box.hpp"
 
 namespace cdm {
 
@@ -18,12 +21,14 @@ struct ContactPair {
 /// Pairs with |X_j - X_i| < r_i + r_j + margin.
 class AllPairsSearch {
  public:
-  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out) const;
+  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                     const PeriodicBox& box = {}) const;
 };
 
 class CellListSearch {
  public:
-  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out);
+  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                     const PeriodicBox& box = {});
 
  private:
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;

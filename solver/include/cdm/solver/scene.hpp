@@ -12,6 +12,7 @@
 #include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/materials.hpp"
+#include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
 #include "cdm/solver/walls.hpp"
 
@@ -78,6 +79,9 @@ struct SceneSpec {
   std::vector<Material> materials;
   PairTable pairs;
   std::vector<PlaneWall> walls;
+  /// Axes along which particles wrap and interact through the faces: from `[periodic]`,
+  /// or those of a gas whose boundaries are periodic.
+  PeriodicBox periodic;
   std::vector<ParticleSpec> particles;
   std::vector<ParticleGroup> groups;  // covers particles in order
 

@@ -1,0 +1,36 @@
+#pragma once
+/// @file periodic_box.hpp
+/// @brief Periodic boundaries for the particles: along a periodic axis a particle that
+/// leaves through one face re-enters through the other, and two particles interact
+/// through their nearest images (the minimum-image convention, valid while the
+/// interaction range is below half the period; the loader checks that).
+#include <cmath>
+
+#include "cdm/solver/vec3.hpp"
+
+namespace cdm {
+
+struct PeriodicBox {
+  bool on[3] = {false, false, false};  // periodic along x, y, z
+  double lo[3] = {0.0, 0.0, 0.0};      // lower face [m]
+  double len[3] = {0.0, 0.0, 0.0};     // period [m]
+
+  bool any() const { return on[0] || on[1] || on[2]; }
+
+  /// @brief The separation @p d of two points along axis @p a, to its nearest image.
+  double min_image(double d, int a) const { return on[a] ? d - len[a] * std::nearbyint(d / len[a]) : d; }
+
+  /// @brief The separation vector to the nearest image of the second point.
+  Vec3 min_image(Vec3 d) const { return {min_image(d.x, 0), min_image(d.y, 1), min_image(d.z, 2)}; }
+
+  /// @brief Coordinate @p c along axis @p a brought into [lo, lo + len).
+  double wrap(double c, int a) const {
+    if (!on[a] || (c >= lo[a] && c < lo[a] + len[a])) return c;  // inside already: no fmod
+    double r = std::fmod(c - lo[a], len[a]);
+    if (r < 0) r += len[a];
+    if (r >= len[a]) r = 0.0;  // fmod of a value just below 0 can round to len
+    return lo[a] + r;
+  }
+};
+
+}  // namespace cdm
