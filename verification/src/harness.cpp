@@ -49,6 +49,7 @@ bool match(const Tolerance& t, const std::string& variant, const std::string& in
            const std::string& q, const std::string& norm) {
   auto m = [](const std::string& pat, const std::string& v) { return pat == "*" || pat == v; };
   return m(t.variant, variant) && m(t.integrator, integ) && (t.dt_divisor == 0.0 || t.dt_divisor == div) &&
+         (t.dt_divisor_below == 0.0 || div < t.dt_divisor_below) &&
          t.quantity == q && t.norm == norm;
 }
 
@@ -173,6 +174,7 @@ std::vector<Tolerance> load_tolerances(const std::string& case_dir) {
     tol.quantity = e["quantity"].value_or(std::string{});
     tol.norm = e["norm"].value_or(std::string{});
     if (auto d = e.get("dt_divisor")) tol.dt_divisor = as_number(*d, file + ": dt_divisor");
+    if (auto d = e.get("dt_divisor_below")) tol.dt_divisor_below = as_number(*d, file + ": dt_divisor_below");
     if (auto m = e.get("max")) tol.max = as_number(*m, file + ": max");
     else if (auto m2 = e.get("min_order")) tol.max = as_number(*m2, file + ": min_order");
     else if (auto m3 = e.get("min")) { tol.max = as_number(*m3, file + ": min"); tol.at_least = true; }

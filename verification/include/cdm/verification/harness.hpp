@@ -79,7 +79,8 @@ const std::map<std::string, CaseRunner>& case_runners();
 /// A tolerance from the case's tolerances.toml: first matching entry wins.
 struct Tolerance {
   std::string variant = "*", integrator = "*", quantity, norm;
-  double dt_divisor = 0.0;  // 0 = any
+  double dt_divisor = 0.0;        // 0 = any
+  double dt_divisor_below = 0.0;  // > 0: only runs coarser than dt = t/this (divisor below it)
   double max = 0.0;         // error must be <= max (for norm "order": slope must be >= max)
   // A tolerance that follows the scheme's known convergence: at dt = t_col/N the bound is
   // max * (ref_divisor / N)^order (order 0: the same bound at every dt).
