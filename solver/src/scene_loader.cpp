@@ -987,9 +987,21 @@ void Loader::read_solved_gas(const toml::table& gt) {
   else if (kernel == "trilinear") spec_.kernel = coupling::Kernel::trilinear;
   else if (kernel == "gaussian") spec_.kernel = coupling::Kernel::gaussian;
   else fail_value("coupling.kernel", *c.get("kernel"), "\"cell\", \"trilinear\" or \"gaussian\"");
-  if (spec_.kernel == coupling::Kernel::gaussian && spec_.coupling_method == coupling::CouplingMethod::interpolate)
+  if (spec_.kernel == coupling::Kernel::gaussian && spec_.coupling_method == coupling::CouplingMethod::interpolate) {
     spec_.kernel_width = positive(c, "kernel_width", "coupling", Dim::length, true);
-  else
+    // The kernel reaches 3σ: its stencil, up to 16 cells either side, bounds the work per
+    // particle (a wider kernel would cost (6σ/h)³ weights per particle and deposition).
+    const fluid::GridSpec& g = spec_.gas_spec.grid;
+    const double lo[3] = {g.lo.x, g.lo.y, g.lo.z}, hi[3] = {g.hi.x, g.hi.y, g.hi.z};
+    double reach = std::numeric_limits<double>::max();
+    for (int a = 0; a < (g.two_d ? 2 : 3); ++a) reach = std::min(reach, 16.0 * (hi[a] - lo[a]) / g.cells[a]);
+    if (3.0 * spec_.kernel_width > reach) {
+      std::ostringstream os;
+      os << "a width whose reach, 3 sigma, spans at most 16 gas cells along every axis (sigma <= " << reach / 3.0
+         << " m here)";
+      fail_value("coupling.kernel_width", *c.get("kernel_width"), os.str());
+    }
+  } else
     reject_unused(c, "kernel_width", "coupling", "coupling.kernel is not \"gaussian\"");
   if (!spec_.two_way) {
     for (const char* k : {"method", "kernel", "kernel_width"})
