@@ -1,6 +1,7 @@
 #include "cdm/solver/simulation.hpp"
 
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/scene_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -301,7 +302,14 @@ void Simulation::build_gas() {
     deposition_ = std::make_unique<coupling::Deposition>(g, k, spec_.kernel_width);
     imp_x_.assign(g.padded_size(), 0.0);
     imp_y_ = imp_z_ = imp_x_;
-    deposit_void_fraction(gas_->eps_g);
+    // At the start nothing has run yet: a gas fraction the cells cannot represent is a
+    // property of the scene (particles too large for the cells, or piled into them), so
+    // it is refused as such, naming the file.
+    try {
+      deposit_void_fraction(gas_->eps_g);
+    } catch (const SimulationError& e) {
+      throw SceneError(spec_.file + ": the initial particles do not fit the gas cells: " + std::string(e.what()));
+    }
   }
   gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
   solver_ = std::make_unique<fluid::GasSolver>(
