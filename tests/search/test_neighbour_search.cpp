@@ -140,13 +140,15 @@ TEST(NeighbourSearch, PeriodicCellListEqualsAllPairs) {
   expect_same(cells, brute);
 }
 
+// Two materials with the same linear law: random_packing alternates materials 0 and 1.
 cdm::PairTable linear_table() {
-  cdm::PairTable table(1);
+  cdm::PairTable table(2);
   cdm::PairParams pp;
   pp.kn = 1e3;
   pp.en = 0.9;
   pp.mu = 0.5;
-  table.set(0, 0, pp);
+  for (int a = 0; a < 2; ++a)
+    for (int b = a; b < 2; ++b) table.set(a, b, pp);
   return table;
 }
 
