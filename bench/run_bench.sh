@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
-# Side-by-side throughput of cdm, LAMMPS and LIGGGHTS on the settle problems of
+# Side-by-side throughput of cdm, LAMMPS and LIGGGHTS on the settle and chute problems of
 # ../../shared/bench-peers (decks copied to bench/peers/, cdm's scene in bench/scenes/).
 # Runs alternate between codes (cdm on 1 thread, LAMMPS, LIGGGHTS, cdm on 2 threads),
 # REPS repetitions each; prints per code and problem:
 # particles, steps, loop wall time (median), particle-steps/s per core, peak RSS per
-# particle, and the ratio cdm/peer. Installs the peers (Debian lammps, liggghts) if missing.
-#   bench/run_bench.sh [PROBLEM ...]     PROBLEM in settle1e4 settle1e5 settle1e6 (default: all)
+# particle, and the ratio cdm/peer. Installs the peers (Debian lammps, liggghts) if missing, without
+# their recommendations (those pull python3-paraview, which removes python3-vtk9 that the tests need).
+#   bench/run_bench.sh [PROBLEM ...]     PROBLEM in settle1e4 settle1e5 settle1e6 chute32k (default: all)
+# chute32k times 10,000 steps from a flowing state prepared once per code, as the peers'
+# reference runs: 0.25 s of flow from the lattice (LAMMPS: in.chute_prep.lammps at
+# dt = t_c/25, its data file read by both peers; cdm: its own scene at dt = t_c/50 up to
+# a checkpoint, restarted for each timed run). Contact history starts empty in the
+# peers' timed runs (they read a data file) and is carried over in cdm's (a restart).
 # Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -14,11 +20,11 @@ cdm="${CDM:-$root/build/release/app/cdm}"
 reps="${REPS:-3}"
 out="${OUT:-$here/results}"
 problems=("$@")
-[ ${#problems[@]} -gt 0 ] || problems=(settle1e4 settle1e5 settle1e6)
+[ ${#problems[@]} -gt 0 ] || problems=(settle1e4 settle1e5 settle1e6 chute32k)
 
 if ! command -v lmp > /dev/null || ! command -v liggghts > /dev/null; then
   sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq lammps liggghts openmpi-bin
+  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps liggghts openmpi-bin
 fi
 [ -x "$cdm" ] || { echo "build cdm first (scripts/build.sh release)"; exit 1; }
 mkdir -p "$out"
@@ -30,6 +36,7 @@ geometry() {
     settle1e4) echo "20 20 40000 4 10000" ;;
     settle1e5) echo "50 80 10000 1 10000" ;;
     settle1e6) echo "200 200 1000 1 1000" ;;
+    chute32k) echo "40 20 10000 1 10000" ;;
     *) echo "unknown problem $1" >&2; exit 2 ;;
   esac
 }
@@ -40,6 +47,26 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
   local dir="$out/raw/${code}_${prob}_r${rep}"
   rm -rf "$dir"; mkdir -p "$dir"
   local n=$((nx * ny * 25)) loop
+  if [ "$prob" = chute32k ]; then
+    n=32000
+    case $code in
+      cdm|cdm2)
+        local threads=1; [ "$code" = cdm2 ] && threads=2
+        OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/chute32k.toml" -o "$dir" -q \
+          --set integrator.end_time=1.0 --restart "$out/prep/cdm/checkpoint.cdmck" --max-steps "$steps" > "$dir/log.txt"
+        rm -f "$dir/checkpoint.cdmck"
+        loop=$(awk '/^loop time/ {print $3}' "$dir/log.txt") ;;
+      lammps|liggghts)
+        local exe=lmp; [ "$code" = liggghts ] && exe=liggghts
+        (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "$exe" -in "in.chute.$code" -log "$dir/log.txt" \
+          -screen none -var nsteps "$steps" -var data "$out/prep/chute32k.data" -var thevery 2000 > "$dir/stdout.txt" 2>&1)
+        loop=$(awk '/Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
+    esac
+    local rss
+    rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt")
+    echo "$code $prob $n $steps $loop $rss" | tee -a "$out/runs.txt"
+    return
+  fi
   case $code in
     cdm|cdm2)
       local threads=1; [ "$code" = cdm2 ] && threads=2
@@ -61,6 +88,19 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
   rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt")
   echo "$code $prob $n $steps $loop $rss" | tee -a "$out/runs.txt"
 }
+
+prepare_chute() {  # the flowing states the timed chute runs start from (once per code)
+  mkdir -p "$out/prep/cdm"
+  if [ ! -s "$out/prep/chute32k.data" ]; then
+    (cd "$here/peers" && lmp -in in.chute_prep.lammps -log "$out/prep/log.lammps_prep" -screen none \
+      -var out "$out/prep/chute32k.data" > /dev/null)
+  fi
+  if [ ! -s "$out/prep/cdm/checkpoint.cdmck" ]; then
+    OMP_NUM_THREADS=2 "$cdm" run "$here/scenes/chute32k.toml" -o "$out/prep/cdm" -q --set integrator.end_time=1.0 \
+      --max-steps 155440 > "$out/prep/cdm/log.txt"
+  fi
+}
+for prob in "${problems[@]}"; do [ "$prob" = chute32k ] && prepare_chute; done
 
 : > "$out/runs.txt"
 for prob in "${problems[@]}"; do
