@@ -38,6 +38,7 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;
   if (!built_ || needs_rebuild(p)) rebuild(p);
+  else if (wall_candidates_stale_) list_wall_candidates(p);
   if (record_) {
     fn_pair_.resize(pi_.size());
     fn_wall_.resize(p.size() * walls_.size());
@@ -95,6 +96,41 @@ void ContactModule::load_state(InArchive& a) {
   built_ = built != 0;
   builds_ = builds;
   n_active_ = active;
+  wall_candidates_stale_ = true;  // listed from the build's positions at the next evaluation
+}
+
+void ContactModule::list_wall_candidates(const ParticleStore& p) {
+  // From the positions at the last build (x0_), so a restart lists exactly what the
+  // build did. A particle moves less than skin/2 before the next build, so one farther
+  // than r + skin from every wall cannot reach one. A wall not perpendicular to every
+  // periodic axis sees wrapped particles jump, so then every particle is tested.
+  const std::size_t n = x0_.size(), nw = walls_.size();
+  wall_candidates_.clear();
+  wall_candidates_stale_ = false;
+  bool filter = skin_ >= 0.0;
+  for (const PlaneWall& w : walls_) {
+    const double nrm[3] = {w.normal.x, w.normal.y, w.normal.z};
+    for (int a = 0; a < 3; ++a)
+      if (box_.on[a] && nrm[a] != 0.0) filter = false;
+  }
+  if (!nw) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool near = !filter;
+    for (std::size_t w = 0; w < nw && !near; ++w)
+      near = walls_[w].distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_;
+    if (near) wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+  }
+  // Particles no longer listed are not in contact with any wall.
+  if (record_ && fn_wall_.size() != n * nw) fn_wall_.assign(n * nw, -1.0);
+  std::vector<std::uint8_t> listed(n, 0);
+  for (std::uint32_t i : wall_candidates_) listed[i] = 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (listed[i]) continue;
+    for (std::size_t w = 0; w < nw; ++w) {
+      if (wall_touch_.size() == n * nw) wall_touch_[i * nw + w] = 0;
+      if (record_) fn_wall_[i * nw + w] = -1.0;
+    }
+  }
 }
 
 bool ContactModule::needs_rebuild(const ParticleStore& p) const {
@@ -203,6 +239,7 @@ void ContactModule::rebuild(const ParticleStore& p) {
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   built_ = true;
   ++builds_;
+  list_wall_candidates(p);
 }
 
 namespace {
@@ -394,11 +431,13 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   // Particle–wall: the wall is a body of infinite mass at rest; m_eff = m_i. Each
   // particle only touches its own force, so particles run in parallel.
   const std::size_t nw = walls_.size();
-  auto wall_range = [&](std::size_t i0, std::size_t i1, std::size_t& my_active, OverlapRecord& my_worst) {
+  // Only the wall candidates (listed at the build) can touch a wall; each is listed once.
+  auto wall_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
     Vec3 no_hist;
     std::uint8_t no_touch = 0;
-    for (std::size_t ii = i0; ii < i1; ++ii) {
-      const auto i = static_cast<std::uint32_t>(ii);
+    for (std::size_t c = c0; c < c1; ++c) {
+      const std::uint32_t i = wall_candidates_[c];
+      const std::size_t ii = i;
       for (std::size_t w = 0; w < nw; ++w) {
         const PlaneWall& wall = walls_[w];
         const double dist = wall.distance(p.position(i));
@@ -433,16 +472,17 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       }
     }
   };
+  const std::size_t nc = wall_candidates_.size();
   if (nw && !threads) {
-    wall_range(0, n, active, worst);
+    wall_range(0, nc, active, worst);
   } else if (nw) {
 #pragma omp parallel
     {
       std::size_t my_active = 0;
       OverlapRecord my_worst;
-      const std::size_t chunk = 1024, nchunk = (n + chunk - 1) / chunk;
+      const std::size_t chunk = 1024, nchunk = (nc + chunk - 1) / chunk;
 #pragma omp for schedule(static)
-      for (std::size_t c = 0; c < nchunk; ++c) wall_range(c * chunk, std::min(n, (c + 1) * chunk), my_active, my_worst);
+      for (std::size_t c = 0; c < nchunk; ++c) wall_range(c * chunk, std::min(nc, (c + 1) * chunk), my_active, my_worst);
 #pragma omp critical(cdm_contact_reduce)
       {
         active += my_active;

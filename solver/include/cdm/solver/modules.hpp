@@ -60,7 +60,8 @@ struct OverlapRecord {
 /// Contacts are found through a Verlet list: the cell-list search collects every pair
 /// closer than r_i + r_j + skin, and the list is rebuilt only once some particle has
 /// moved more than skin/2 since the last build — until then no pair outside the list
-/// can touch. Tangential history lives beside each listed pair (and per particle and
+/// can touch. Walls likewise: only particles within r + skin of a wall at the build
+/// are tested against the walls until the next build. Tangential history lives beside each listed pair (and per particle and
 /// wall), and is carried across rebuilds, so the hot loop does no hashing.
 ///
 /// Threads: at each build the domain is cut into slabs along its longest side, at least
@@ -129,6 +130,7 @@ class ContactModule final : public ForceModule {
   void add_forces_impl(ParticleStore& p, double dt);
   bool needs_rebuild(const ParticleStore& p) const;
   void rebuild(const ParticleStore& p);
+  void list_wall_candidates(const ParticleStore& p);
 
   PairTable pairs_;
   std::vector<PlaneWall> walls_;
@@ -146,6 +148,10 @@ class ContactModule final : public ForceModule {
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
   std::vector<std::uint8_t> wall_touch_;
+  // Particles that may touch a wall before the next build (within r + skin of one at
+  // the build, in index order), or every particle; only these are tested against walls.
+  std::vector<std::uint32_t> wall_candidates_;
+  bool wall_candidates_stale_ = true;  // after load_state: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
   StepVelocities step_;                       // see set_step_velocities
