@@ -64,7 +64,8 @@ std::vector<std::string> Simulation::module_names() const {
 }
 
 void Simulation::compute_forces() {
-  particles_.clear_forces();
+  if (!forces_zeroed_) particles_.clear_forces();  // else the integrator zeroed them as it read them
+  forces_zeroed_ = false;
   for (auto& m : modules_) m->add_forces(particles_, spec_.dt);
   forces_valid_ = true;
 }
@@ -162,6 +163,7 @@ void Simulation::step() {
   const double dt = spec_.dt;
   const bool rot = p.has_rotation();
   const double t_new = static_cast<double>(steps_ + 1) * dt;
+  double nonfinite = -1.0;  // 1 if some particle's state is not finite, 0 if none, -1 not yet checked
   switch (spec_.integrator) {
     case IntegratorScheme::rk2:
     case IntegratorScheme::rk4:
@@ -238,8 +240,13 @@ void Simulation::step() {
       // updated, which drops plain Verlet to first order; the force at t+Δt is
       // evaluated with the predicted velocity v(t) + Δt a(t) (error O(Δt²) in the
       // force, O(Δt³) in the step), which keeps second order.
+      // Two passes over the particles, each fused: (half kick, drift, predicted
+      // velocity and spin, then the forces zeroed once read) and (final kick and spin,
+      // and the finiteness check). Outside the contacts the step is memory-bound, so
+      // every pass saved is a stream of the whole state saved.
       if (!forces_valid_) compute_forces();
       hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
+      if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
       const double h = 0.5 * dt;
       parallel_for(n, [&](std::size_t i) {
         hvx_[i] = p.vx[i]; hvy_[i] = p.vy[i]; hvz_[i] = p.vz[i];
@@ -247,33 +254,35 @@ void Simulation::step() {
         p.x[i] += dt * hvx_[i]; p.y[i] += dt * hvy_[i]; p.z[i] += dt * hvz_[i];
         p.vx[i] = hvx_[i]; p.vy[i] = hvy_[i]; p.vz[i] = hvz_[i];
         kick(i, h, p.vx[i], p.vy[i], p.vz[i], false);  // predicted v(t+Δt), for velocity-dependent forces
-      });
-      if (rot) {
-        hwx_.resize(n); hwy_.resize(n); hwz_.resize(n);
-        parallel_for(n, [&](std::size_t i) {
+        p.fx[i] = 0.0; p.fy[i] = 0.0; p.fz[i] = 0.0;
+        if (rot) {
           const double b = h * p.inv_inertia[i];
           hwx_[i] = p.wx[i] + b * p.tx[i]; hwy_[i] = p.wy[i] + b * p.ty[i]; hwz_[i] = p.wz[i] + b * p.tz[i];
           p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
-        });
-      }
+          p.tx[i] = 0.0; p.ty[i] = 0.0; p.tz[i] = 0.0;
+        }
+      });
+      forces_zeroed_ = true;
       wrap_positions();
       if (gas_) gas_->set_time(t_new);
       compute_forces();
-      parallel_for(n, [&](std::size_t i) {
+      nonfinite = parallel_max(n, [&](std::size_t i) {
         p.vx[i] = hvx_[i]; p.vy[i] = hvy_[i]; p.vz[i] = hvz_[i];
         kick(i, h, p.vx[i], p.vy[i], p.vz[i]);
-      });
-      if (rot)
-        parallel_for(n, [&](std::size_t i) {
+        double sum = p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i];
+        if (rot) {
           const double b = h * p.inv_inertia[i];
           p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
-        });
+          sum += p.wx[i] + p.wy[i] + p.wz[i];
+        }
+        return std::isfinite(sum) ? 0.0 : 1.0;
+      });
       break;
     }
   }
   ++steps_;
   time_ = static_cast<double>(steps_) * dt;
-  check_state();
+  check_state(nonfinite);
   if (solver_) {
     if (particles_.has_two_way()) deposit_impulses();
     if (++substep_ == substeps_) {
@@ -428,12 +437,12 @@ void Simulation::gas_step() {
   }
 }
 
-void Simulation::check_state() const {
+void Simulation::check_state(double nonfinite) const {
   const ParticleStore& p = particles_;
   const std::size_t n = p.size();
   // |sum| is finite exactly when every value is (barring overflow near 1e308).
   const bool rot = p.has_rotation();
-  const double s = parallel_max(n, [&](std::size_t i) {
+  const double s = nonfinite >= 0.0 ? nonfinite : parallel_max(n, [&](std::size_t i) {
     const double v = p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i] +
                      (rot ? p.wx[i] + p.wy[i] + p.wz[i] : 0.0);
     return std::isfinite(v) ? 0.0 : 1.0;

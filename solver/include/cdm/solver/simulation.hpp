@@ -73,7 +73,8 @@ class Simulation {
 
  private:
   void compute_forces();
-  void check_state() const;
+  /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or -1 to check here.
+  void check_state(double nonfinite = -1.0) const;
   void step_tracers();
   /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
   /// solved implicitly or exactly when the scene asks for it (drag_module.hpp).
@@ -105,6 +106,7 @@ class Simulation {
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   bool forces_valid_ = false;
+  bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
   bool restarted_ = false;
   // Velocity Verlet keeps v(t+Δt/2) between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
