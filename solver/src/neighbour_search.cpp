@@ -58,24 +58,31 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
   for (int k = 0; k < 3; ++k)
     if (box.on[k]) { lo[k] = box.lo[k]; hi[k] = box.lo[k] + box.len[k]; }
   // Cell edge >= the largest possible contact distance, so only the 27 neighbouring
-  // cells can hold partners; grown further if the box would need more than ~2N cells.
-  double h = 2.0 * rmax + margin;
+  // cells can hold partners. If the box would need more than ~2N cells, the edge grows
+  // along the axis with the most cells only: a long, mostly empty periodic axis then
+  // gets long cells while the short axes keep theirs (growing all three would pile the
+  // particles into a few cells and make the search quadratic).
+  const double h0 = 2.0 * rmax + margin;
+  double h[3] = {h0, h0, h0};
   long dims[3];
   double w[3];  // cell edge per axis [m]
   for (;;) {
     double cells = 1.0;
     for (int k = 0; k < 3; ++k) {
       if (box.on[k]) {
-        dims[k] = std::max(1L, static_cast<long>(box.len[k] / h));
+        dims[k] = std::max(1L, static_cast<long>(box.len[k] / h[k]));
         w[k] = box.len[k] / static_cast<double>(dims[k]);
       } else {
-        dims[k] = std::max(1L, static_cast<long>((hi[k] - lo[k]) / h) + 1);
-        w[k] = h;
+        dims[k] = std::max(1L, static_cast<long>((hi[k] - lo[k]) / h[k]) + 1);
+        w[k] = h[k];
       }
       cells *= static_cast<double>(dims[k]);
     }
     if (cells <= 2.0 * static_cast<double>(n) + 27.0) break;
-    h *= 1.5;
+    int k_max = 0;
+    for (int k = 1; k < 3; ++k)
+      if (dims[k] > dims[k_max]) k_max = k;
+    h[k_max] *= 1.5;
   }
   const std::size_t ncell = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
   auto coord = [&](double v, int k) {
