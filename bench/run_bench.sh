@@ -60,33 +60,45 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
         local exe=lmp; [ "$code" = liggghts ] && exe=liggghts
         (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "$exe" -in "in.chute.$code" -log "$dir/log.txt" \
           -screen none -var nsteps "$steps" -var data "$out/prep/chute32k.data" -var thevery 2000 > "$dir/stdout.txt" 2>&1)
-        loop=$(awk '/Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
+        loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
     esac
     local rss
     rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt")
-    echo "$code $prob $n $steps $loop $rss" | tee -a "$out/runs.txt"
+    echo "$code $prob $n $steps $loop $rss $loop" | tee -a "$out/runs.txt"
     return
   fi
+  local rss segs
   case $code in
     cdm|cdm2)
+      # One process per segment, each restarting from the previous one's checkpoint
+      # (restarts are bit-identical), so each segment has its own loop time as the
+      # peers' 'run' commands do; the loop time is their sum, the peak RSS their maximum.
       local threads=1; [ "$code" = cdm2 ] && threads=2
-      local lx ly
+      local lx ly k restart=()
       lx=$(awk -v n="$nx" 'BEGIN{printf "%.6g", n*1.1e-3}'); ly=$(awk -v n="$ny" 'BEGIN{printf "%.6g", n*1.1e-3}')
-      OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" -o "$dir" -q \
-        --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" --set "walls[4].point=[0.0,$ly,0.0]" \
-        --set output.particles=false --set integrator.end_time=1.0 --max-steps "$steps" > "$dir/log.txt"
-      rm -f "$dir/checkpoint.cdmck"
-      loop=$(awk '/^loop time/ {print $3}' "$dir/log.txt") ;;
+      for k in $(seq 1 "$nseg"); do
+        mkdir -p "$dir/seg$k"
+        OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/seg$k/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" \
+          -o "$dir/seg$k" -q --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" \
+          --set "walls[4].point=[0.0,$ly,0.0]" --set output.particles=false --set integrator.end_time=1.0 \
+          "${restart[@]}" --max-steps "$seg" > "$dir/seg$k/log.txt"
+        [ "$k" -gt 1 ] && rm -f "$dir/seg$((k - 1))/checkpoint.cdmck"
+        restart=(--restart "$dir/seg$k/checkpoint.cdmck")
+      done
+      rm -f "$dir/seg$nseg/checkpoint.cdmck"
+      segs=$(cat "$dir"/seg*/log.txt | awk '/^loop time/ {printf "%s%s", sep, $3; sep = ","}')
+      loop=$(echo "$segs" | tr ',' '\n' | awk '{s += $1} END {print s}')
+      rss=$(cat "$dir"/seg*/time.txt | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); if ($2 > m) m = $2} END {print m}') ;;
     lammps|liggghts)
       local exe=lmp; [ "$code" = liggghts ] && exe=liggghts
       (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "$exe" -in "in.settle.$code" -log "$dir/log.txt" \
         -screen none -var nx "$nx" -var ny "$ny" -var nz 25 -var nseg "$nseg" -var segsteps "$seg" -var thevery 2000 \
         > "$dir/stdout.txt" 2>&1)
-      loop=$(awk '/Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
+      segs=$(awk '/^Loop time/ {printf "%s%s", sep, $4; sep = ","}' "$dir/log.txt")
+      loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt")
+      rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt") ;;
   esac
-  local rss
-  rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt")
-  echo "$code $prob $n $steps $loop $rss" | tee -a "$out/runs.txt"
+  echo "$code $prob $n $steps $loop $rss $segs" | tee -a "$out/runs.txt"
 }
 
 prepare_chute() {  # the flowing states the timed chute runs start from (once per code)
@@ -113,9 +125,11 @@ done
 import statistics, sys
 from collections import defaultdict
 runs = defaultdict(list)
+segs = defaultdict(list)
 for line in open(sys.argv[1]):
-    code, prob, n, steps, loop, rss = line.split()
+    code, prob, n, steps, loop, rss, seg = line.split()
     runs[(prob, code)].append((float(loop), int(rss), int(n), int(steps)))
+    segs[(prob, code)].append([float(x) for x in seg.split(",")])
 print("| problem | code | threads | N | steps | loop wall s (median of %d) | particle-steps/s per core | peak RSS bytes/particle | 1-thread cdm speed / code |" % max(len(v) for v in runs.values()))
 print("|---|---|---|---|---|---|---|---|---|")
 for prob in sorted({p for p, _ in runs}):
@@ -129,4 +143,19 @@ for prob in sorted({p for p, _ in runs}):
         ratio = "-" if code == "cdm" else "%.2f" % (med[code] / med["cdm"])
         name = "cdm" if code == "cdm2" else code
         print(f"| {prob} | {name} | {threads} | {n} | {steps} | {med[code]:.2f} | {n*steps/med[code]/threads:.3g} | {rss:.0f} | {ratio} |")
+# Per segment (settle1e4: four windows of 10,000 steps, from the falling lattice to the
+# packed bed; the last is the dense phase): median loop time and the 1-thread cdm ratio.
+multi = sorted({p for (p, c), v in segs.items() if len(v[0]) > 1})
+for prob in multi:
+    nseg = len(segs[(prob, "cdm")][0])
+    print()
+    print(f"{prob}, per segment of {runs[(prob, 'cdm')][0][3] // nseg} steps: loop wall s, median (1-thread cdm speed / code)")
+    print()
+    print("| code | threads | " + " | ".join(f"segment {k + 1}" for k in range(nseg)) + " |")
+    print("|---|---|" + "---|" * nseg)
+    med = {c: [statistics.median(r[k] for r in segs[(prob, c)]) for k in range(nseg)] for (p, c) in segs if p == prob}
+    for code in ("cdm", "cdm2", "lammps", "liggghts"):
+        if code not in med: continue
+        cells = [f"{med[code][k]:.2f}" + ("" if code == "cdm" else f" ({med[code][k] / med['cdm'][k]:.2f})") for k in range(nseg)]
+        print(f"| {'cdm' if code == 'cdm2' else code} | {2 if code == 'cdm2' else 1} | " + " | ".join(cells) + " |")
 PY
