@@ -59,7 +59,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
                "dt", "advection", "initial_velocity", "mean_pressure_gradient"}},
       {"gas.boundaries.*", {"type", "velocity", "pressure"}},
-      {"coupling", {"mode", "method", "kernel", "kernel_width"}},
+      {"coupling", {"mode", "method", "kernel", "kernel_width", "gas_velocity"}},
       {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},
@@ -1003,8 +1003,14 @@ void Loader::read_solved_gas(const toml::table& gt) {
     }
   } else
     reject_unused(c, "kernel_width", "coupling", "coupling.kernel is not \"gaussian\"");
+  const std::string slip = string(c, "gas_velocity", "coupling").value_or("interstitial");
+  if (slip == "interstitial") spec_.gas_velocity = coupling::SlipVelocity::interstitial;
+  else if (slip == "superficial") spec_.gas_velocity = coupling::SlipVelocity::superficial;
+  else fail_value("coupling.gas_velocity", *c.get("gas_velocity"), "\"interstitial\" or \"superficial\"");
+  if (spec_.coupling_method == coupling::CouplingMethod::cell_average)
+    reject_unused(c, "gas_velocity", "coupling", "coupling.method = \"cell_average\" uses the cell-centred gas velocity");
   if (!spec_.two_way) {
-    for (const char* k : {"method", "kernel", "kernel_width"})
+    for (const char* k : {"method", "kernel", "kernel_width", "gas_velocity"})
       reject_unused(c, k, "coupling", "coupling.mode is \"one_way\" (the particles do not act on the gas)");
   }
   if (spec_.two_way && !spec_.drag)

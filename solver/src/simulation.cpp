@@ -41,7 +41,8 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   if (spec_.drag) {
     if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();
     auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction,
-                                                    spec_.coupling_method, deposition_.get(), spec_.two_way);
+                                                    spec_.coupling_method, deposition_.get(), spec_.two_way,
+                                                    spec_.gas_velocity);
     drag_ = d.get();
     modules_.push_back(std::move(d));
   }

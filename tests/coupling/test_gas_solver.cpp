@@ -137,19 +137,33 @@ TEST(GasSolver, InletOutletChannelConservesMass) {
 // A layer of particles (ε = 0.4) on the inlet must not throttle the inflow: the inlet
 // velocity is superficial (the entering gas carries no particles), so every cross-section
 // carries V · area, through the layer (ε u = V) and above it (u = V).
-TEST(GasSolver, InletVelocityIsSuperficialUnderAParticleLayer) {
-  GasSpec s = box(8, 20, BoundaryKind::free_slip, BoundaryKind::no_slip, 1.0, 2.0);
-  s.grid.faces[2].kind = BoundaryKind::velocity_inlet;
-  s.grid.faces[2].normal_velocity = 0.3;
-  s.grid.faces[3].kind = BoundaryKind::pressure_outlet;
-  GasField gas(s, {}, true, true);
-  GasSolver solver(gas, {AdvectionScheme::upwind, {}, {}});
-  const StaggeredGrid& g = gas.grid();
+// A 1 x 2 column, 8 x 20 cells, gas entering at 0.3 m/s through the bottom, a layer of
+// ε_g = 0.4 in its lowest 5 cells (0 <= y < 0.5), run to steady flow.
+struct LayerOnInlet {
+  static GasSpec spec() {
+    GasSpec s = box(8, 20, BoundaryKind::free_slip, BoundaryKind::no_slip, 1.0, 2.0);
+    s.grid.faces[2].kind = BoundaryKind::velocity_inlet;
+    s.grid.faces[2].normal_velocity = 0.3;
+    s.grid.faces[3].kind = BoundaryKind::pressure_outlet;
+    return s;
+  }
+  GasField gas{spec(), {}, true, true};
+  GasSolver solver{gas, {AdvectionScheme::upwind, {}, {}}};
   std::vector<double> eps = gas.eps_g;
-  for (int j = 0; j < 5; ++j)
-    for (int i = 0; i < 8; ++i) eps[g.at(i, j, 0)] = 0.4;
-  g.fill_scalar_ghosts(eps);
-  for (int m = 0; m < 50; ++m) solver.step(1e-3, eps);
+  LayerOnInlet() {
+    const StaggeredGrid& g = gas.grid();
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 8; ++i) eps[g.at(i, j, 0)] = 0.4;
+    g.fill_scalar_ghosts(eps);
+    for (int m = 0; m < 50; ++m) solver.step(1e-3, eps);
+  }
+};
+
+TEST(GasSolver, InletVelocityIsSuperficialUnderAParticleLayer) {
+  LayerOnInlet c;
+  const GasField& gas = c.gas;
+  const StaggeredGrid& g = gas.grid();
+  const std::vector<double>& eps = c.eps;
   for (int j : {1, 3, 5, 6, 12, 20}) {  // faces inside the layer, at its top, above it
     double flux = 0.0;
     for (int i = 0; i < 8; ++i) {
@@ -159,6 +173,25 @@ TEST(GasSolver, InletVelocityIsSuperficialUnderAParticleLayer) {
     EXPECT_NEAR(flux, 0.3, 1e-10) << "superficial flux through face row " << j;
   }
   EXPECT_NEAR(gas.v[g.at(3, 2, 0)], 0.3 / 0.4, 1e-10) << "interstitial speed in the layer";
+}
+
+// The superficial velocity ε_f u is continuous where ε jumps; the interstitial velocity is
+// not. Interpolating the flux and dividing by the local ε gives a particle anywhere in a
+// packed layer on an inlet U/ε, where the interpolated interstitial velocity blends the
+// layer's U/ε with the clear gas's U over the cell at the layer's edge.
+TEST(GasSolver, SuperficialVelocityIsContinuousAcrossALayerEdge) {
+  LayerOnInlet c;
+  const GasField& gas = c.gas;
+  for (double y : {0.01, 0.05, 0.25, 0.45, 0.5, 0.55, 1.0, 1.99}) {
+    const Vec3 q = gas.superficial_velocity_at({0.37, y, 0.05});
+    EXPECT_NEAR(q.y, 0.3, 1e-10) << "flux at y = " << y;
+    EXPECT_NEAR(q.x, 0.0, 1e-10) << "flux at y = " << y;
+  }
+  // In the layer's top cell, below its edge: flux / ε is U/ε, the interstitial
+  // interpolation is not (faces at y = 0.4, v = 0.75, and y = 0.5, v = 0.3/0.7).
+  const Vec3 at = {0.37, 0.47, 0.05};
+  EXPECT_NEAR(gas.superficial_velocity_at(at).y / 0.4, 0.75, 1e-10);
+  EXPECT_NEAR(gas.velocity_at(at).y, 0.3 * 0.75 + 0.7 * 0.3 / 0.7, 1e-10);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <numbers>
 #include <string>
 
@@ -248,3 +250,26 @@ end_time = 0.1
 }
 
 }  // namespace
+
+namespace {
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+// coupling.gas_velocity: "interstitial" (default) or "superficial", only where the drag
+// interpolates a solved gas's velocity to each particle.
+TEST(SceneLoader, CouplingGasVelocity) {
+  const std::string scene = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/fluidization/scene.toml");
+  ASSERT_NE(scene.find("gas_velocity = \"superficial\""), std::string::npos);
+  EXPECT_EQ(cdm::load_scene_from_string(scene, "f.toml").gas_velocity, cdm::coupling::SlipVelocity::superficial);
+  EXPECT_EQ(cdm::load_scene_from_string(replace(scene, "gas_velocity = \"superficial\"\n", ""), "f.toml").gas_velocity,
+            cdm::coupling::SlipVelocity::interstitial);
+  expect_refused(replace(scene, "gas_velocity = \"superficial\"", "gas_velocity = \"bulk\""),
+                 {"coupling.gas_velocity", "bulk", "\"interstitial\" or \"superficial\""});
+  expect_refused(replace(replace(scene, "method = \"interpolate\"", "method = \"cell_average\""), "kernel = \"trilinear\"\n", ""),
+                 {"coupling.gas_velocity", "superficial", "not used", "cell_average"});
+}

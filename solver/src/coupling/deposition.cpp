@@ -14,6 +14,8 @@ const char* to_string(Kernel k) {
   return "?";
 }
 
+const char* to_string(SlipVelocity s) { return s == SlipVelocity::interstitial ? "interstitial" : "superficial"; }
+
 const char* to_string(CouplingMethod m) {
   return m == CouplingMethod::cell_average ? "cell_average" : "interpolate";
 }

@@ -53,9 +53,14 @@ void DragModule::add_forces(ParticleStore& p, double /*dt*/) {
   const bool relax = update_ != DragUpdate::explicit_force;
   const double rate = parallel_max(n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
-    const Vec3 ug = gas.velocity_at(x);
+    const double eps = void_fraction_at(x);
+    // The flux ε u is continuous where ε jumps (at a bed's surface or its distributor),
+    // the interstitial velocity is not: interpolating the flux and dividing by the
+    // particle's own ε gives a particle inside a packed layer U/ε, not a blend with the
+    // clear gas beside it.
+    const Vec3 ug = superficial_ ? (1.0 / eps) * gas.superficial_velocity_at(x) : gas.velocity_at(x);
     const Vec3 slip = ug - p.velocity(i);
-    const double k = drag_coefficient(law_, rho, mu, 2.0 * p.radius[i], void_fraction_at(x), norm(slip));
+    const double k = drag_coefficient(law_, rho, mu, 2.0 * p.radius[i], eps, norm(slip));
     if (relax) {
       p.drag_k[i] = k;
       p.ugx[i] = ug.x; p.ugy[i] = ug.y; p.ugz[i] = ug.z;

@@ -75,6 +75,7 @@ struct SceneSpec {
   coupling::CouplingMethod coupling_method = coupling::CouplingMethod::interpolate;
   coupling::Kernel kernel = coupling::Kernel::trilinear;
   double kernel_width = 0.0;         // gaussian σ [m]
+  coupling::SlipVelocity gas_velocity = coupling::SlipVelocity::interstitial;  // "interpolate" only
 
   std::vector<Material> materials;
   PairTable pairs;

@@ -22,6 +22,13 @@ namespace cdm::coupling {
 enum class Kernel { cell, trilinear, gaussian };
 const char* to_string(Kernel k);
 
+/// The gas velocity a particle's drag sees (the "interpolate" method).
+enum class SlipVelocity {
+  interstitial,  // the face velocities u_f interpolated to the particle (Garg et al. eq 32)
+  superficial    // the face fluxes ε_f u_f interpolated, divided by the particle's ε_g
+};
+const char* to_string(SlipVelocity s);
+
 /// How drag couples particles and a solved gas (Garg et al. 2012 §2.2.3).
 enum class CouplingMethod {
   cell_average,  // eqs 33–35: cell-centred gas velocity, cell-averaged solids velocity

@@ -38,9 +38,9 @@ class DragModule final : public ForceModule {
   /// drag force is also kept per particle, for the reaction on the gas.
   DragModule(const fluid::GasField& gas, DragLaw law, DragUpdate update, double fixed_void_fraction,
              CouplingMethod method = CouplingMethod::interpolate, const Deposition* kernel = nullptr,
-             bool two_way = false)
+             bool two_way = false, SlipVelocity slip = SlipVelocity::interstitial)
       : gas_(&gas), law_(law), update_(update), eps_fixed_(fixed_void_fraction), method_(method), kernel_(kernel),
-        two_way_(two_way) {}
+        two_way_(two_way), superficial_(slip == SlipVelocity::superficial) {}
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
 
@@ -63,6 +63,7 @@ class DragModule final : public ForceModule {
   CouplingMethod method_;
   const Deposition* kernel_;
   bool two_way_;
+  bool superficial_;  // gas velocity at the particle = interpolated flux / particle's ε_g
   std::vector<double> cell_vol_, cell_vx_, cell_vy_, cell_vz_;  // cell-average method
   double tau_min_ = std::numeric_limits<double>::infinity();
 };

@@ -58,6 +58,9 @@ class GasField {
     if (analytic_) return prescribed_->velocity(x, time_);
     return scale_ * velocity_interp_.at(x);
   }
+  /// Superficial gas velocity ε_f u at a point: the face fluxes interpolated as the
+  /// velocity is (solved gas with a gas volume fraction; zero otherwise).
+  Vec3 superficial_velocity_at(Vec3 x) const { return flux_interp_.at(x); }
   /// ∇p at a point, interpolated from the face differences of the cell-centred pressure.
   Vec3 pressure_gradient_at(Vec3 x) const {
     if (analytic_) return prescribed_->pressure_gradient(x);
@@ -89,7 +92,8 @@ class GasField {
   GasSpec spec_;
   StaggeredGrid grid_;
   std::optional<PrescribedField> prescribed_;
-  VectorInterpolator velocity_interp_, gradient_interp_;
+  VectorInterpolator velocity_interp_, gradient_interp_, flux_interp_;
+  std::vector<double> flux_u_, flux_v_, flux_w_;  // ε_f u on the faces (solved gas with ε_g)
   double scale_ = 1.0;
   double time_ = 0.0;
   bool analytic_ = false;  // interpolation "analytic": the closed form at the particle
