@@ -1028,6 +1028,49 @@ class Report:
                     f"({m.divisor}, N = {fmt_div(div)}) against the CVODE solution of eq 48 and the force-balance "
                     f"terminal velocity; right: the error over time for each drag update and integrator.")
 
+    # ---------------------------------------------------------------- fluidisation (issue 4)
+    def fig_fluidization(self, case):
+        """Pressure drop against inflow (packed branch, Ergun, plateau) and its history."""
+        m = self.meta
+        div = m.dt_divisors[0] if m.dt_divisors else 20
+        v = m.variants[0]["name"]
+        i = m.integrators[0]
+        s = series(self.series_path(case, v, i, div))
+        h = series(self.series_path(case, v, i, div, "_history"))
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.6))
+        w = float(s["buoyant_weight_per_area"][0])
+        umf = float(s["U_mf_oracle"][0])
+        uu = np.linspace(0, float(s["U"].max()), 200)
+        a1.axhline(w, color="k", ls="--", lw=1, label=f"buoyant weight / area {w:.1f} Pa")
+        a1.axvline(umf, color="k", ls=":", lw=1, label=f"U_mf from Gidaspow-Ergun at the bed's eps: {umf:.3f} m/s")
+        packed = s["U"] < umf
+        for col, lab, st in (("dP_ergun_at_eps_bed", "Ergun at the bed's mean eps", "C1-"),
+                             ("dP_ergun_at_eps_bulk", "Ergun at the bed's bulk eps", "C2-")):
+            if col in s:
+                c = np.polyfit(np.r_[0.0, s["U"]], np.r_[0.0, s[col]], 2)
+                a1.plot(uu[uu < umf * 1.1], np.polyval(c, uu[uu < umf * 1.1]), st, lw=1, label=lab)
+        a1.errorbar(s["U"], s["dP_frictional"], yerr=s["dP_std_dev"], fmt="bo", ms=5, capsize=3,
+                    label="cdm: mean over each inflow (bar: fluctuation)")
+        if "dP_momentum_corrected" in s:
+            a1.plot(s["U"][~packed], s["dP_momentum_corrected"][~packed], "rx", ms=8,
+                    label="cdm: less the bed's momentum gain")
+        a1.set_xlabel("superficial velocity U [m/s]")
+        a1.set_ylabel("frictional pressure drop [Pa]")
+        a1.set_title("fluidisation: packed branch and plateau", fontsize=9)
+        a1.grid(True, alpha=0.3)
+        a1.legend(fontsize=7)
+        a2.plot(h["t"], h["dP_frictional"], "b-", lw=0.6, label="cdm")
+        a2.axhline(w, color="k", ls="--", lw=1, label="buoyant weight / area")
+        a2.set_xlabel("t [s]")
+        a2.set_ylabel("frictional pressure drop [Pa]")
+        a2.set_title("the whole run: the inflow raised in steps after settling", fontsize=9)
+        a2.grid(True, alpha=0.3)
+        a2.legend(fontsize=7)
+        self.figure(fig, f"{case}_dp",
+                    "Fluidisation: the frictional pressure drop against the superficial velocity (left), with Ergun's "
+                    "packed-bed line at the settled bed's mean and bulk gas fraction, the buoyant weight per area and "
+                    "the drag law's U_mf; right: the pressure drop over the whole run.")
+
     # ---------------------------------------------------------------- Hertz-Mindlin (issue 8)
     def fig_hertz_impact(self, case):
         rows = [(v, integ) for v, integ in (("v1", "velocity_verlet"), ("steel_v1", "velocity_verlet"))
@@ -1190,6 +1233,7 @@ class Report:
             "oblique_impact": [("oblique impact", self.fig_oblique, case)],
             "rolling_resistance": [("rolling", self.fig_rolling, case)],
             "rolling_resistance_spin": [("spinning", self.fig_rolling, case)],
+            "fluidization": [("pressure drop", self.fig_fluidization, case)],
         }
         for what, fn, *args in figs.get(case, []):
             self.guarded(f"{case}: {what}", fn, *args)
