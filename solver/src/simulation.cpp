@@ -43,6 +43,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction,
                                                     spec_.coupling_method, deposition_.get(), spec_.two_way,
                                                     spec_.gas_velocity);
+    if (spec_.gas_velocity == coupling::SlipVelocity::superficial) gas_->enable_superficial_velocity();
     drag_ = d.get();
     modules_.push_back(std::move(d));
   }

@@ -151,6 +151,7 @@ struct LayerOnInlet {
   GasSolver solver{gas, {AdvectionScheme::upwind, {}, {}}};
   std::vector<double> eps = gas.eps_g;
   LayerOnInlet() {
+    gas.enable_superficial_velocity();
     const StaggeredGrid& g = gas.grid();
     for (int j = 0; j < 5; ++j)
       for (int i = 0; i < 8; ++i) eps[g.at(i, j, 0)] = 0.4;

@@ -59,6 +59,13 @@ std::string replace(std::string s, const std::string& from, const std::string& t
   return s.replace(pos, from.size(), to);
 }
 
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 // Loads @p text and expects a SceneError whose message contains every fragment.
 void expect_refused(const std::string& text, std::vector<std::string> fragments) {
   fragments.push_back("bad.toml");
@@ -249,15 +256,6 @@ end_time = 0.1
   EXPECT_NEAR(sim.particles().x[0], 0.1, 1e-12);
 }
 
-}  // namespace
-
-namespace {
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 }  // namespace
 
 // coupling.gas_velocity: "interstitial" (default) or "superficial", only where the drag

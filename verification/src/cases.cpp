@@ -866,18 +866,18 @@ RunOutput run_fluidization(const CaseDef& /*c*/, const Variant& v, const RunConf
   bp.g = grav;
   bp.eps_g = eps_bed;
   const oracles::MinFluidisation mf = oracles::minimum_fluidisation(bp);
+  auto bed_momentum = [&] {  // Σ m v_y [kg m/s]
+    double m = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) m += p.mass[i] * p.vy[i];
+    return m;
+  };
   std::vector<double> U, dP, dP_corr, dP_sd, hist_t, hist_u, hist_dp, hist_mv;
   for (double f : factors) {
     const double u = f * mf.U;
     gas.set_inlet_velocity(2, u);
     const double start = sim.time(), end = start + hold(f);
-    double s = 0.0, s2 = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0, mv_b = 0.0;
+    double s = 0.0, s2 = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0;
     int n = 0;
-    auto bed_momentum = [&] {
-      double m = 0.0;
-      for (std::size_t i = 0; i < p.size(); ++i) m += p.mass[i] * p.vy[i];
-      return m;
-    };
     while (sim.time() < end - 0.5 * sim.dt()) {
       sim.step();
       if (sim.steps() % sim.substeps() != 0) continue;  // once per gas step
@@ -891,7 +891,7 @@ RunOutput run_fluidization(const CaseDef& /*c*/, const Variant& v, const RunConf
       s += q; s2 += q * q; ++n;
       t_b = sim.time();
     }
-    mv_b = bed_momentum();
+    const double mv_b = bed_momentum();
     U.push_back(u);
     dP.push_back(s / n);
     // The bed's momentum balance over the window: mean gas force on it = weight +

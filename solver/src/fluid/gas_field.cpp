@@ -51,26 +51,18 @@ void GasField::sample_prescribed() {
 void GasField::refresh() {
   const StaggeredGrid& g = grid_;
   velocity_interp_.update(u, v, w);
-  if (!prescribed_ && has_void_fraction()) {
-    // Face fluxes ε_f u with ε_f as the gas solver's continuity uses it: the mean of the
-    // two cells, and 1 on a velocity inlet (what enters is particle-free gas).
+  if (with_flux_ && !prescribed_ && has_void_fraction()) {
+    // Face fluxes ε_f u with ε_f as the gas solver's continuity uses it.
     if (flux_u_.size() != u.size()) flux_u_ = flux_v_ = flux_w_ = grid_.make_array();
     std::vector<double>* flux[3] = {&flux_u_, &flux_v_, &flux_w_};
     const std::vector<double>* vel[3] = {&u, &v, &w};
     for (int a = 0; a < g.dims(); ++a) {
       const auto s = static_cast<Staggering>(a);
-      const bool inlet_lo = !g.spec().periodic(a) && g.spec().faces[2 * a].kind == BoundaryKind::velocity_inlet;
-      const bool inlet_hi = !g.spec().periodic(a) && g.spec().faces[2 * a + 1].kind == BoundaryKind::velocity_inlet;
       for (int k = 0; k < g.samples(s, 2); ++k)
         for (int j = 0; j < g.samples(s, 1); ++j)
           for (int i = 0; i < g.samples(s, 0); ++i) {
-            const int f[3] = {i, j, k};
-            int lo[3] = {i, j, k};
-            lo[a] -= 1;
             const std::size_t at = g.at(i, j, k);
-            const bool inlet = (f[a] == 0 && inlet_lo) || (f[a] == g.n(a) && inlet_hi);
-            const double ef = inlet ? 1.0 : 0.5 * (eps_g[g.at(lo[0], lo[1], lo[2])] + eps_g[at]);
-            (*flux[a])[at] = ef * (*vel[a])[at];
+            (*flux[a])[at] = face_void_fraction(eps_g, a, i, j, k) * (*vel[a])[at];
           }
     }
     g.fill_velocity_ghosts(flux_u_, flux_v_, flux_w_);

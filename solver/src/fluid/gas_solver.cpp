@@ -183,18 +183,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   const std::vector<double>& e1 = eps_new;
   auto at = [&](const Ijk& x) { return g.at(x[0], x[1], x[2]); };
   auto row = [&](const Ijk& x) { return static_cast<Eigen::Index>(x[0] + nx * (x[1] + ny * x[2])); };
-  auto face_eps = [&](int a, Ijk f) {  // ε^{n+1} on face f of axis a (cells f − e_a, f)
-    // An inlet face carries the gas fraction of what enters, particle-free gas (ε = 1), as
-    // MFIX's inflow cells (BC_EP_G = 1): the inlet velocity is then the superficial velocity
-    // whatever the bed above it holds. Averaging with the cell inside would let a packed
-    // layer on the distributor throttle the inflow to ε·V.
-    if (!gs.periodic(a) && (f[a] == 0 || f[a] == g.n(a)) &&
-        gs.faces[2 * a + (f[a] == 0 ? 0 : 1)].kind == BoundaryKind::velocity_inlet)
-      return 1.0;
-    Ijk lo = f;
-    lo[a] -= 1;
-    return 0.5 * (e1[at(lo)] + e1[at(f)]);
-  };
+  auto face_eps = [&](int a, const Ijk& f) { return gas_.face_void_fraction(e1, a, f[0], f[1], f[2]); };
   bool has_outlet = false;
   for (int f = 0; f < 2 * dims; ++f) has_outlet |= gs.faces[f].kind == BoundaryKind::pressure_outlet;
 

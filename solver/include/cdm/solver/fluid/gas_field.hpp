@@ -59,8 +59,15 @@ class GasField {
     return scale_ * velocity_interp_.at(x);
   }
   /// Superficial gas velocity ε_f u at a point: the face fluxes interpolated as the
-  /// velocity is (solved gas with a gas volume fraction; zero otherwise).
+  /// velocity is (after enable_superficial_velocity(), on a solved gas with a gas volume
+  /// fraction; zero otherwise).
   Vec3 superficial_velocity_at(Vec3 x) const { return flux_interp_.at(x); }
+  /// Keep the face fluxes ε_f u (and their interpolator) up to date at every refresh():
+  /// only drag with coupling.gas_velocity = "superficial" reads them.
+  void enable_superficial_velocity() {
+    with_flux_ = true;
+    refresh();
+  }
   /// ∇p at a point, interpolated from the face differences of the cell-centred pressure.
   Vec3 pressure_gradient_at(Vec3 x) const {
     if (analytic_) return prescribed_->pressure_gradient(x);
@@ -81,6 +88,22 @@ class GasField {
   std::vector<double> gpx, gpy, gpz;  // ∂p/∂x on u-faces, ∂p/∂y on v-faces, ∂p/∂z on w-faces [Pa/m]
   bool has_pressure() const { return !p.empty(); }
   bool has_void_fraction() const { return !eps_g.empty(); }
+  /// The gas volume fraction on face (i, j, k) of @p axis (between cells f − e_axis and
+  /// f) from the cell values @p eps: their mean, and 1 on a velocity inlet. An inlet face
+  /// carries the gas fraction of what enters, particle-free gas, as MFIX's inflow cells
+  /// (BC_EP_G = 1): the inlet velocity is then the superficial velocity whatever the bed
+  /// above it holds. Averaging with the cell inside would let a packed layer on the
+  /// distributor throttle the inflow to ε·V.
+  double face_void_fraction(const std::vector<double>& eps, int axis, int i, int j, int k) const {
+    const int f[3] = {i, j, k};
+    const GridSpec& gs = grid_.spec();
+    if (!gs.periodic(axis) && (f[axis] == 0 || f[axis] == grid_.n(axis)) &&
+        gs.faces[2 * axis + (f[axis] == 0 ? 0 : 1)].kind == BoundaryKind::velocity_inlet)
+      return 1.0;
+    int lo[3] = {i, j, k};
+    lo[axis] -= 1;
+    return 0.5 * (eps[grid_.at(lo[0], lo[1], lo[2])] + eps[grid_.at(i, j, k)]);
+  }
 
   /// Recompute the face pressure gradient from p and refresh both interpolators; call
   /// after changing u, v, w or p.
@@ -94,6 +117,7 @@ class GasField {
   std::optional<PrescribedField> prescribed_;
   VectorInterpolator velocity_interp_, gradient_interp_, flux_interp_;
   std::vector<double> flux_u_, flux_v_, flux_w_;  // ε_f u on the faces (solved gas with ε_g)
+  bool with_flux_ = false;                         // see enable_superficial_velocity()
   double scale_ = 1.0;
   double time_ = 0.0;
   bool analytic_ = false;  // interpolation "analytic": the closed form at the particle
