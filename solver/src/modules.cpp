@@ -147,6 +147,99 @@ bool ContactModule::needs_rebuild(const ParticleStore& p) const {
   return worst > lim2;
 }
 
+ContactModule::Slabs ContactModule::slabs(const ParticleStore& p) const {
+  // Slabs along the longest side of the particles' bounding box, each at least one
+  // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
+  // neighbouring slab. The slab count depends on the geometry only, never on threads.
+  // A periodic axis is never cut (partners across its faces would sit in the first and
+  // the last slab); with all three periodic, one slab.
+  const std::size_t n = p.size();
+  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
+  Slabs g;
+  double rmax = 0.0;
+  if (n) {
+    for (int a = 0; a < 3; ++a) g.lo[a] = g.hi[a] = (*axis_data[a])[0];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        g.lo[a] = std::min(g.lo[a], (*axis_data[a])[i]);
+        g.hi[a] = std::max(g.hi[a], (*axis_data[a])[i]);
+      }
+      rmax = std::max(rmax, p.radius[i]);
+    }
+  }
+  int axis = -1;
+  for (int a = 0; a < 3; ++a)
+    if (!box_.on[a] && (axis < 0 || g.hi[a] - g.lo[a] > g.hi[axis] - g.lo[axis])) axis = a;
+  const bool cut = axis >= 0;
+  g.axis = cut ? axis : 0;
+  g.range = 2.0 * rmax + skin_;
+  const double extent = cut ? g.hi[g.axis] - g.lo[g.axis] : 0.0;
+  g.count = g.range > 0.0
+                ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / g.range)))
+                : 1;
+  g.width = g.count > 1 ? extent / static_cast<double>(g.count) : 1.0;
+  return g;
+}
+
+std::vector<std::uint32_t> ContactModule::spatial_order(const ParticleStore& p) const {
+  const std::size_t n = p.size();
+  const Slabs g = slabs(p);
+  // Cell coordinates (edge = one interaction range, 21 bits per axis: a wider box only
+  // coarsens the order), the slab axis most significant, then the other two.
+  const std::vector<double>* data[3] = {&p.x, &p.y, &p.z};
+  const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
+  const double h = g.range > 0.0 ? g.range : 1.0;
+  constexpr double cmax = double((1 << 21) - 1);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
+  parallel_for(n, [&](std::size_t i) {
+    std::uint64_t k = 0;
+    for (int a : ax) {
+      const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
+      k = (k << 21) | static_cast<std::uint64_t>(c);
+    }
+    key[i] = {k, static_cast<std::uint32_t>(i)};
+  });
+  std::sort(key.begin(), key.end());
+  std::vector<std::uint32_t> from(n);
+  for (std::size_t i = 0; i < n; ++i) from[i] = key[i].second;
+  return from;
+}
+
+void ContactModule::permute(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = from.size();
+  if (x0_.size() != n) return;  // nothing listed yet: the next evaluation builds
+  std::vector<std::uint32_t> to(n);
+  for (std::size_t i = 0; i < n; ++i) to[from[i]] = static_cast<std::uint32_t>(i);
+  // Pairs keep i < j: a pair whose order flips has its history seen from the other
+  // particle, the tangential displacement of j relative to i (the negative).
+  for (std::size_t k = 0; k < pi_.size(); ++k) {
+    std::uint32_t i = to[pi_[k]], j = to[pj_[k]];
+    if (i > j) {
+      std::swap(i, j);
+      if (friction_) hist_[k] = -hist_[k];
+    }
+    pi_[k] = i;
+    pj_[k] = j;
+  }
+  auto rows = [&](auto& v) {
+    const std::size_t w = walls_.size();
+    if (!w || v.size() != n * w) return;
+    auto out = v;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < w; ++c) out[i * w + c] = v[from[i] * w + c];
+    v.swap(out);
+  };
+  rows(wall_hist_);
+  rows(wall_touch_);
+  rows(fn_wall_);
+  for (auto* v : {&x0_, &y0_, &z0_}) {
+    std::vector<double> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = (*v)[from[i]];
+    v->swap(out);
+  }
+  wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
+}
+
 void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
   search_.find_contacts(p, skin_, candidates_, box_);  // sorted by (i, j)
@@ -155,36 +248,15 @@ void ContactModule::rebuild(const ParticleStore& p) {
                                    [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
                     candidates_.end());
 
-  // Slabs along the longest side of the particles' bounding box, each at least one
-  // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
-  // neighbouring slab. The slab count depends on the geometry only, never on threads.
-  // A periodic axis is never cut (partners across its faces would sit in the first and
-  // the last slab); with all three periodic, one slab.
+  const Slabs g = slabs(p);
+  const std::size_t nslab = g.count;
+  const double width = g.width;
   const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, rmax = 0.0;
-  if (n) {
-    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = (*axis_data[a])[0];
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], (*axis_data[a])[i]);
-        hi[a] = std::max(hi[a], (*axis_data[a])[i]);
-      }
-      rmax = std::max(rmax, p.radius[i]);
-    }
-  }
-  int axis = -1;
-  for (int a = 0; a < 3; ++a)
-    if (!box_.on[a] && (axis < 0 || hi[a] - lo[a] > hi[axis] - lo[axis])) axis = a;
-  const bool cut = axis >= 0;
-  if (!cut) axis = 0;
-  const double range = 2.0 * rmax + skin_, extent = cut ? hi[axis] - lo[axis] : 0.0;
-  const std::size_t nslab =
-      range > 0.0 ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / range))) : 1;
-  const double width = nslab > 1 ? extent / static_cast<double>(nslab) : 1.0;
-  const std::vector<double>& c = *axis_data[axis];
+  const std::vector<double>& c = *axis_data[g.axis];
+  const double lo_axis = g.lo[g.axis];
   auto slab_of = [&](std::uint32_t i) {
     if (nslab == 1) return std::size_t{0};
-    return std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo[axis]) / width));
+    return std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo_axis) / width));
   };
 
   // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.

@@ -63,8 +63,9 @@ void ParticleTableObserver::operator()(const Simulation& sim) {
   last_ = k;
   const ParticleStore& p = sim.particles();
   std::vector<double> r(rot_ ? 11 : 8);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    r[0] = sim.time(); r[1] = static_cast<double>(i);
+  for (std::size_t k = 0; k < p.size(); ++k) {  // by identity, whatever order the store keeps
+    const std::size_t i = p.slot_of(k);
+    r[0] = sim.time(); r[1] = static_cast<double>(k);
     r[2] = p.x[i]; r[3] = p.y[i]; r[4] = p.z[i];
     r[5] = p.vx[i]; r[6] = p.vy[i]; r[7] = p.vz[i];
     if (rot_) { r[8] = p.wx[i]; r[9] = p.wy[i]; r[10] = p.wz[i]; }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <numbers>
 
+#include "cdm/solver/parallel.hpp"
+
 namespace cdm {
 
 void ParticleStore::enable_rotation() {
@@ -40,6 +42,10 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   mass.push_back(m);
   inv_mass.push_back(fixed ? 0.0 : 1.0 / m);
   material.push_back(mat);
+  if (!id.empty()) {
+    slot.push_back(static_cast<std::uint32_t>(id.size()));
+    id.push_back(static_cast<std::uint32_t>(id.size()));
+  }
   if (two_way_enabled_)
     for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->push_back(0.0);
   if (drag_relaxation_enabled_) {
@@ -51,6 +57,29 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
     tx.push_back(0.0); ty.push_back(0.0); tz.push_back(0.0);
     inv_inertia.push_back(fixed ? 0.0 : 10.0 / (m * d * d));
   }
+}
+
+void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = size();
+  if (id.empty()) {
+    id.resize(n);
+    for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<double> tmp(n);
+  for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &radius, &mass, &inv_mass, &wx, &wy, &wz, &tx, &ty, &tz,
+                  &inv_inertia, &drag_k, &ugx, &ugy, &ugz, &dfx, &dfy, &dfz, &jx, &jy, &jz}) {
+    if (v->size() != n) continue;  // a field this scene does not carry
+    const std::vector<double>& src = *v;
+    parallel_for(n, [&](std::size_t i) { tmp[i] = src[from[i]]; });
+    v->swap(tmp);
+  }
+  std::vector<int> mat(n);
+  std::vector<std::uint32_t> ids(n);
+  parallel_for(n, [&](std::size_t i) { mat[i] = material[from[i]]; ids[i] = id[from[i]]; });
+  material.swap(mat);
+  id.swap(ids);
+  slot.resize(n);
+  parallel_for(n, [&](std::size_t i) { slot[id[i]] = static_cast<std::uint32_t>(i); });
 }
 
 void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {

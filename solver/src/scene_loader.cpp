@@ -52,8 +52,9 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
-            "periodic"}},
+            "periodic", "neighbour_list"}},
       {"periodic", {"x", "y", "z"}},
+      {"neighbour_list", {"sort_interval"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
                    "tracers"}},
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
@@ -1199,6 +1200,16 @@ void Loader::read_output_and_checks() {
     spec_.checkpoint_interval = positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
   } else {
     spec_.output_particles = false;
+  }
+  if (const toml::table* nl = table(root_, "neighbour_list", "", false)) {
+    check_keys(*nl, "neighbour_list", "neighbour_list");
+    if (spec_.normal_contact == NormalContactModel::none)
+      reject_unused(*nl, "sort_interval", "neighbour_list", "the scene has no contacts (modules.normal_contact), so no neighbour list");
+    if (const toml::node* si = nl->get("sort_interval")) {
+      if (!si->is_integer() || si->as_integer()->get() < 0)
+        fail_value("neighbour_list.sort_interval", *si, "an integer >= 0 (steps; 0 = never sort)");
+      spec_.sort_interval = static_cast<std::uint64_t>(si->as_integer()->get());
+    }
   }
   if (const toml::table* c = table(root_, "checks", "", false)) {
     check_keys(*c, "checks", "checks");

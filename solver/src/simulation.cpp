@@ -65,7 +65,34 @@ std::vector<std::string> Simulation::module_names() const {
   return names;
 }
 
+void Simulation::sort_if_due() {
+  // At a Verlet-list rebuild (the list is built anew from the sorted order anyway), at
+  // most every sort_interval steps, and at the first build.
+  if (!spec_.sort_interval || !contact_) return;
+  ParticleStore& p = particles_;
+  if (!p.id.empty() && steps_ - last_sort_ < spec_.sort_interval) return;
+  if (!contact_->rebuild_due(p)) return;
+  const std::vector<std::uint32_t> from = contact_->spatial_order(p);
+  permute(from);
+  last_sort_ = steps_;
+}
+
+void Simulation::permute(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = particles_.size();
+  particles_.permute(from);
+  // The integrators' per-particle arrays, where a step is under way.
+  std::vector<double> tmp(n);
+  for (auto* v : {&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_, &x0_, &y0_, &z0_, &kx_, &ky_, &kz_}) {
+    if (v->size() != n) continue;
+    const std::vector<double>& src = *v;
+    parallel_for(n, [&](std::size_t i) { tmp[i] = src[from[i]]; });
+    v->swap(tmp);
+  }
+  for (auto& m : modules_) m->permute(from);
+}
+
 void Simulation::compute_forces() {
+  sort_if_due();
   if (!forces_zeroed_) particles_.clear_forces();  // else the integrator zeroed them as it read them
   forces_zeroed_ = false;
   for (auto& m : modules_) m->add_forces(particles_, spec_.dt);
@@ -471,7 +498,7 @@ void Simulation::check_state(double nonfinite) const {
     for (std::size_t i = 0; i < n && listed < 5; ++i) {
       const bool bad = !is_finite(p.position(i)) || !is_finite(p.velocity(i)) ||
                        (p.has_rotation() && !is_finite(p.angular_velocity(i)));
-      if (bad) { os << ' ' << i << " (" << particle_source(spec_, i) << ')'; ++listed; }
+      if (bad) { os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ')'; ++listed; }
     }
     os << ". Likely cause: a time step too large for the stiffest force";
     cause(os);
@@ -487,7 +514,7 @@ void Simulation::check_state(double nonfinite) const {
       for (std::size_t i = 0; i < n && listed < 5; ++i)
         if (!gas_->contains(p.position(i))) {
           const Vec3 x = p.position(i);
-          os << ' ' << i << " (" << particle_source(spec_, i) << ") at [" << x.x << ", " << x.y << ", " << x.z << "] m";
+          os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ") at [" << x.x << ", " << x.y << ", " << x.z << "] m";
           ++listed;
         }
       os << ". Likely cause: the gas domain is too small for this run (make it larger, periodic, or bounded by "
@@ -500,9 +527,12 @@ void Simulation::check_state(double nonfinite) const {
     const OverlapRecord& w = contact_->worst_overlap();
     std::ostringstream os;
     os << "overlap reached " << w.ratio << " of the radius (limit checks.max_overlap_fraction = "
-       << spec_.max_overlap_fraction << ") at t = " << time_ << " s (step " << steps_ << "): particle " << w.particle
-       << " (" << particle_source(spec_, w.particle) << ") against ";
-    if (w.partner >= 0) os << "particle " << w.partner << " (" << particle_source(spec_, static_cast<std::size_t>(w.partner)) << ")";
+       << spec_.max_overlap_fraction << ") at t = " << time_ << " s (step " << steps_ << "): particle "
+       << p.id_of(w.particle) << " (" << particle_source(spec_, p.id_of(w.particle)) << ") against ";
+    if (w.partner >= 0) {
+      const std::size_t k = p.id_of(static_cast<std::size_t>(w.partner));
+      os << "particle " << k << " (" << particle_source(spec_, k) << ")";
+    }
     else os << "wall '" << contact_->walls()[static_cast<std::size_t>(-1 - w.partner)].name << "'";
     os << ". Likely cause: the normal spring is too soft to stop the particle within its radius at this impact "
           "speed (raise kn), or the time step is too large";
@@ -526,6 +556,8 @@ void Simulation::save_state(OutArchive& a) const {
   a.put(steps_);
   a.put(time_);
   a.put(static_cast<std::uint8_t>(forces_valid_));
+  a.put(p.id);  // the particles' order (empty until sorted); arrays below are in it
+  a.put(last_sort_);
   a.put(p.x); a.put(p.y); a.put(p.z);
   a.put(p.vx); a.put(p.vy); a.put(p.vz);
   a.put(p.fx); a.put(p.fy); a.put(p.fz);
@@ -561,6 +593,27 @@ void Simulation::load_state(InArchive& a) {
   double time = 0.0;
   std::uint8_t fv = 0;
   a.get(steps); a.get(time); a.get(fv);
+  {
+    // The saved order: a permutation of the particles, or empty (never sorted).
+    std::vector<std::uint32_t> id;
+    a.get(id, n0);
+    std::uint64_t last_sort = 0;
+    a.get(last_sort);
+    if (!id.empty() && id.size() != n0) throw ArchiveError("its particle order has the wrong length");
+    std::vector<std::uint8_t> seen(id.size(), 0);
+    for (std::uint32_t k : id) {
+      if (k >= n0 || seen[k]) throw ArchiveError("its particle order is not a permutation");
+      seen[k] = 1;
+    }
+    if (!id.empty() || !p.id.empty()) {
+      // Slot s takes particle id[s] (particle s when the saved run never sorted).
+      std::vector<std::uint32_t> from(n0);
+      for (std::size_t s = 0; s < n0; ++s) from[s] = static_cast<std::uint32_t>(p.slot_of(id.empty() ? s : id[s]));
+      permute(from);
+      if (id.empty()) { p.id.clear(); p.slot.clear(); }
+    }
+    last_sort_ = last_sort;
+  }
   auto arr = [&](std::vector<double>& v, std::size_t want) {
     a.get(v, want);
     if (v.size() != want) throw ArchiveError("a particle array has the wrong length");

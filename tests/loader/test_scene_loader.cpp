@@ -271,3 +271,15 @@ TEST(SceneLoader, CouplingGasVelocity) {
   expect_refused(replace(replace(scene, "method = \"interpolate\"", "method = \"cell_average\""), "kernel = \"trilinear\"\n", ""),
                  {"coupling.gas_velocity", "superficial", "not used", "cell_average"});
 }
+
+TEST(SceneLoader, NeighbourListSortInterval) {
+  const std::string settle = read_text(std::string(CDM_SOURCE_DIR) + "/bench/scenes/settle_1e4.toml");
+  EXPECT_EQ(cdm::load_scene_from_string(settle, "s.toml").sort_interval, 0u);
+  EXPECT_EQ(cdm::load_scene_from_string(settle + "\n[neighbour_list]\nsort_interval = 500\n", "s.toml").sort_interval, 500u);
+  expect_refused(settle + "\n[neighbour_list]\nsort_interval = -1\n", {"neighbour_list.sort_interval", "-1", "integer >= 0"});
+  expect_refused(settle + "\n[neighbour_list]\nsort_interval = 2.5\n", {"neighbour_list.sort_interval", "2.5", "integer >= 0"});
+  expect_refused(settle + "\n[neighbour_list]\nsort_every = 5\n", {"neighbour_list", "sort_every"});
+  // Without contacts there is no neighbour list to sort.
+  const std::string fall = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/terminal_velocity/scene.toml");
+  expect_refused(fall + "\n[neighbour_list]\nsort_interval = 10\n", {"neighbour_list.sort_interval", "not used", "no contacts"});
+}

@@ -62,6 +62,7 @@ void array(std::FILE* f, const char* name, int components, std::size_t n, Get&& 
 void write_particles_vtp(const std::string& path, const Simulation& sim) {
   const ParticleStore& p = sim.particles();
   const std::size_t n = p.size();
+  // Points in identity order (p.slot_of), whatever order the store keeps them in.
   AtomicFile af(path);
   std::FILE* f = af.get();
   std::fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
@@ -69,7 +70,7 @@ void write_particles_vtp(const std::string& path, const Simulation& sim) {
   time_field(f, sim.time());
   std::fprintf(f, "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"%zu\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n", n, n);
   std::fprintf(f, "      <Points>\n");
-  array(f, "position", 3, n, [&](std::size_t i, double* v) { v[0] = p.x[i]; v[1] = p.y[i]; v[2] = p.z[i]; }, "        ");
+  array(f, "position", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s]; }, "        ");
   std::fprintf(f, "      </Points>\n      <Verts>\n");
   std::fprintf(f, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
   for (std::size_t i = 0; i < n; ++i) std::fprintf(f, "%zu\n", i);
@@ -78,10 +79,10 @@ void write_particles_vtp(const std::string& path, const Simulation& sim) {
   std::fprintf(f, "        </DataArray>\n      </Verts>\n");
   std::fprintf(f, "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
   array(f, "id", 1, n, [&](std::size_t i, double* v) { v[0] = static_cast<double>(i); }, "        ");
-  array(f, "radius", 1, n, [&](std::size_t i, double* v) { v[0] = p.radius[i]; }, "        ");
-  array(f, "velocity", 3, n, [&](std::size_t i, double* v) { v[0] = p.vx[i]; v[1] = p.vy[i]; v[2] = p.vz[i]; }, "        ");
+  array(f, "radius", 1, n, [&](std::size_t i, double* v) { v[0] = p.radius[p.slot_of(i)]; }, "        ");
+  array(f, "velocity", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.vx[s]; v[1] = p.vy[s]; v[2] = p.vz[s]; }, "        ");
   if (p.has_rotation())
-    array(f, "angular_velocity", 3, n, [&](std::size_t i, double* v) { v[0] = p.wx[i]; v[1] = p.wy[i]; v[2] = p.wz[i]; },
+    array(f, "angular_velocity", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.wx[s]; v[1] = p.wy[s]; v[2] = p.wz[s]; },
           "        ");
   std::fprintf(f, "      </PointData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n");
   af.commit();

@@ -27,7 +27,7 @@ struct RunOrigin {
   std::vector<SceneOverride> overrides;
 };
 
-constexpr std::uint32_t checkpoint_format_version = 2;
+constexpr std::uint32_t checkpoint_format_version = 3;
 
 /// Write atomically (temporary file + rename). Throws CheckpointError on I/O failure.
 void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin);

@@ -25,6 +25,9 @@ class ForceModule {
   /// State carried from step to step (contact history...), for checkpoints.
   virtual void save_state(OutArchive&) const {}
   virtual void load_state(InArchive&) {}
+  /// The particles were reordered (ParticleStore::permute): slot i now holds what slot
+  /// @p from[i] held. Modules that keep per-particle state reorder it alike.
+  virtual void permute(const std::vector<std::uint32_t>& /*from*/) {}
 };
 
 /// Uniform gravity: F = m g.
@@ -95,6 +98,15 @@ class ContactModule final : public ForceModule {
   const PeriodicBox& periodic_box() const { return box_; }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
+  void permute(const std::vector<std::uint32_t>& from) override;
+
+  /// True when the next evaluation rebuilds the Verlet list (the moment to sort).
+  bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
+  /// A spatial order of the particles (for ParticleStore::permute): by cells one
+  /// interaction range wide, the slab axis slowest, so that each slab's particles, and
+  /// the partners of a particle, sit close together in memory. Deterministic: ties keep
+  /// the current order.
+  std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const;
 
   // The contacts of the last evaluation (record_normal_forces only).
   const std::vector<std::uint32_t>& list_i() const { return pi_; }
@@ -129,6 +141,15 @@ class ContactModule final : public ForceModule {
   template <bool Friction, Laws L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
   bool needs_rebuild(const ParticleStore& p) const;
+  /// How the particles' bounding box is cut into slabs (see the class comment).
+  struct Slabs {
+    int axis = 0;          // the cut axis (0 when nothing is cut)
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // bounding box of the centres [m]
+    double range = 0.0;    // interaction range 2 r_max + skin [m]
+    std::size_t count = 1; // slabs
+    double width = 1.0;    // slab width along axis [m]
+  };
+  Slabs slabs(const ParticleStore& p) const;
   void rebuild(const ParticleStore& p);
   void list_wall_candidates(const ParticleStore& p);
 

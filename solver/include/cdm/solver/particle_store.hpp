@@ -4,6 +4,7 @@
 /// hot loops vectorise. Rotational fields exist only when a module needs them
 /// (tangential friction); a frictionless scene carries none.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "cdm/solver/vec3.hpp"
@@ -35,7 +36,20 @@ struct ParticleStore {
   std::vector<double> dfx, dfy, dfz;  // [N]
   std::vector<double> jx, jy, jz;     // [N s]
 
+  // Spatial sorting (Simulation, neighbour_list.sort_interval) reorders the arrays; each
+  // particle keeps its identity, its index in the scene. Both empty until the first sort:
+  // then slot i holds particle id[i], and particle k sits in slot slot[k].
+  std::vector<std::uint32_t> id;    // particle identity per slot
+  std::vector<std::uint32_t> slot;  // slot per particle identity
+
   std::size_t size() const { return x.size(); }
+  /// The scene index of the particle in slot @p i (i itself until a sort).
+  std::size_t id_of(std::size_t i) const { return id.empty() ? i : id[i]; }
+  /// The slot of the particle with scene index @p k (k itself until a sort).
+  std::size_t slot_of(std::size_t k) const { return slot.empty() ? k : slot[k]; }
+  /// Reorder every array: slot i takes what slot @p from[i] held (a permutation of
+  /// 0..size()-1). Identities move with their particles.
+  void permute(const std::vector<std::uint32_t>& from);
   bool has_rotation() const { return rotation_enabled_; }
   bool has_drag_relaxation() const { return drag_relaxation_enabled_; }
   bool has_two_way() const { return two_way_enabled_; }

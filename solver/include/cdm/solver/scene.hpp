@@ -3,6 +3,7 @@
 /// @brief SceneSpec: a scene file loaded and validated, every value in SI units.
 /// The loader (scene_loader.hpp) is the only place that reads TOML or converts units.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -100,6 +101,10 @@ struct SceneSpec {
   bool output_particles = true;
   bool output_vtk = false;  // VTK files (particles, and the gas) at the output interval
   double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
+
+  // Spatial sorting of the particles at Verlet-list rebuilds, at most every this many
+  // steps; 0 = never (particles stay in scene order).
+  std::uint64_t sort_interval = 0;
 
   bool allow_initial_overlap = false;
   double max_overlap_fraction = 1.0;  // stop when overlap / radius reaches this [-]

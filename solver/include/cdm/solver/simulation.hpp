@@ -73,6 +73,12 @@ class Simulation {
 
  private:
   void compute_forces();
+  /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
+  /// the contact list is about to be rebuilt.
+  void sort_if_due();
+  /// Reorder every per-particle array, the particles' and the modules' (slot i takes
+  /// what slot @p from[i] held).
+  void permute(const std::vector<std::uint32_t>& from);
   /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
   void step_tracers();
@@ -105,6 +111,7 @@ class Simulation {
   CouplingBalance balance_;
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
+  std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
   bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
   bool restarted_ = false;
