@@ -28,30 +28,41 @@ std::uint64_t fnv1a64(const char* p, std::size_t n) {
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin) {
-  OutArchive state;
-  sim.save_state(state);
-  OutArchive payload;
-  payload.put(origin.scene_name);
-  payload.put(origin.scene_text);
-  payload.put(static_cast<std::uint64_t>(origin.overrides.size()));
-  for (const auto& o : origin.overrides) {
-    payload.put(o.path);
-    payload.put(o.value);
-  }
-  payload.put(state.bytes());
-  const auto& body = payload.bytes();
-
+  // The state goes straight to the file (a large run's state is not held a second time
+  // in memory); its length is learnt first by a pass that only counts, and the header's
+  // length and checksum are filled in once the body is written.
+  OutArchive counter = OutArchive::counting_only();
+  sim.save_state(counter);
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw CheckpointError(path + ": cannot open '" + tmp + "' for writing");
     const std::uint32_t version = checkpoint_format_version;
-    const std::uint64_t len = body.size(), sum = fnv1a64(body.data(), body.size());
+    std::uint64_t len = 0, sum = 0;
     out.write(magic, sizeof magic);
     out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    const auto header_at = out.tellp();
     out.write(reinterpret_cast<const char*>(&len), sizeof len);
     out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    out.write(body.data(), static_cast<std::streamsize>(body.size()));
+    OutArchive body(out);
+    body.put(origin.scene_name);
+    body.put(origin.scene_text);
+    body.put(static_cast<std::uint64_t>(origin.overrides.size()));
+    for (const auto& o : origin.overrides) {
+      body.put(o.path);
+      body.put(o.value);
+    }
+    body.put(counter.size());  // the state, as a byte array: its length, then its bytes
+    const std::uint64_t before = body.size();
+    sim.save_state(body);
+    if (body.size() - before != counter.size())
+      throw CheckpointError(path + ": the state changed size while it was written (" + std::to_string(counter.size()) +
+                            " then " + std::to_string(body.size() - before) + " bytes)");
+    len = body.size();
+    sum = body.checksum();
+    out.seekp(header_at);
+    out.write(reinterpret_cast<const char*>(&len), sizeof len);
+    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
     out.flush();
     if (!out) throw CheckpointError(path + ": writing '" + tmp + "' failed (disk full?)");
   }

@@ -6,6 +6,7 @@
 /// or corrupted archive is refused, never half-read.
 #include <cstdint>
 #include <cstring>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -18,26 +19,55 @@ class ArchiveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Writes into memory, or straight into a stream (checkpoints: the state is never held
+/// twice). Either way it counts the bytes and keeps their FNV-1a 64 checksum; with
+/// counting_only() it keeps nothing else (to learn a size before writing).
 class OutArchive {
  public:
+  OutArchive() = default;
+  explicit OutArchive(std::ostream& out) : out_(&out) {}
+  static OutArchive counting_only() {
+    OutArchive a;
+    a.count_only_ = true;
+    return a;
+  }
   template <class T>
   void put(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    const auto* b = reinterpret_cast<const char*>(&v);
-    bytes_.insert(bytes_.end(), b, b + sizeof(T));
+    write(reinterpret_cast<const char*>(&v), sizeof(T));
   }
   template <class T>
   void put(const std::vector<T>& v) {
     static_assert(std::is_trivially_copyable_v<T>);
     put<std::uint64_t>(v.size());
-    const auto* b = reinterpret_cast<const char*>(v.data());
-    bytes_.insert(bytes_.end(), b, b + v.size() * sizeof(T));
+    write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
-  void put(const std::string& s) { put(std::vector<char>(s.begin(), s.end())); }
+  void put(const std::string& s) {
+    put<std::uint64_t>(s.size());
+    write(s.data(), s.size());
+  }
+  /// The bytes written (in-memory archives only).
   const std::vector<char>& bytes() const { return bytes_; }
+  std::uint64_t size() const { return size_; }
+  /// FNV-1a 64 of every byte written (not kept for counting_only()).
+  std::uint64_t checksum() const { return hash_; }
 
  private:
+  void write(const char* b, std::size_t n) {
+    size_ += n;
+    if (count_only_ || n == 0) return;
+    for (std::size_t i = 0; i < n; ++i) {
+      hash_ ^= static_cast<unsigned char>(b[i]);
+      hash_ *= 1099511628211ull;
+    }
+    if (out_) out_->write(b, static_cast<std::streamsize>(n));
+    else bytes_.insert(bytes_.end(), b, b + n);
+  }
+  std::ostream* out_ = nullptr;
+  bool count_only_ = false;
   std::vector<char> bytes_;
+  std::uint64_t size_ = 0;
+  std::uint64_t hash_ = 14695981039346656037ull;
 };
 
 class InArchive {
