@@ -242,11 +242,16 @@ void ContactModule::permute(const std::vector<std::uint32_t>& from) {
 
 void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
-  search_.find_contacts(p, skin_, candidates_, box_);  // sorted by (i, j)
+  // The candidates live only while the list is built, and are released before the
+  // history is carried over (the rebuild sets the run's peak memory). Reserved at the
+  // last list's size plus a margin, so that they rarely grow by doubling.
+  std::vector<ContactPair> candidates;
+  candidates.reserve(pi_.size() + pi_.size() / 8 + 64);
+  search_.find_contacts(p, skin_, candidates, box_);  // sorted by (i, j)
   // Two fixed particles never move: their contact does nothing, so it is not listed.
-  candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
-                                   [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
-                    candidates_.end());
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
+                   candidates.end());
 
   const Slabs g = slabs(p);
   const std::size_t nslab = g.count;
@@ -260,21 +265,23 @@ void ContactModule::rebuild(const ParticleStore& p) {
   };
 
   // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.
-  std::vector<std::uint32_t> start(nslab + 1, 0), owner(candidates_.size());
-  for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    owner[k] = static_cast<std::uint32_t>(std::min(slab_of(candidates_[k].i), slab_of(candidates_[k].j)));
+  std::vector<std::uint32_t> start(nslab + 1, 0), owner(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    owner[k] = static_cast<std::uint32_t>(std::min(slab_of(candidates[k].i), slab_of(candidates[k].j)));
     ++start[owner[k] + 1];
   }
   for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
-  std::vector<std::uint32_t> pi(candidates_.size()), pj(candidates_.size());
+  std::vector<std::uint32_t> pi(candidates.size()), pj(candidates.size());
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::uint32_t at = fill[owner[k]]++;
-      pi[at] = candidates_[k].i;
-      pj[at] = candidates_[k].j;
+      pi[at] = candidates[k].i;
+      pj[at] = candidates[k].j;
     }
   }
+  std::vector<ContactPair>().swap(candidates);
+  std::vector<std::uint32_t>().swap(owner);
   if (friction_) {
     // Carry the history of every pair listed before and after (every pair in contact
     // is in both lists), looked up by (i, j) in the old list.

@@ -161,7 +161,6 @@ class ContactModule final : public ForceModule {
   Laws laws_;
   CellListSearch search_;
   PeriodicBox box_;
-  std::vector<ContactPair> candidates_;
   // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
   // [slab_start_[s], slab_start_[s+1]).
   std::vector<std::uint32_t> pi_, pj_, slab_start_;
