@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Spatial sorting (neighbour_list.sort_interval) reorders the particles in memory and
 # changes nothing else:
-# - the settle benchmark's 10,000 frictional spheres, 8,000 steps sorted every 100
+# - the settle benchmark's 10,000 frictional spheres, 4,000 steps sorted every 100
 #   steps: bit-identical tables on 1 and 2 threads; a run split by a checkpoint (taken
 #   after several sorts) and restarted equals the uninterrupted one bit for bit; the
 #   table lists the same ids in the same order as an unsorted run, at the same places
@@ -12,10 +12,11 @@
 # - the small periodic chute (wrapping particles, fixed base): sorted against unsorted,
 #   the same bound.
 # Bound: the sorted run adds each particle's contact forces in another order, so the
-# runs part by round-off, amplified through the contacts of a dense bed. Measured on
-# these runs (2026-11-23): positions 7e-13 m, velocities 5e-9 m/s apart at the most
-# (settle); a history carried with the wrong sign across a sort gives 2.5e-4 m and
-# 0.13 m/s. The test allows 1e-9 m (1e-6 of a diameter) and 1e-5 m/s.
+# runs part by round-off, amplified through the contacts as the bed packs. Measured
+# (2026-11-23) on the settle problem: 3e-16 m and 8e-16 m/s apart at the most over these
+# 4,000 steps, 7e-13 m and 5e-9 m/s over 8,000; the chute 2e-15 m; a tangential history
+# carried with the wrong sign across a sort gives 4e-5 m and 0.09 m/s within 2,500
+# steps. The test allows 1e-9 m (1e-6 of a diameter) and 1e-5 m/s.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -37,7 +38,7 @@ EOF
 }
 
 settle="$src/bench/scenes/settle_1e4.toml"
-args=(run "$settle" -q --set integrator.end_time=0.0128667 --set output.interval=0.004)
+args=(run "$settle" -q --set integrator.end_time=0.0064334 --set output.interval=0.002)
 sorted=(--set neighbour_list.sort_interval=100)
 "$cdm" "${args[@]}" --set neighbour_list.sort_interval=0 -o "$work/plain" -j 1 > /dev/null || fail "unsorted run"
 "$cdm" "${args[@]}" "${sorted[@]}" -o "$work/one" -j 1 > /dev/null || fail "sorted 1-thread run"
@@ -46,10 +47,10 @@ cmp -s "$work/one/particles.dat" "$work/two/particles.dat" || fail "sorted: 1 an
 agree "$work/plain/particles.dat" "$work/one/particles.dat"
 
 # Restart with sorting: a checkpoint after several sorts.
-set_args=("${sorted[@]}" --set integrator.end_time=0.0128667 --set output.interval=0.001
-          --set output.checkpoint_interval=0.005 -q)
+set_args=("${sorted[@]}" --set integrator.end_time=0.0064334 --set output.interval=0.001
+          --set output.checkpoint_interval=0.003 -q)
 "$cdm" run "$settle" -o "$work/full" "${set_args[@]}" > /dev/null || fail "sorted full run"
-"$cdm" run "$settle" -o "$work/split" "${set_args[@]}" --max-steps 4321 > /dev/null || fail "sorted first part"
+"$cdm" run "$settle" -o "$work/split" "${set_args[@]}" --max-steps 2345 > /dev/null || fail "sorted first part"
 cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
 "$cdm" run "$settle" -o "$work/split" "${set_args[@]}" --restart "$work/half.cdmck" > /dev/null || fail "sorted restart"
 cmp -s "$work/full/particles.dat" "$work/split/particles.dat" || fail "sorted: restarted table differs from the uninterrupted one"
