@@ -16,22 +16,13 @@ namespace {
 constexpr char magic[8] = {'C', 'D', 'M', 'C', 'K', 'P', 'T', '\n'};
 constexpr std::uint64_t max_payload = std::uint64_t{1} << 36;  // 64 GiB: refuse absurd lengths before allocating
 
-std::uint64_t fnv1a64(const char* p, std::size_t n) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (std::size_t i = 0; i < n; ++i) {
-    h ^= static_cast<unsigned char>(p[i]);
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin) {
   // The state goes straight to the file (a large run's state is not held a second time
   // in memory); its length is learnt first by a pass that only counts, and the header's
   // length and checksum are filled in once the body is written.
-  OutArchive counter = OutArchive::counting_only();
+  OutArchive counter;  // counts only
   sim.save_state(counter);
   const std::string tmp = path + ".tmp";
   {

@@ -232,11 +232,8 @@ void ContactModule::permute(const std::vector<std::uint32_t>& from) {
   rows(wall_hist_);
   rows(wall_touch_);
   rows(fn_wall_);
-  for (auto* v : {&x0_, &y0_, &z0_}) {
-    std::vector<double> out(n);
-    for (std::size_t i = 0; i < n; ++i) out[i] = (*v)[from[i]];
-    v->swap(out);
-  }
+  std::vector<double> tmp;
+  for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
   wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
 }
 

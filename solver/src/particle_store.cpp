@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <numbers>
 
-#include "cdm/solver/parallel.hpp"
 
 namespace cdm {
 
@@ -65,19 +64,14 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
     id.resize(n);
     for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::uint32_t>(i);
   }
-  std::vector<double> tmp(n);
+  std::vector<double> tmp;
   for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &radius, &mass, &inv_mass, &wx, &wy, &wz, &tx, &ty, &tz,
-                  &inv_inertia, &drag_k, &ugx, &ugy, &ugz, &dfx, &dfy, &dfz, &jx, &jy, &jz}) {
-    if (v->size() != n) continue;  // a field this scene does not carry
-    const std::vector<double>& src = *v;
-    parallel_for(n, [&](std::size_t i) { tmp[i] = src[from[i]]; });
-    v->swap(tmp);
-  }
-  std::vector<int> mat(n);
-  std::vector<std::uint32_t> ids(n);
-  parallel_for(n, [&](std::size_t i) { mat[i] = material[from[i]]; ids[i] = id[from[i]]; });
-  material.swap(mat);
-  id.swap(ids);
+                  &inv_inertia, &drag_k, &ugx, &ugy, &ugz, &dfx, &dfy, &dfz, &jx, &jy, &jz})
+    if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
+  std::vector<int> mat;
+  permute_array(material, from, mat);
+  std::vector<std::uint32_t> ids;
+  permute_array(id, from, ids);
   slot.resize(n);
   parallel_for(n, [&](std::size_t i) { slot[id[i]] = static_cast<std::uint32_t>(i); });
 }

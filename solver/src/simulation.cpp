@@ -81,13 +81,9 @@ void Simulation::permute(const std::vector<std::uint32_t>& from) {
   const std::size_t n = particles_.size();
   particles_.permute(from);
   // The integrators' per-particle arrays, where a step is under way.
-  std::vector<double> tmp(n);
-  for (auto* v : {&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_, &x0_, &y0_, &z0_, &kx_, &ky_, &kz_}) {
-    if (v->size() != n) continue;
-    const std::vector<double>& src = *v;
-    parallel_for(n, [&](std::size_t i) { tmp[i] = src[from[i]]; });
-    v->swap(tmp);
-  }
+  std::vector<double> tmp;
+  for (auto* v : {&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_, &x0_, &y0_, &z0_, &kx_, &ky_, &kz_})
+    if (v->size() == n) permute_array(*v, from, tmp);
   for (auto& m : modules_) m->permute(from);
 }
 

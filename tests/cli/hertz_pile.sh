@@ -6,7 +6,7 @@
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/common.sh"
 scene="$src/tests/cli/scenes/hertz_pile.toml"
 
 # Threads (4,800 particles: above the 4,096 where threads start).
@@ -20,10 +20,5 @@ awk '!/^#/ && ($9 != 0 || $10 != 0) {found = 1} END {exit !found}' "$work/one/pa
 # Restart (600 beads, 0.01 s).
 set_args=(--set 'lattices[0].count=[10,10,6]' --set integrator.end_time=0.01 --set output.interval=0.0005
           --set output.checkpoint_interval=0.0025 -q)
-"$cdm" run "$scene" -o "$work/full" "${set_args[@]}" > /dev/null || fail "full run"
-"$cdm" run "$scene" -o "$work/split" "${set_args[@]}" --max-steps 5000 > /dev/null || fail "first half"
-cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
-"$cdm" run "$scene" -o "$work/split" "${set_args[@]}" --restart "$work/half.cdmck" > /dev/null || fail "restart"
-cmp -s "$work/full/particles.dat" "$work/split/particles.dat" || fail "restarted table differs from the uninterrupted one"
-cmp -s "$work/full/checkpoint.cdmck" "$work/split/checkpoint.cdmck" || fail "final states differ"
+restart_matches "hertz pile" "$scene" "$work" 5000 "${set_args[@]}"
 echo "hertz_pile: threads and restart bit-identical"

@@ -8,30 +8,20 @@
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/common.sh"
 scene="$src/bench/scenes/settle_1e4.toml"
 set_args=(--set 'lattices[0].count=[10,10,10]' --set integrator.end_time=0.02 --set output.interval=0.0005
           --set output.checkpoint_interval=0.005 -q)
 
-"$cdm" run "$scene" -o "$work/full" "${set_args[@]}" > /dev/null || fail "full run"
-"$cdm" run "$scene" -o "$work/split" "${set_args[@]}" --max-steps 6218 > /dev/null || fail "first half"
-[ -s "$work/split/checkpoint.cdmck" ] || fail "no checkpoint after --max-steps"
-cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
-"$cdm" run "$scene" -o "$work/split" "${set_args[@]}" --restart "$work/half.cdmck" > /dev/null || fail "restart"
-cmp -s "$work/full/particles.dat" "$work/split/particles.dat" || fail "restarted table differs from the uninterrupted one"
-cmp -s "$work/full/checkpoint.cdmck" "$work/split/checkpoint.cdmck" || fail "final states differ"
+restart_matches "pile" "$scene" "$work" 6218 "${set_args[@]}"
 
 # A two-way coupled gas–particle run (the uniform suspension, 4 particle sub-steps per gas
 # step) split in the middle of a gas step: gas fields, the exchange accumulated so far and
 # the drag impulses are restored, so the tables and final states match bit for bit.
 susp="$src/verification/cases/suspension/scene.toml"
 susp_args=(--set integrator.dt=5e-5 --set integrator.end_time=0.006 --set 'output={interval=0.0005, checkpoint_interval=0.003}' -q)
-"$cdm" run "$susp" -o "$work/cfull" "${susp_args[@]}" > /dev/null || fail "coupled full run"
-"$cdm" run "$susp" -o "$work/csplit" "${susp_args[@]}" --max-steps 61 > /dev/null || fail "coupled first part"
-cp "$work/csplit/checkpoint.cdmck" "$work/chalf.cdmck"
-"$cdm" run "$susp" -o "$work/csplit" "${susp_args[@]}" --restart "$work/chalf.cdmck" > /dev/null || fail "coupled restart"
-cmp -s "$work/cfull/particles.dat" "$work/csplit/particles.dat" || fail "coupled: restarted table differs from the uninterrupted one"
-cmp -s "$work/cfull/checkpoint.cdmck" "$work/csplit/checkpoint.cdmck" || fail "coupled: final states (gas included) differ"
+mkdir -p "$work/coupled"
+restart_matches "coupled (gas included)" "$susp" "$work/coupled" 61 "${susp_args[@]}"
 
 # Refused checkpoints: truncated, one byte flipped, another scene.
 head -c 1000 "$work/half.cdmck" > "$work/trunc.cdmck"

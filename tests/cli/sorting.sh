@@ -20,7 +20,7 @@
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/common.sh"
 
 # Same ids in the same order, positions within dx [m] and velocities within dv [m/s],
 # over every row of the two tables (columns t id x y z vx vy vz ...).
@@ -49,12 +49,8 @@ agree "$work/plain/particles.dat" "$work/one/particles.dat"
 # Restart with sorting: a checkpoint after several sorts.
 set_args=("${sorted[@]}" --set integrator.end_time=0.0064334 --set output.interval=0.001
           --set output.checkpoint_interval=0.003 -q)
-"$cdm" run "$settle" -o "$work/full" "${set_args[@]}" > /dev/null || fail "sorted full run"
-"$cdm" run "$settle" -o "$work/split" "${set_args[@]}" --max-steps 2345 > /dev/null || fail "sorted first part"
-cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
-"$cdm" run "$settle" -o "$work/split" "${set_args[@]}" --restart "$work/half.cdmck" > /dev/null || fail "sorted restart"
-cmp -s "$work/full/particles.dat" "$work/split/particles.dat" || fail "sorted: restarted table differs from the uninterrupted one"
-cmp -s "$work/full/checkpoint.cdmck" "$work/split/checkpoint.cdmck" || fail "sorted: final states differ"
+mkdir -p "$work/restart"
+restart_matches "sorted" "$settle" "$work/restart" 2345 "${set_args[@]}"
 
 # Hertz–Mindlin with friction and rolling resistance (its torques go through the
 # contact list, in list order): sorted runs bit-identical on 1 and 2 threads. Against an

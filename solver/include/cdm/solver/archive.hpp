@@ -19,18 +19,23 @@ class ArchiveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Writes into memory, or straight into a stream (checkpoints: the state is never held
-/// twice). Either way it counts the bytes and keeps their FNV-1a 64 checksum; with
-/// counting_only() it keeps nothing else (to learn a size before writing).
+/// FNV-1a 64 of p[0..n), continued from @p h: the checkpoints' checksum.
+inline constexpr std::uint64_t fnv1a64_basis = 14695981039346656037ull;
+inline std::uint64_t fnv1a64(const char* p, std::size_t n, std::uint64_t h = fnv1a64_basis) {
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+/// Writes straight into a stream (checkpoints: the state is never held twice in
+/// memory), counting the bytes and keeping their checksum; without a stream it only
+/// counts (to learn a size before writing).
 class OutArchive {
  public:
   OutArchive() = default;
   explicit OutArchive(std::ostream& out) : out_(&out) {}
-  static OutArchive counting_only() {
-    OutArchive a;
-    a.count_only_ = true;
-    return a;
-  }
   template <class T>
   void put(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -46,28 +51,20 @@ class OutArchive {
     put<std::uint64_t>(s.size());
     write(s.data(), s.size());
   }
-  /// The bytes written (in-memory archives only).
-  const std::vector<char>& bytes() const { return bytes_; }
   std::uint64_t size() const { return size_; }
-  /// FNV-1a 64 of every byte written (not kept for counting_only()).
+  /// fnv1a64 of every byte written (a counting archive keeps none).
   std::uint64_t checksum() const { return hash_; }
 
  private:
   void write(const char* b, std::size_t n) {
     size_ += n;
-    if (count_only_ || n == 0) return;
-    for (std::size_t i = 0; i < n; ++i) {
-      hash_ ^= static_cast<unsigned char>(b[i]);
-      hash_ *= 1099511628211ull;
-    }
-    if (out_) out_->write(b, static_cast<std::streamsize>(n));
-    else bytes_.insert(bytes_.end(), b, b + n);
+    if (!out_ || n == 0) return;
+    hash_ = fnv1a64(b, n, hash_);
+    out_->write(b, static_cast<std::streamsize>(n));
   }
   std::ostream* out_ = nullptr;
-  bool count_only_ = false;
-  std::vector<char> bytes_;
   std::uint64_t size_ = 0;
-  std::uint64_t hash_ = 14695981039346656037ull;
+  std::uint64_t hash_ = fnv1a64_basis;
 };
 
 class InArchive {

@@ -7,9 +7,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "cdm/solver/parallel.hpp"
 #include "cdm/solver/vec3.hpp"
 
 namespace cdm {
+
+/// v[i] ← v[from[i]] for every i (a gather through a permutation, as
+/// ParticleStore::permute applies it); @p tmp is scratch. Parallel over i.
+template <class T>
+void permute_array(std::vector<T>& v, const std::vector<std::uint32_t>& from, std::vector<T>& tmp);
 
 struct ParticleStore {
   // Translational state [SI].
@@ -80,5 +86,13 @@ struct ParticleStore {
   bool drag_relaxation_enabled_ = false;
   bool two_way_enabled_ = false;
 };
+
+template <class T>
+void permute_array(std::vector<T>& v, const std::vector<std::uint32_t>& from, std::vector<T>& tmp) {
+  const std::size_t n = from.size();
+  tmp.resize(n);
+  parallel_for(n, [&](std::size_t i) { tmp[i] = v[from[i]]; });
+  v.swap(tmp);
+}
 
 }  // namespace cdm
