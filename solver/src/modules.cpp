@@ -47,6 +47,7 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   // unless mixed, and nothing recorded unless a module reads it.
   if (record_) dispatch<true>(p, dt);
   else dispatch<false>(p, dt);
+  displacement_ = -1.0;  // measured for these positions only
 }
 
 template <bool Record>
@@ -95,6 +96,7 @@ void ContactModule::load_state(InArchive& a) {
   if (!ok) throw ArchiveError("the contact list is inconsistent");
   built_ = built != 0;
   builds_ = builds;
+  displacement_ = -1.0;
   n_active_ = active;
   wall_candidates_stale_ = true;  // listed from the build's positions at the next evaluation
 }
@@ -137,6 +139,7 @@ bool ContactModule::needs_rebuild(const ParticleStore& p) const {
   if (skin_ <= 0.0 || p.size() != x0_.size()) return true;
   const double lim2 = 0.25 * skin_ * skin_;
   const std::size_t n = p.size();
+  if (displacement_ >= 0.0) return displacement_ > lim2;  // the integrator measured it
   const double worst = parallel_max(n, [&](std::size_t i) {
     // Along a periodic axis a particle may have wrapped since the build: its displacement
     // is the nearest image of the jump.
@@ -432,52 +435,67 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   auto pair_range = [&](std::uint32_t k0, std::uint32_t k1, std::size_t& my_active, OverlapRecord& my_worst) {
     Vec3 no_hist;
     std::uint8_t no_touch = 0;
+    // The arrays' data pointers held in locals: the stores below (a byte among them,
+    // which may alias anything) would otherwise make the compiler load each vector's
+    // pointer again for every access.
+    const std::uint32_t* const PI = pi_.data();
+    const std::uint32_t* const PJ = pj_.data();
+    const double *const X = p.x.data(), *const Y = p.y.data(), *const Z = p.z.data();
+    const double *const VX = p.vx.data(), *const VY = p.vy.data(), *const VZ = p.vz.data();
+    const double *const WX = p.wx.data(), *const WY = p.wy.data(), *const WZ = p.wz.data();
+    const double *const R = p.radius.data(), *const M = p.mass.data(), *const IM = p.inv_mass.data();
+    const int* const MAT = p.material.data();
+    double *const FX = p.fx.data(), *const FY = p.fy.data(), *const FZ = p.fz.data();
+    double *const TX = p.tx.data(), *const TY = p.ty.data(), *const TZ = p.tz.data();
+    Vec3* const HIST = hist_.data();
+    std::uint8_t* const TOUCH = touch_.data();
+    double* const FN = fn_pair_.data();
+    std::size_t active = 0;  // counted here, not through the reference, for the same reason
     for (std::uint32_t k = k0; k < k1; ++k) {
-      const std::uint32_t i = pi_[k], j = pj_[k];
-      Vec3 d = p.position(j) - p.position(i);
+      const std::uint32_t i = PI[k], j = PJ[k];
+      Vec3 d{X[j] - X[i], Y[j] - Y[i], Z[j] - Z[i]};
       if (periodic) d = box_.min_image(d);
-      const double ri = p.radius[i], rj = p.radius[j];
+      const double ri = R[i], rj = R[j];
       const double reach = ri + rj;
       const double d2 = dot(d, d);
       if (d2 >= reach * reach) {
-        if constexpr (Friction) touch_[k] = 0;  // contact over: history forgotten
-        if constexpr (record) fn_pair_[k] = -1.0;
+        if constexpr (Friction) TOUCH[k] = 0;  // contact over: history forgotten
+        if constexpr (record) FN[k] = -1.0;
         continue;
       }
       const double dist = std::sqrt(d2);
       const double overlap = reach - dist;
-      ++my_active;
+      ++active;
       const Vec3 eta = (1.0 / dist) * d;
       const double Li = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
       const double Lj = dist - Li;
-      Vec3 vrel = p.velocity(i) - p.velocity(j);
-      if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i) + Lj * p.angular_velocity(j), eta);
-      const PairParams& pp = pairs_.get(p.material[i], p.material[j]);
+      Vec3 vrel{VX[i] - VX[j], VY[i] - VY[j], VZ[i] - VZ[j]};
+      if constexpr (Friction) vrel += cross(Li * Vec3{WX[i], WY[i], WZ[i]} + Lj * Vec3{WX[j], WY[j], WZ[j]}, eta);
+      const PairParams& pp = pairs_.get(MAT[i], MAT[j]);
       Vec3 vrel_step = vrel;
       if constexpr (Friction && L != Laws::linear)
         if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
           vrel_step = step_velocity(i) - step_velocity(j) + cross(Li * step_spin(i) + Lj * step_spin(j), eta);
       // A fixed particle is a body of infinite mass: m* is the other's mass.
-      const double m_eff = p.inv_mass[i] == 0.0   ? p.mass[j]
-                           : p.inv_mass[j] == 0.0 ? p.mass[i]
-                                                  : p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+      const double m_eff = IM[i] == 0.0 ? M[j] : IM[j] == 0.0 ? M[i] : M[i] * M[j] / (M[i] + M[j]);
       const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
       double* fn_rec = nullptr;
-      if constexpr (record) fn_rec = &fn_pair_[k];
+      if constexpr (record) fn_rec = &FN[k];
       Vec3 f, ft;
       if constexpr (Friction)
-        resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist_[k], touch_[k], f, ft, fn_rec);
+        resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, HIST[k], TOUCH[k], f, ft, fn_rec);
       else resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, no_hist, no_touch, f, ft, fn_rec);
-      p.add_force(i, f);
-      p.add_force(j, -f);
+      FX[i] += f.x; FY[i] += f.y; FZ[i] += f.z;
+      FX[j] -= f.x; FY[j] -= f.y; FZ[j] -= f.z;
       if constexpr (Friction) {
         const Vec3 tq = cross(eta, ft);  // T_i = L_i η × F_t, T_j = L_j η × F_t
-        p.add_torque(i, Li * tq);
-        p.add_torque(j, Lj * tq);
+        TX[i] += Li * tq.x; TY[i] += Li * tq.y; TZ[i] += Li * tq.z;
+        TX[j] += Lj * tq.x; TY[j] += Lj * tq.y; TZ[j] += Lj * tq.z;
       }
       const OverlapRecord rec{overlap / std::min(ri, rj), ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
       if (worse(rec, my_worst)) my_worst = rec;
     }
+    my_active += active;
   };
   if (!threads) {
     // Same order as the threaded path: even slabs, then odd slabs.

@@ -102,6 +102,15 @@ class ContactModule final : public ForceModule {
 
   /// True when the next evaluation rebuilds the Verlet list (the moment to sort).
   bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
+  /// Positions at the last Verlet-list build [m], one array per axis (empty before the
+  /// first build), for an integrator that measures the displacement as it moves the
+  /// particles (set_displacement).
+  const std::vector<double>& build_positions(int axis) const { return axis == 0 ? x0_ : axis == 1 ? y0_ : z0_; }
+  /// The largest squared displacement [m^2] of a particle since the last build, at the
+  /// current positions, measured by the integrator in its own pass over the particles
+  /// (along periodic axes as the nearest image, as the module measures it): the next
+  /// evaluation takes it instead of a pass of its own. Used once; ignored if negative.
+  void set_displacement(double d2) { displacement_ = d2; }
   /// A spatial order of the particles (for ParticleStore::permute): by cells one
   /// interaction range wide, the slab axis slowest, so that each slab's particles, and
   /// the partners of a particle, sit close together in memory. Deterministic: ties keep
@@ -173,6 +182,7 @@ class ContactModule final : public ForceModule {
   std::vector<std::uint32_t> wall_candidates_;
   bool wall_candidates_stale_ = true;  // after load_state: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  double displacement_ = -1.0;          // see set_displacement; < 0: measure
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
   StepVelocities step_;                       // see set_step_velocities
   bool built_ = false;

@@ -32,8 +32,11 @@ class Simulation {
   explicit Simulation(SceneSpec spec);
 
   const SceneSpec& spec() const { return spec_; }
-  ParticleStore& particles() { return particles_; }
-  const ParticleStore& particles() const { return particles_; }
+  /// The particles at time(). Reading them completes the last step where its final
+  /// kick was left pending (see step()); a state that went non-finite in that step is
+  /// reported here then (SimulationError).
+  ParticleStore& particles() { complete_step(); return particles_; }
+  const ParticleStore& particles() const { complete_step(); return particles_; }
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
   std::uint64_t steps() const { return steps_; }
@@ -57,7 +60,11 @@ class Simulation {
   const CouplingBalance& coupling_balance() const { return balance_; }
   const coupling::DragModule* drag() const { return drag_; }
 
-  /// Advance one time step (throws SimulationError if the state goes bad).
+  /// Advance one time step (throws SimulationError if the state goes bad). With
+  /// velocity Verlet and no gas, the step's final half kick (the velocities and spins
+  /// at the new time) is done lazily: in the same pass as the next step's first half,
+  /// or when the particles are read, whichever comes first. Either way the arithmetic
+  /// is the same, so results do not depend on when the state is read.
   void step();
   /// Run to end_time, calling @p observer at t = 0 (not after a restart) and after every
   /// step; @p stop is polled after each step and ends the run early when it returns true.
@@ -82,11 +89,21 @@ class Simulation {
   /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
   void step_tracers();
+  /// Velocity Verlet's final half kick of particle i: its velocity @p v and spin @p w
+  /// (set only with rotation) at the new time, from the half-step ones and the forces.
+  void final_velocity(std::size_t i, double h, Vec3& v, Vec3& w) const;
+  /// The final half kick for every particle, into the store; 1 if the state is then
+  /// not finite, else 0.
+  double final_kick() const;
+  /// Do the pending final kick, if any, and check the state it gives.
+  void complete_step() const;
   /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
   /// solved implicitly or exactly when the scene asks for it (drag_module.hpp).
   /// With @p impulse the drag impulse of the kick is added to the particle's two-way
   /// accumulator (not for the velocity predictor of velocity Verlet).
-  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse = true);
+  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse = true) const;
+  /// kick() for particles whose drag is relaxed implicitly or exactly.
+  void kick_relaxed(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) const;
   void wrap_positions();
   void build_gas();
   /// ε_g on the cells from the particles' volumes (deposition kernel); stops the run if
@@ -97,7 +114,8 @@ class Simulation {
   void gas_step();
 
   SceneSpec spec_;
-  ParticleStore particles_;
+  // Mutable: the final kick a step leaves pending is done when the particles are read.
+  mutable ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   ContactModule* contact_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
@@ -114,6 +132,8 @@ class Simulation {
   std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
   bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
+  bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
+  mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   bool restarted_ = false;
   // Velocity Verlet keeps v(t+Δt/2) between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
