@@ -354,8 +354,9 @@ void Simulation::step() {
           for (int a = 0; a < 3; ++a) x0[a] = contact_->build_positions(a).data();
         constexpr double not_finite = std::numeric_limits<double>::infinity();
         const double worst = parallel_max(n, [&](std::size_t i) {
-          Vec3 v = p.velocity(i), w = p.angular_velocity(i);
+          Vec3 v, w;  // at t: completed from the half step, or as stored (not both: each read is a stream)
           if (pending) final_velocity(i, h, v, w);
+          else { v = p.velocity(i); w = p.angular_velocity(i); }
           const double sum = p.x[i] + p.y[i] + p.z[i] + v.x + v.y + v.z + (rot ? w.x + w.y + w.z : 0.0);
           first_half(i, v, w);
           if (!std::isfinite(sum)) return not_finite;
