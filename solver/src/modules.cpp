@@ -140,14 +140,7 @@ bool ContactModule::needs_rebuild(const ParticleStore& p) const {
   const double lim2 = 0.25 * skin_ * skin_;
   const std::size_t n = p.size();
   if (displacement_ >= 0.0) return displacement_ > lim2;  // the integrator measured it
-  const double worst = parallel_max(n, [&](std::size_t i) {
-    // Along a periodic axis a particle may have wrapped since the build: its displacement
-    // is the nearest image of the jump.
-    const double dx = box_.min_image(p.x[i] - x0_[i], 0), dy = box_.min_image(p.y[i] - y0_[i], 1),
-                 dz = box_.min_image(p.z[i] - z0_[i], 2);
-    return dx * dx + dy * dy + dz * dz;
-  });
-  return worst > lim2;
+  return parallel_max(n, [&](std::size_t i) { return displacement(p, i); }) > lim2;
 }
 
 ContactModule::Slabs ContactModule::slabs(const ParticleStore& p) const {

@@ -202,6 +202,13 @@ inline void Simulation::final_velocity(std::size_t i, double h, Vec3& v, Vec3& w
   w = {hwx_[i] + b * p.tx[i], hwy_[i] + b * p.ty[i], hwz_[i] + b * p.tz[i]};
 }
 
+inline bool Simulation::state_finite(std::size_t i, Vec3 v, Vec3 w) const {
+  const ParticleStore& p = particles_;
+  // One test for all: a sum of finite values is finite (short of overflow, itself a blow-up).
+  const double sum = p.x[i] + p.y[i] + p.z[i] + v.x + v.y + v.z;
+  return std::isfinite(p.has_rotation() ? sum + (w.x + w.y + w.z) : sum);
+}
+
 double Simulation::final_kick() const {
   ParticleStore& p = particles_;
   const bool rot = p.has_rotation();
@@ -210,12 +217,8 @@ double Simulation::final_kick() const {
     Vec3 v, w;
     final_velocity(i, h, v, w);
     p.vx[i] = v.x; p.vy[i] = v.y; p.vz[i] = v.z;
-    double sum = p.x[i] + p.y[i] + p.z[i] + v.x + v.y + v.z;
-    if (rot) {
-      p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z;
-      sum += w.x + w.y + w.z;
-    }
-    return std::isfinite(sum) ? 0.0 : 1.0;
+    if (rot) { p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z; }
+    return state_finite(i, v, w) ? 0.0 : 1.0;
   });
 }
 
@@ -348,22 +351,16 @@ void Simulation::step() {
         // The same pass measures how far the particles have moved since the contact
         // list was built (as ContactModule would in a pass of its own). One reduction
         // carries both: the squared displacement, or +inf for a state that is not finite.
-        const bool measure = contact_ && contact_->build_positions(0).size() == n;
-        const double* x0[3] = {nullptr, nullptr, nullptr};
-        if (measure)
-          for (int a = 0; a < 3; ++a) x0[a] = contact_->build_positions(a).data();
+        const bool measure = contact_ && contact_->listed(n);
         constexpr double not_finite = std::numeric_limits<double>::infinity();
         const double worst = parallel_max(n, [&](std::size_t i) {
           Vec3 v, w;  // at t: completed from the half step, or as stored (not both: each read is a stream)
           if (pending) final_velocity(i, h, v, w);
           else { v = p.velocity(i); w = p.angular_velocity(i); }
-          const double sum = p.x[i] + p.y[i] + p.z[i] + v.x + v.y + v.z + (rot ? w.x + w.y + w.z : 0.0);
+          const bool finite = state_finite(i, v, w);
           first_half(i, v, w);
-          if (!std::isfinite(sum)) return not_finite;
-          if (!measure) return 0.0;
-          const double dx = box.min_image(p.x[i] - x0[0][i], 0), dy = box.min_image(p.y[i] - x0[1][i], 1),
-                       dz = box.min_image(p.z[i] - x0[2][i], 2);
-          return dx * dx + dy * dy + dz * dz;
+          if (!finite) return not_finite;
+          return measure ? contact_->displacement(p, i) : 0.0;
         });
         kick_pending_ = false;
         if (worst == not_finite) check_state(1.0);  // names the state at t (time_ is still t)

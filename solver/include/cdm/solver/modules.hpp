@@ -102,14 +102,20 @@ class ContactModule final : public ForceModule {
 
   /// True when the next evaluation rebuilds the Verlet list (the moment to sort).
   bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
-  /// Positions at the last Verlet-list build [m], one array per axis (empty before the
-  /// first build), for an integrator that measures the displacement as it moves the
-  /// particles (set_displacement).
-  const std::vector<double>& build_positions(int axis) const { return axis == 0 ? x0_ : axis == 1 ? y0_ : z0_; }
-  /// The largest squared displacement [m^2] of a particle since the last build, at the
-  /// current positions, measured by the integrator in its own pass over the particles
-  /// (along periodic axes as the nearest image, as the module measures it): the next
-  /// evaluation takes it instead of a pass of its own. Used once; ignored if negative.
+  /// Whether a list has been built for @p n particles, so that displacement() applies.
+  bool listed(std::size_t n) const { return x0_.size() == n; }
+  /// Particle i's squared displacement [m^2] since the last build; along a periodic axis
+  /// a particle may have wrapped since, so it is the nearest image of the jump. For an
+  /// integrator that measures as it moves the particles (set_displacement); the module
+  /// measures the same way when nobody did.
+  double displacement(const ParticleStore& p, std::size_t i) const {
+    const double dx = box_.min_image(p.x[i] - x0_[i], 0), dy = box_.min_image(p.y[i] - y0_[i], 1),
+                 dz = box_.min_image(p.z[i] - z0_[i], 2);
+    return dx * dx + dy * dy + dz * dz;
+  }
+  /// The largest displacement() over the particles, at the current positions, measured
+  /// by the integrator in its own pass: the next evaluation takes it instead of a pass
+  /// of its own. Used once; ignored if negative.
   void set_displacement(double d2) { displacement_ = d2; }
   /// A spatial order of the particles (for ParticleStore::permute): by cells one
   /// interaction range wide, the slab axis slowest, so that each slab's particles, and

@@ -92,6 +92,9 @@ class Simulation {
   /// Velocity Verlet's final half kick of particle i: its velocity @p v and spin @p w
   /// (set only with rotation) at the new time, from the half-step ones and the forces.
   void final_velocity(std::size_t i, double h, Vec3& v, Vec3& w) const;
+  /// Whether particle i's position and its velocity @p v and spin @p w (read only with
+  /// rotation) are all finite.
+  bool state_finite(std::size_t i, Vec3 v, Vec3 w) const;
   /// The final half kick for every particle, into the store; 1 if the state is then
   /// not finite, else 0.
   double final_kick() const;
