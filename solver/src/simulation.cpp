@@ -193,32 +193,127 @@ void Simulation::step_tracers() {
   });
 }
 
-inline void Simulation::final_velocity(std::size_t i, double h, Vec3& v, Vec3& w) const {
-  const ParticleStore& p = particles_;
-  v = {hvx_[i], hvy_[i], hvz_[i]};
-  kick(i, h, v.x, v.y, v.z);
-  if (!p.has_rotation()) return;
-  const double b = h * p.inv_inertia[i];
-  w = {hwx_[i] + b * p.tx[i], hwy_[i] + b * p.ty[i], hwz_[i] + b * p.tz[i]};
+namespace {
+
+/// The arrays velocity Verlet reads and writes per particle, as raw pointers: through
+/// the store's vectors the compiler kept reloading them, and the per-particle work of
+/// the one pass per step was two calls with their arguments passed through memory.
+struct VerletArrays {
+  double *x, *y, *z, *vx, *vy, *vz, *fx, *fy, *fz, *hvx, *hvy, *hvz;
+  double *wx, *wy, *wz, *tx, *ty, *tz, *hwx, *hwy, *hwz;  // with rotation only
+  const double *inv_mass, *inv_inertia;
+  const double *x0 = nullptr, *y0 = nullptr, *z0 = nullptr;  // the contact list's build positions
+};
+
+VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vector<double>& hvy,
+                           std::vector<double>& hvz, std::vector<double>& hwx, std::vector<double>& hwy,
+                           std::vector<double>& hwz) {
+  return {p.x.data(),  p.y.data(),  p.z.data(),  p.vx.data(), p.vy.data(), p.vz.data(), p.fx.data(),
+          p.fy.data(), p.fz.data(), hvx.data(),  hvy.data(),  hvz.data(),  p.wx.data(), p.wy.data(),
+          p.wz.data(), p.tx.data(), p.ty.data(), p.tz.data(), hwx.data(),  hwy.data(),  hwz.data(),
+          p.inv_mass.data(), p.inv_inertia.data()};
 }
 
-inline bool Simulation::state_finite(std::size_t i, Vec3 v, Vec3 w) const {
-  const ParticleStore& p = particles_;
-  // One test for all: a sum of finite values is finite (short of overflow, itself a blow-up).
-  const double sum = p.x[i] + p.y[i] + p.z[i] + v.x + v.y + v.z;
-  return std::isfinite(p.has_rotation() ? sum + (w.x + w.y + w.z) : sum);
+/// Simulation::kick without a drag: v += τ/m F (the arithmetic of its common part).
+struct PlainKick {
+  const VerletArrays& a;
+  void operator()(std::size_t i, double tau, double& vx, double& vy, double& vz, bool /*impulse*/) const {
+    const double c = tau * a.inv_mass[i];
+    vx += c * a.fx[i]; vy += c * a.fy[i]; vz += c * a.fz[i];
+  }
+};
+
+// Velocity Verlet per particle, shared by the one pass per step (verlet_pass) and the
+// two passes with a gas; inline always, so that @p rot and @p wrap fold away where they
+// are constants. @p kick is Simulation::kick, or PlainKick where there is no drag.
+
+/// The final half kick of particle i: its velocity @p v and spin @p w (set only with
+/// @p rot) at the new time, from the half-step ones and the forces.
+template <class Kick>
+[[gnu::always_inline]] inline void verlet_final_velocity(const VerletArrays& a, bool rot, std::size_t i, double h,
+                                                         const Kick& kick, Vec3& v, Vec3& w) {
+  v = {a.hvx[i], a.hvy[i], a.hvz[i]};
+  kick(i, h, v.x, v.y, v.z, true);
+  if (!rot) return;
+  const double b = h * a.inv_inertia[i];
+  w = {a.hwx[i] + b * a.tx[i], a.hwy[i] + b * a.ty[i], a.hwz[i] + b * a.tz[i]};
 }
+
+/// Whether particle i's position and its velocity @p v and spin @p w (read only with
+/// @p rot) are all finite. One test for all: a sum of finite values is finite (short of
+/// overflow, itself a blow-up).
+[[gnu::always_inline]] inline bool verlet_state_finite(const VerletArrays& a, bool rot, std::size_t i, Vec3 v, Vec3 w) {
+  const double sum = a.x[i] + a.y[i] + a.z[i] + v.x + v.y + v.z;
+  return std::isfinite(rot ? sum + (w.x + w.y + w.z) : sum);
+}
+
+/// The first half of a step for particle i, from its velocity @p v and spin @p w at t:
+/// half kick, drift (wrapped into @p box if @p wrap), the predicted velocity and spin
+/// v(t) + Δt a(t) for the velocity-dependent forces, and the forces and torques zeroed
+/// once read.
+template <class Kick>
+[[gnu::always_inline]] inline void verlet_first_half(const VerletArrays& a, bool rot, bool wrap, const PeriodicBox& box,
+                                                     double dt, std::size_t i, Vec3 v, Vec3 w, const Kick& kick) {
+  const double h = 0.5 * dt;
+  kick(i, h, v.x, v.y, v.z, true);
+  a.hvx[i] = v.x; a.hvy[i] = v.y; a.hvz[i] = v.z;
+  double x = a.x[i] + dt * v.x, y = a.y[i] + dt * v.y, z = a.z[i] + dt * v.z;
+  if (wrap) { x = box.wrap(x, 0); y = box.wrap(y, 1); z = box.wrap(z, 2); }
+  a.x[i] = x; a.y[i] = y; a.z[i] = z;
+  kick(i, h, v.x, v.y, v.z, false);  // predicted v(t+Δt)
+  a.vx[i] = v.x; a.vy[i] = v.y; a.vz[i] = v.z;
+  a.fx[i] = 0.0; a.fy[i] = 0.0; a.fz[i] = 0.0;
+  if (rot) {
+    const double b = h * a.inv_inertia[i];
+    a.hwx[i] = w.x + b * a.tx[i]; a.hwy[i] = w.y + b * a.ty[i]; a.hwz[i] = w.z + b * a.tz[i];
+    a.wx[i] = a.hwx[i] + b * a.tx[i]; a.wy[i] = a.hwy[i] + b * a.ty[i]; a.wz[i] = a.hwz[i] + b * a.tz[i];
+    a.tx[i] = 0.0; a.ty[i] = 0.0; a.tz[i] = 0.0;
+  }
+}
+
+/// Particles [i0, i1) of the one pass per step without a gas (Simulation::step): the
+/// state at t, completed by the last step's final kick if @p Pending, checked for
+/// finite values, then the first half of the step. Returns the largest squared
+/// displacement since the contact list's build (with @p Measure; else 0), or +inf if
+/// some particle's state at t was not finite.
+template <bool Pending, bool Rot, bool Wrap, bool Measure>
+double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
+  const double h = 0.5 * dt;
+  const PlainKick kick{a};
+  double worst = 0.0;
+  for (std::size_t i = i0; i < i1; ++i) {
+    Vec3 v, w;
+    if constexpr (Pending) {
+      verlet_final_velocity(a, Rot, i, h, kick, v, w);
+    } else {
+      v = {a.vx[i], a.vy[i], a.vz[i]};
+      if constexpr (Rot) w = {a.wx[i], a.wy[i], a.wz[i]};
+    }
+    const bool finite = verlet_state_finite(a, Rot, i, v, w);
+    verlet_first_half(a, Rot, Wrap, box, dt, i, v, w, kick);
+    double d2 = 0.0;
+    if constexpr (Measure) d2 = ContactModule::displacement(box, {a.x[i] - a.x0[i], a.y[i] - a.y0[i], a.z[i] - a.z0[i]});
+    worst = std::max(worst, finite ? d2 : std::numeric_limits<double>::infinity());
+  }
+  return worst;
+}
+
+}  // namespace
 
 double Simulation::final_kick() const {
   ParticleStore& p = particles_;
   const bool rot = p.has_rotation();
   const double h = 0.5 * spec_.dt;
+  const VerletArrays a = verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
+  auto kick = [this](std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
+    this->kick(i, tau, vx, vy, vz, impulse);
+  };
   return parallel_max(p.size(), [&](std::size_t i) {
     Vec3 v, w;
-    final_velocity(i, h, v, w);
+    verlet_final_velocity(a, rot, i, h, kick, v, w);
     p.vx[i] = v.x; p.vy[i] = v.y; p.vz[i] = v.z;
     if (rot) { p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z; }
-    return state_finite(i, v, w) ? 0.0 : 1.0;
+    return verlet_state_finite(a, rot, i, v, w) ? 0.0 : 1.0;
   });
 }
 
@@ -323,45 +418,47 @@ void Simulation::step() {
       if (!forces_valid_) compute_forces();
       hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
       if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
-      const double h = 0.5 * dt;
       const bool pending = kick_pending_;
-      const PeriodicBox& box = spec_.periodic;
+      const PeriodicBox box = spec_.periodic;  // a local copy: the stores below cannot alias it
       const bool wrap = deferred_kick_ && box.any();
-      // One particle's first half, from its velocity @p v and spin @p w at t.
-      auto first_half = [&](std::size_t i, Vec3 v, Vec3 w) {
-        hvx_[i] = v.x; hvy_[i] = v.y; hvz_[i] = v.z;
-        kick(i, h, hvx_[i], hvy_[i], hvz_[i]);
-        double x = p.x[i] + dt * hvx_[i], y = p.y[i] + dt * hvy_[i], z = p.z[i] + dt * hvz_[i];
-        if (wrap) { x = box.wrap(x, 0); y = box.wrap(y, 1); z = box.wrap(z, 2); }
-        p.x[i] = x; p.y[i] = y; p.z[i] = z;
-        double px = hvx_[i], py = hvy_[i], pz = hvz_[i];
-        kick(i, h, px, py, pz, false);  // predicted v(t+Δt), for velocity-dependent forces
-        p.vx[i] = px; p.vy[i] = py; p.vz[i] = pz;
-        p.fx[i] = 0.0; p.fy[i] = 0.0; p.fz[i] = 0.0;
-        if (rot) {
-          const double b = h * p.inv_inertia[i];
-          hwx_[i] = w.x + b * p.tx[i]; hwy_[i] = w.y + b * p.ty[i]; hwz_[i] = w.z + b * p.tz[i];
-          p.wx[i] = hwx_[i] + b * p.tx[i]; p.wy[i] = hwy_[i] + b * p.ty[i]; p.wz[i] = hwz_[i] + b * p.tz[i];
-          p.tx[i] = 0.0; p.ty[i] = 0.0; p.tz[i] = 0.0;
-        }
-      };
+      VerletArrays a = verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
       if (deferred_kick_) {
         // The state at t, completed where the last step's final kick is pending, is
         // checked here (as complete_step checks it) before this step moves on from it.
         // The same pass measures how far the particles have moved since the contact
         // list was built (as ContactModule would in a pass of its own). One reduction
         // carries both: the squared displacement, or +inf for a state that is not finite.
+        // Without a gas there is no drag: kick() is the plain one (verlet_pass).
         const bool measure = contact_ && contact_->listed(n);
+        if (measure) {
+          a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
+        }
+        auto pass = [&](std::size_t i0, std::size_t i1) {
+          const unsigned variant = (pending ? 8u : 0u) | (rot ? 4u : 0u) | (wrap ? 2u : 0u) | (measure ? 1u : 0u);
+          switch (variant) {
+#define CDM_VERLET_PASS(v) \
+  case v: return verlet_pass<(v & 8) != 0, (v & 4) != 0, (v & 2) != 0, (v & 1) != 0>(a, box, dt, i0, i1);
+            CDM_VERLET_PASS(0) CDM_VERLET_PASS(1) CDM_VERLET_PASS(2) CDM_VERLET_PASS(3)
+            CDM_VERLET_PASS(4) CDM_VERLET_PASS(5) CDM_VERLET_PASS(6) CDM_VERLET_PASS(7)
+            CDM_VERLET_PASS(8) CDM_VERLET_PASS(9) CDM_VERLET_PASS(10) CDM_VERLET_PASS(11)
+            CDM_VERLET_PASS(12) CDM_VERLET_PASS(13) CDM_VERLET_PASS(14) CDM_VERLET_PASS(15)
+#undef CDM_VERLET_PASS
+          }
+          return 0.0;
+        };
+        double worst = 0.0;
+        if (n > parallel_threshold) {
+          constexpr std::size_t chunk = 4096;
+          const long nchunk = static_cast<long>((n + chunk - 1) / chunk);
+#pragma omp parallel for schedule(static) reduction(max : worst)
+          for (long c = 0; c < nchunk; ++c) {
+            const std::size_t i0 = static_cast<std::size_t>(c) * chunk;
+            worst = std::max(worst, pass(i0, std::min(n, i0 + chunk)));
+          }
+        } else {
+          worst = pass(0, n);
+        }
         constexpr double not_finite = std::numeric_limits<double>::infinity();
-        const double worst = parallel_max(n, [&](std::size_t i) {
-          Vec3 v, w;  // at t: completed from the half step, or as stored (not both: each read is a stream)
-          if (pending) final_velocity(i, h, v, w);
-          else { v = p.velocity(i); w = p.angular_velocity(i); }
-          const bool finite = state_finite(i, v, w);
-          first_half(i, v, w);
-          if (!finite) return not_finite;
-          return measure ? contact_->displacement(p, i) : 0.0;
-        });
         kick_pending_ = false;
         if (worst == not_finite) check_state(1.0);  // names the state at t (time_ is still t)
         if (measure) contact_->set_displacement(worst);
@@ -371,7 +468,12 @@ void Simulation::step() {
         nonfinite = 0.0;  // checked when the step is completed (complete_step, or the next step)
         break;
       }
-      parallel_for(n, [&](std::size_t i) { first_half(i, p.velocity(i), p.angular_velocity(i)); });
+      auto kick_fn = [this](std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
+        kick(i, tau, vx, vy, vz, impulse);
+      };
+      parallel_for(n, [&](std::size_t i) {
+        verlet_first_half(a, rot, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick_fn);
+      });
       forces_zeroed_ = true;
       wrap_positions();
       if (gas_) gas_->set_time(t_new);

@@ -109,10 +109,16 @@ class ContactModule final : public ForceModule {
   /// integrator that measures as it moves the particles (set_displacement); the module
   /// measures the same way when nobody did.
   double displacement(const ParticleStore& p, std::size_t i) const {
-    const double dx = box_.min_image(p.x[i] - x0_[i], 0), dy = box_.min_image(p.y[i] - y0_[i], 1),
-                 dz = box_.min_image(p.z[i] - z0_[i], 2);
+    return displacement(box_, {p.x[i] - x0_[i], p.y[i] - y0_[i], p.z[i] - z0_[i]});
+  }
+  /// displacement() of a particle that moved by @p jump [m] since the build, in @p box.
+  [[gnu::always_inline]] static double displacement(const PeriodicBox& box, Vec3 jump) {
+    const double dx = box.min_image(jump.x, 0), dy = box.min_image(jump.y, 1), dz = box.min_image(jump.z, 2);
     return dx * dx + dy * dy + dz * dz;
   }
+  /// The positions [m] at the last build, per axis (listed(n) particles), for an
+  /// integrator that measures displacement() in a loop of its own.
+  const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
   /// The largest displacement() over the particles, at the current positions, measured
   /// by the integrator in its own pass: the next evaluation takes it instead of a pass
   /// of its own. Used once; ignored if negative.

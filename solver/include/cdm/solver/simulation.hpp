@@ -89,12 +89,6 @@ class Simulation {
   /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
   void step_tracers();
-  /// Velocity Verlet's final half kick of particle i: its velocity @p v and spin @p w
-  /// (set only with rotation) at the new time, from the half-step ones and the forces.
-  void final_velocity(std::size_t i, double h, Vec3& v, Vec3& w) const;
-  /// Whether particle i's position and its velocity @p v and spin @p w (read only with
-  /// rotation) are all finite.
-  bool state_finite(std::size_t i, Vec3 v, Vec3 w) const;
   /// The final half kick for every particle, into the store; 1 if the state is then
   /// not finite, else 0.
   double final_kick() const;
@@ -138,8 +132,9 @@ class Simulation {
   bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
   mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   bool restarted_ = false;
-  // Velocity Verlet keeps v(t+Δt/2) between the half kicks.
-  std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
+  // Velocity Verlet keeps v(t+Δt/2) between the half kicks (mutable: with the pending
+  // kick, part of the state that the const complete_step() completes).
+  mutable std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
   // Tracer Runge–Kutta stages (rk2, rk4).
   std::vector<double> x0_, y0_, z0_, kx_, ky_, kz_;
 };
