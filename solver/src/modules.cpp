@@ -451,7 +451,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // those in list order, so forces sum in the same order as a single pass would.
     constexpr std::uint32_t block = 128;
     std::uint32_t hit[block];
-    double hdx[block], hdy[block], hdz[block], hd2[block];
+    double hdx[block], hdy[block], hdz[block];
     for (std::uint32_t b0 = k0; b0 < k1; b0 += block) {
       const std::uint32_t b1 = std::min(k1, b0 + block);
       std::uint32_t nhit = 0;
@@ -464,7 +464,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         // Not "d2 < reach²": a NaN separation counts as a contact, and its NaN force is
         // caught by the integrator's finiteness check, as before.
         const bool touching = !(d2 >= reach * reach);
-        hit[nhit] = k; hdx[nhit] = d.x; hdy[nhit] = d.y; hdz[nhit] = d.z; hd2[nhit] = d2;
+        hit[nhit] = k; hdx[nhit] = d.x; hdy[nhit] = d.y; hdz[nhit] = d.z;
         nhit += touching;
         if constexpr (Friction)  // contact over: history forgotten
           TOUCH[k] &= static_cast<std::uint8_t>(-static_cast<int>(touching));
@@ -475,7 +475,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const std::uint32_t k = hit[h];
         const std::uint32_t i = PI[k], j = PJ[k];
         const Vec3 d{hdx[h], hdy[h], hdz[h]};
-        const double d2 = hd2[h];
+        const double d2 = dot(d, d);
         const double ri = R[i], rj = R[j];
         const double reach = ri + rj;
         const double dist = std::sqrt(d2);

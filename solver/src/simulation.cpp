@@ -99,6 +99,20 @@ void Simulation::compute_forces() {
   forces_valid_ = true;
 }
 
+namespace {
+
+/// The kick without a drag: v += τ/m F. Simulation::kick's common part, and the whole
+/// kick of velocity Verlet's one pass per step (no gas, so no drag).
+struct PlainKick {
+  const double *inv_mass, *fx, *fy, *fz;
+  void operator()(std::size_t i, double tau, double& vx, double& vy, double& vz, bool /*impulse*/ = true) const {
+    const double a = tau * inv_mass[i];
+    vx += a * fx[i]; vy += a * fy[i]; vz += a * fz[i];
+  }
+};
+
+}  // namespace
+
 inline void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) const {
   // Inline, the drag relaxation apart: as a call (its results passed through memory)
   // it took a third of the time of velocity Verlet's passes on the settle benchmark.
@@ -107,8 +121,7 @@ inline void Simulation::kick(std::size_t i, double tau, double& vx, double& vy, 
     kick_relaxed(i, tau, vx, vy, vz, impulse);
     return;
   }
-  const double a = tau * p.inv_mass[i];
-  vx += a * p.fx[i]; vy += a * p.fy[i]; vz += a * p.fz[i];
+  PlainKick{p.inv_mass.data(), p.fx.data(), p.fy.data(), p.fz.data()}(i, tau, vx, vy, vz);
   if (impulse && p.has_two_way()) {  // the explicit drag's share of the kick
     p.jx[i] += tau * p.dfx[i]; p.jy[i] += tau * p.dfy[i]; p.jz[i] += tau * p.dfz[i];
   }
@@ -214,15 +227,6 @@ VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vect
           p.inv_mass.data(), p.inv_inertia.data()};
 }
 
-/// Simulation::kick without a drag: v += τ/m F (the arithmetic of its common part).
-struct PlainKick {
-  const VerletArrays& a;
-  void operator()(std::size_t i, double tau, double& vx, double& vy, double& vz, bool /*impulse*/) const {
-    const double c = tau * a.inv_mass[i];
-    vx += c * a.fx[i]; vy += c * a.fy[i]; vz += c * a.fz[i];
-  }
-};
-
 // Velocity Verlet per particle, shared by the one pass per step (verlet_pass) and the
 // two passes with a gas; inline always, so that @p rot and @p wrap fold away where they
 // are constants. @p kick is Simulation::kick, or PlainKick where there is no drag.
@@ -271,6 +275,17 @@ template <class Kick>
   }
 }
 
+/// f.template operator()<b...>() for the run-time flags @p b...: one instantiation per
+/// combination, chosen once per call (for loops that test the flags per particle).
+template <bool... Fixed, class F>
+decltype(auto) with_flags(F&& f) {
+  return f.template operator()<Fixed...>();
+}
+template <bool... Fixed, class F, class... Rest>
+decltype(auto) with_flags(F&& f, bool b, Rest... rest) {
+  return b ? with_flags<Fixed..., true>(f, rest...) : with_flags<Fixed..., false>(f, rest...);
+}
+
 /// Particles [i0, i1) of the one pass per step without a gas (Simulation::step): the
 /// state at t, completed by the last step's final kick if @p Pending, checked for
 /// finite values, then the first half of the step. Returns the largest squared
@@ -279,7 +294,7 @@ template <class Kick>
 template <bool Pending, bool Rot, bool Wrap, bool Measure>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   const double h = 0.5 * dt;
-  const PlainKick kick{a};
+  const PlainKick kick{a.inv_mass, a.fx, a.fy, a.fz};
   double worst = 0.0;
   for (std::size_t i = i0; i < i1; ++i) {
     Vec3 v, w;
@@ -300,14 +315,18 @@ double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std
 
 }  // namespace
 
+auto Simulation::kick_fn() const {
+  return [this](std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
+    kick(i, tau, vx, vy, vz, impulse);
+  };
+}
+
 double Simulation::final_kick() const {
   ParticleStore& p = particles_;
   const bool rot = p.has_rotation();
   const double h = 0.5 * spec_.dt;
   const VerletArrays a = verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
-  auto kick = [this](std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
-    this->kick(i, tau, vx, vy, vz, impulse);
-  };
+  const auto kick = kick_fn();
   return parallel_max(p.size(), [&](std::size_t i) {
     Vec3 v, w;
     verlet_final_velocity(a, rot, i, h, kick, v, w);
@@ -433,31 +452,11 @@ void Simulation::step() {
         if (measure) {
           a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
         }
-        auto pass = [&](std::size_t i0, std::size_t i1) {
-          const unsigned variant = (pending ? 8u : 0u) | (rot ? 4u : 0u) | (wrap ? 2u : 0u) | (measure ? 1u : 0u);
-          switch (variant) {
-#define CDM_VERLET_PASS(v) \
-  case v: return verlet_pass<(v & 8) != 0, (v & 4) != 0, (v & 2) != 0, (v & 1) != 0>(a, box, dt, i0, i1);
-            CDM_VERLET_PASS(0) CDM_VERLET_PASS(1) CDM_VERLET_PASS(2) CDM_VERLET_PASS(3)
-            CDM_VERLET_PASS(4) CDM_VERLET_PASS(5) CDM_VERLET_PASS(6) CDM_VERLET_PASS(7)
-            CDM_VERLET_PASS(8) CDM_VERLET_PASS(9) CDM_VERLET_PASS(10) CDM_VERLET_PASS(11)
-            CDM_VERLET_PASS(12) CDM_VERLET_PASS(13) CDM_VERLET_PASS(14) CDM_VERLET_PASS(15)
-#undef CDM_VERLET_PASS
-          }
-          return 0.0;
-        };
-        double worst = 0.0;
-        if (n > parallel_threshold) {
-          constexpr std::size_t chunk = 4096;
-          const long nchunk = static_cast<long>((n + chunk - 1) / chunk);
-#pragma omp parallel for schedule(static) reduction(max : worst)
-          for (long c = 0; c < nchunk; ++c) {
-            const std::size_t i0 = static_cast<std::size_t>(c) * chunk;
-            worst = std::max(worst, pass(i0, std::min(n, i0 + chunk)));
-          }
-        } else {
-          worst = pass(0, n);
-        }
+        const double worst = parallel_max_blocks(n, [&](std::size_t i0, std::size_t i1) {
+          return with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure>() {
+            return verlet_pass<Pending, Rot, Wrap, Measure>(a, box, dt, i0, i1);
+          }, pending, rot, wrap, measure);
+        });
         constexpr double not_finite = std::numeric_limits<double>::infinity();
         kick_pending_ = false;
         if (worst == not_finite) check_state(1.0);  // names the state at t (time_ is still t)
@@ -468,11 +467,9 @@ void Simulation::step() {
         nonfinite = 0.0;  // checked when the step is completed (complete_step, or the next step)
         break;
       }
-      auto kick_fn = [this](std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) {
-        kick(i, tau, vx, vy, vz, impulse);
-      };
+      const auto kick = kick_fn();
       parallel_for(n, [&](std::size_t i) {
-        verlet_first_half(a, rot, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick_fn);
+        verlet_first_half(a, rot, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
       });
       forces_zeroed_ = true;
       wrap_positions();

@@ -34,4 +34,23 @@ inline double parallel_max(std::size_t n, F&& f) {
   return m;
 }
 
+/// max over blocks [i0, i1) covering [0, n) of f(i0, i1), for loops that want a range
+/// of their own (pointers held in locals, flags tested once per block).
+template <class F>
+inline double parallel_max_blocks(std::size_t n, F&& f) {
+  double m = 0.0;
+  if (n > parallel_threshold) {
+    constexpr std::size_t block = 4096;
+    const long nblock = static_cast<long>((n + block - 1) / block);
+#pragma omp parallel for schedule(static) reduction(max : m)
+    for (long b = 0; b < nblock; ++b) {
+      const std::size_t i0 = static_cast<std::size_t>(b) * block;
+      m = std::max(m, f(i0, std::min(n, i0 + block)));
+    }
+  } else {
+    m = std::max(m, f(std::size_t{0}, n));
+  }
+  return m;
+}
+
 }  // namespace cdm

@@ -92,6 +92,8 @@ class Simulation {
   /// The final half kick for every particle, into the store; 1 if the state is then
   /// not finite, else 0.
   double final_kick() const;
+  /// kick() as a callable (i, τ, vx, vy, vz, impulse), for the per-particle Verlet steps.
+  auto kick_fn() const;
   /// Do the pending final kick, if any, and check the state it gives.
   void complete_step() const;
   /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
