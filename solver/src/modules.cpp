@@ -345,12 +345,15 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
       // The history follows the displacement the contact points actually made over the
       // step (see ContactModule::set_step_velocities), as for Hertz–Mindlin.
       const double vs_n = dot(vrel_step, eta);
-      hist = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n), overlap,
-                                                     dt, eta);
+      // Held in a local: read back through the reference after the byte store to touch
+      // (a char may alias anything), it would be stored and loaded again.
+      const Vec3 h = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n),
+                                                             overlap, dt, eta);
+      hist = h;
       touch = 1;
       const double kt = pp.kt_factor * pp.kn;
       const double eta_t = pp.etat_factor * eta_n;
-      ft_out = contact::tangential_force(kt, eta_t, pp.mu, norm(fn), hist, vt);
+      ft_out = contact::tangential_force(kt, eta_t, pp.mu, norm(fn), h, vt);
       f_out += ft_out;
     } else {
       (void)hist; (void)touch; (void)dt;
@@ -373,12 +376,13 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
       // The history follows the tangential displacement the contact points actually
       // made over the step (see ContactModule::set_step_velocities).
       const double vs_n = dot(vrel_step, eta);
-      hist = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n), overlap,
-                                                     dt, eta);
-      touch = 1;
+      Vec3 h = contact::update_tangential_displacement(hist, touch == 0, vrel_step - vs_n * eta, std::abs(vs_n),
+                                                       overlap, dt, eta);
       const double kt = 8.0 * pp.g_star * sqrt_r * sqrt_d;
       const double eta_t = pp.etat_hertz_factor * eta_n;
-      ft_out = contact::mindlin_tangential_force(kt, eta_t, pp.mu, fn_abs, hist, vt);
+      ft_out = contact::mindlin_tangential_force(kt, eta_t, pp.mu, fn_abs, h, vt);
+      hist = h;  // after the force, which may rescale the history (contact/hertz_mindlin.hpp)
+      touch = 1;
       f_out += ft_out;
     } else {
       (void)hist; (void)touch; (void)dt; (void)vrel_step;
@@ -444,14 +448,16 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     std::uint8_t* const TOUCH = touch_.data();
     double* const FN = fn_pair_.data();
     std::size_t active = 0;  // counted here, not through the reference, for the same reason
-    // Two passes per block of listed pairs. The first finds the pairs in contact without
+    // Three passes per block of listed pairs. The first finds the pairs in contact without
     // a branch (in a flowing bed about half the listed pairs are, in no pattern a
     // predictor can learn, so a branch per pair mispredicts often), forgets the history
-    // of the others and keeps the separations of the touching ones; the second resolves
-    // those in list order, so forces sum in the same order as a single pass would.
+    // of the others and keeps the separations of the touching ones; the second takes
+    // their geometry; the third resolves them in list order, so forces sum in the same
+    // order as a single pass would.
     constexpr std::uint32_t block = 128;
     std::uint32_t hit[block];
-    double hdx[block], hdy[block], hdz[block];
+    double hdx[block], hdy[block], hdz[block];   // separations, then unit normals
+    double hov[block], hli[block], hlj[block];   // overlaps and lever arms
     for (std::uint32_t b0 = k0; b0 < k1; b0 += block) {
       const std::uint32_t b1 = std::min(k1, b0 + block);
       std::uint32_t nhit = 0;
@@ -471,18 +477,27 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         if constexpr (record) FN[k] = -1.0;  // overwritten below if in contact
       }
       active += nhit;
+      // The contacts' geometry first, in a loop of its own: its square root and two
+      // divisions per contact, independent from one contact to the next, overlap in the
+      // processor, instead of each heading the long chain of its contact's force law.
+      for (std::uint32_t h = 0; h < nhit; ++h) {
+        const std::uint32_t k = hit[h];
+        const double ri = R[PI[k]], rj = R[PJ[k]];
+        const Vec3 d{hdx[h], hdy[h], hdz[h]};
+        const double dist = std::sqrt(dot(d, d));
+        const Vec3 eta = (1.0 / dist) * d;
+        hdx[h] = eta.x; hdy[h] = eta.y; hdz[h] = eta.z;
+        hov[h] = ri + rj - dist;
+        hli[h] = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
+        hlj[h] = dist - hli[h];
+      }
       for (std::uint32_t h = 0; h < nhit; ++h) {
         const std::uint32_t k = hit[h];
         const std::uint32_t i = PI[k], j = PJ[k];
-        const Vec3 d{hdx[h], hdy[h], hdz[h]};
-        const double d2 = dot(d, d);
         const double ri = R[i], rj = R[j];
-        const double reach = ri + rj;
-        const double dist = std::sqrt(d2);
-        const double overlap = reach - dist;
-        const Vec3 eta = (1.0 / dist) * d;
-        const double Li = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
-        const double Lj = dist - Li;
+        const double overlap = hov[h];
+        const Vec3 eta{hdx[h], hdy[h], hdz[h]};
+        const double Li = hli[h], Lj = hlj[h];
         Vec3 vrel{VX[i] - VX[j], VY[i] - VY[j], VZ[i] - VZ[j]};
         if constexpr (Friction) vrel += cross(Li * Vec3{WX[i], WY[i], WZ[i]} + Lj * Vec3{WX[j], WY[j], WZ[j]}, eta);
         const PairParams& pp = pairs_.get(MAT[i], MAT[j]);
