@@ -458,6 +458,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     std::uint32_t hit[block];
     double hdx[block], hdy[block], hdz[block];   // separations, then unit normals
     double hov[block], hli[block], hlj[block];   // overlaps and lever arms
+    double hvx[block], hvy[block], hvz[block];   // relative velocities at the contact points
     for (std::uint32_t b0 = k0; b0 < k1; b0 += block) {
       const std::uint32_t b1 = std::min(k1, b0 + block);
       std::uint32_t nhit = 0;
@@ -482,14 +483,19 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       // processor, instead of each heading the long chain of its contact's force law.
       for (std::uint32_t h = 0; h < nhit; ++h) {
         const std::uint32_t k = hit[h];
-        const double ri = R[PI[k]], rj = R[PJ[k]];
+        const std::uint32_t i = PI[k], j = PJ[k];
+        const double ri = R[i], rj = R[j];
         const Vec3 d{hdx[h], hdy[h], hdz[h]};
         const double dist = std::sqrt(dot(d, d));
         const Vec3 eta = (1.0 / dist) * d;
         hdx[h] = eta.x; hdy[h] = eta.y; hdz[h] = eta.z;
         hov[h] = ri + rj - dist;
-        hli[h] = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
-        hlj[h] = dist - hli[h];
+        const double Li = (dist * dist + ri * ri - rj * rj) / (2.0 * dist);  // lever arms (eq 7)
+        const double Lj = dist - Li;
+        hli[h] = Li; hlj[h] = Lj;
+        Vec3 vrel{VX[i] - VX[j], VY[i] - VY[j], VZ[i] - VZ[j]};
+        if constexpr (Friction) vrel += cross(Li * Vec3{WX[i], WY[i], WZ[i]} + Lj * Vec3{WX[j], WY[j], WZ[j]}, eta);
+        hvx[h] = vrel.x; hvy[h] = vrel.y; hvz[h] = vrel.z;
       }
       for (std::uint32_t h = 0; h < nhit; ++h) {
         const std::uint32_t k = hit[h];
@@ -498,8 +504,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const double overlap = hov[h];
         const Vec3 eta{hdx[h], hdy[h], hdz[h]};
         const double Li = hli[h], Lj = hlj[h];
-        Vec3 vrel{VX[i] - VX[j], VY[i] - VY[j], VZ[i] - VZ[j]};
-        if constexpr (Friction) vrel += cross(Li * Vec3{WX[i], WY[i], WZ[i]} + Lj * Vec3{WX[j], WY[j], WZ[j]}, eta);
+        const Vec3 vrel{hvx[h], hvy[h], hvz[h]};
         const PairParams& pp = pairs_.get(MAT[i], MAT[j]);
         Vec3 vrel_step = vrel;
         if constexpr (Friction && L != Laws::linear)
