@@ -308,8 +308,11 @@ TEST(SpatialSort, OrderIsAPermutationByCellsAndForcesFollowTheParticles) {
 }
 
 // The minimum image is d − L·nearbyint(d/L), bit for bit, signed zeros included: the
-// inline rounding for |d/L| < 1.5 must not change a trajectory. Ties (d/L = ±0.5,
-// ±1.5) round to even as nearbyint does; |d/L| ≥ 1.5 and non-finite d go to nearbyint.
+// inline rounding for |d| < 1.5 L (decided by comparing |d| with L/2 and 3L/2, not by
+// dividing) must not change a trajectory. Ties (d = ±L/2, ±3L/2) round to even as
+// nearbyint does, the neighbouring doubles too; |d| ≥ 1.5 L and non-finite d go to
+// nearbyint. (Only a d whose quotient d/L rounds onto a tie without being one may get
+// the other, equally near, image.)
 TEST(PeriodicBox, MinimumImageIsNearbyintBitForBit) {
   cdm::PeriodicBox box;
   box.on[1] = true;

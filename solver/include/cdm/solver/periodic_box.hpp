@@ -18,16 +18,20 @@ struct PeriodicBox {
   bool any() const { return on[0] || on[1] || on[2]; }
 
   /// @brief The separation @p d of two points along axis @p a, to its nearest image.
-  /// d − L·nearbyint(d/L), with the rounding done inline for |d/L| < 1.5 (always, for
+  /// d − L·nearbyint(d/L), with the rounding done inline for |d| < 1.5 L (always, for
   /// points inside the box): generic x86-64 has no rounding instruction, and the call
   /// to nearbyint made every caller spill its registers (the pair loop among them).
-  /// Same result bit for bit, signed zeros included.
+  /// The number of periods is decided by comparing |d| with L/2 and 3L/2 (exact
+  /// products), not by dividing: a division per periodic axis per listed pair was a
+  /// good part of the pair loop's first pass. Same result bit for bit as rounding
+  /// d/L, signed zeros included, except when d is within a rounding error of an odd
+  /// multiple of L/2, where both images are equally near and either is returned.
   double min_image(double d, int a) const {
     if (!on[a]) return d;
-    const double q = d / len[a];
-    const double aq = std::abs(q);
-    const double k = aq <= 0.5 ? std::copysign(0.0, q) : aq < 1.5 ? std::copysign(1.0, q) : std::nearbyint(q);
-    return d - len[a] * k;
+    const double l = len[a];
+    const double ad = std::abs(d);
+    const double k = ad <= 0.5 * l ? std::copysign(0.0, d) : ad < 1.5 * l ? std::copysign(1.0, d) : std::nearbyint(d / l);
+    return d - l * k;
   }
 
   /// @brief The separation vector to the nearest image of the second point.
