@@ -21,11 +21,11 @@ struct PeriodicBox {
   /// d − L·nearbyint(d/L), with the rounding done inline for |d| < 1.5 L (always, for
   /// points inside the box): generic x86-64 has no rounding instruction, and the call
   /// to nearbyint made every caller spill its registers (the pair loop among them).
-  /// The number of periods is decided by comparing |d| with L/2 and 3L/2 (exact
-  /// products), not by dividing: a division per periodic axis per listed pair was a
-  /// good part of the pair loop's first pass. Same result bit for bit as rounding
-  /// d/L, signed zeros included, except when d is within a rounding error of an odd
-  /// multiple of L/2, where both images are equally near and either is returned.
+  /// The number of periods is decided by comparing |d| with L/2 (exact) and 1.5 L
+  /// (rounded once), not by dividing: a division per periodic axis per listed pair was
+  /// a good part of the pair loop's first pass. Same result bit for bit as rounding
+  /// d/L, signed zeros included, except when d is within a rounding error of L/2 or
+  /// 3L/2, where both images are equally near and either may be returned.
   double min_image(double d, int a) const {
     if (!on[a]) return d;
     const double l = len[a];
