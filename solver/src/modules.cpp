@@ -281,20 +281,24 @@ void ContactModule::rebuild(const ParticleStore& p) {
     std::vector<Vec3> hist(pi.size());
     std::vector<std::uint8_t> touch(pi.size(), 0);
     if (built_ && !pi_.empty()) {
-      std::vector<std::uint64_t> keys(pi_.size());
-      std::vector<std::uint32_t> order(pi_.size());
-      for (std::size_t k = 0; k < pi_.size(); ++k) {
-        keys[k] = (std::uint64_t{pi_[k]} << 32) | pj_[k];
-        order[k] = static_cast<std::uint32_t>(k);
-      }
-      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+      // The old pairs by their particle i (a counting sort, stable): a new pair looks
+      // for its j among the few old pairs of its i. After the loop first[i] is where
+      // row i ends, so row i is [first[i-1], first[i]).
+      const std::size_t rows = std::max(n, x0_.size());
+      std::vector<std::uint32_t> first(rows + 1, 0), old(pi_.size());
+      for (std::size_t k = 0; k < pi_.size(); ++k) ++first[pi_[k] + 1];
+      for (std::size_t r = 0; r < rows; ++r) first[r + 1] += first[r];
+      for (std::size_t k = 0; k < pi_.size(); ++k) old[first[pi_[k]]++] = static_cast<std::uint32_t>(k);
       for (std::size_t k = 0; k < pi.size(); ++k) {
-        const std::uint64_t key = (std::uint64_t{pi[k]} << 32) | pj[k];
-        auto it = std::lower_bound(order.begin(), order.end(), key,
-                                   [&](std::uint32_t a, std::uint64_t v) { return keys[a] < v; });
-        if (it != order.end() && keys[*it] == key && touch_[*it]) {
-          hist[k] = hist_[*it];
-          touch[k] = 1;
+        const std::uint32_t i = pi[k], j = pj[k];
+        for (std::uint32_t q = i ? first[i - 1] : 0; q < first[i]; ++q) {
+          const std::uint32_t o = old[q];
+          if (pj_[o] != j) continue;
+          if (touch_[o]) {
+            hist[k] = hist_[o];
+            touch[k] = 1;
+          }
+          break;
         }
       }
     }

@@ -117,6 +117,7 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
   };
   const bool periodic = box.any();
   for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t row = out.size();
     long nx[3], ny[3], nz[3];
     const int mx = neighbours(coord(p.x[i], 0), 0, nx), my = neighbours(coord(p.y[i], 1), 1, ny),
               mz = neighbours(coord(p.z[i], 2), 2, nz);
@@ -133,8 +134,10 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
               out.push_back({ii, j, ov});
           }
         }
+    // i's pairs follow those of every lower i, so sorting each row sorts the whole list
+    // (a few pairs each, not a sort of them all).
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(row), out.end(), by_pair);
   }
-  std::sort(out.begin(), out.end(), by_pair);
 }
 
 }  // namespace cdm
