@@ -530,8 +530,14 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
           TX[i] += Li * tq.x; TY[i] += Li * tq.y; TZ[i] += Li * tq.z;
           TX[j] += Lj * tq.x; TY[j] += Lj * tq.y; TZ[j] += Lj * tq.z;
         }
-        const OverlapRecord rec{overlap / std::min(ri, rj), ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
-        if (worse(rec, my_worst)) my_worst = rec;
+        // The ratio's division only for a contact that may be the worst so far: the test
+        // lets through every overlap whose ratio could reach my_worst's (it sits 1e-12
+        // below, far beyond the division's rounding), so the record is the same.
+        const double r_min = std::min(ri, rj);
+        if (overlap >= my_worst.ratio * r_min * (1.0 - 1e-12)) {
+          const OverlapRecord rec{overlap / r_min, ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
+          if (worse(rec, my_worst)) my_worst = rec;
+        }
       }
     }
     my_active += active;
