@@ -37,8 +37,12 @@ std::string ContactModule::name() const {
 void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;
-  if (!built_ || needs_rebuild(p)) rebuild(p);
-  else if (wall_candidates_stale_) list_wall_candidates(p);
+  if (!built_ || needs_rebuild(p)) {
+    rebuild(p);
+  } else {
+    if (wall_candidates_stale_) list_wall_candidates(p);
+    if (damping_stale_) tabulate_damping(p);
+  }
   if (record_) {
     fn_pair_.resize(pi_.size());
     fn_wall_.resize(p.size() * walls_.size());
@@ -99,6 +103,7 @@ void ContactModule::load_state(InArchive& a) {
   displacement_ = -1.0;
   n_active_ = active;
   wall_candidates_stale_ = true;  // listed from the build's positions at the next evaluation
+  damping_stale_ = true;
 }
 
 void ContactModule::list_wall_candidates(const ParticleStore& p) {
@@ -316,6 +321,30 @@ void ContactModule::rebuild(const ParticleStore& p) {
   built_ = true;
   ++builds_;
   list_wall_candidates(p);
+  tabulate_damping(p);
+}
+
+void ContactModule::tabulate_damping(const ParticleStore& p) {
+  // Masses change only when particles are added, and that rebuilds the list.
+  damping_stale_ = false;
+  eta_n_common_.clear();
+  const std::size_t n = p.size();
+  std::size_t i = 0;
+  while (i < n && p.inv_mass[i] == 0.0) ++i;
+  if (i == n) return;
+  const double m = p.mass[i];
+  bool same = true;
+  for (; i < n; ++i) same &= p.inv_mass[i] == 0.0 || p.mass[i] == m;
+  if (!same) return;
+  // The expressions of the per-contact path, so the values are the same to the bit.
+  const std::size_t nmat = pairs_.size();
+  eta_n_common_.resize(2 * nmat * nmat);
+  for (std::size_t a = 0; a < nmat; ++a)
+    for (std::size_t b = 0; b < nmat; ++b) {
+      const PairParams& pp = pairs_.get(static_cast<int>(a), static_cast<int>(b));
+      eta_n_common_[2 * (a * nmat + b)] = normal_damping(pp, m * m / (m + m));  // two free particles
+      eta_n_common_[2 * (a * nmat + b) + 1] = normal_damping(pp, m);             // one of them fixed
+    }
 }
 
 namespace {
@@ -334,16 +363,20 @@ bool worse(const OverlapRecord& a, const OverlapRecord& b) {
 // the one the positions moved with over the last step (Hertz–Mindlin's history).
 template <ContactLaw Law, bool Friction>
 inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp,
-                            double m_eff, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
-                            double* fn_mag) {
+                            double m_eff, double eta_n_lin, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out,
+                            Vec3& ft_out, double* fn_mag) {
   if constexpr (Law == ContactLaw::linear_spring_dashpot) {
-    (void)r_star;
-    const double eta_n = normal_damping(pp, m_eff);
+    (void)r_star; (void)m_eff;
+    const double eta_n = eta_n_lin;
     const double vn_mag = dot(vrel, eta);
     const Vec3 vn = vn_mag * eta;
-    const Vec3 fn = contact::normal_force(pp.kn, eta_n, overlap, eta, vn);
+    // Eq 10 along η: F_n = −(k_n δ + η_n V_ij·η) η, so |F_n| is that scalar's magnitude,
+    // with no square root heading the Coulomb test.
+    const double fn_along = -(pp.kn * overlap + eta_n * vn_mag);
+    const Vec3 fn = fn_along * eta;
+    const double fn_abs = std::abs(fn_along);
     f_out = fn;
-    if (fn_mag) *fn_mag = norm(fn);
+    if (fn_mag) *fn_mag = fn_abs;
     if constexpr (Friction) {
       const Vec3 vt = vrel - vn;
       // The history follows the displacement the contact points actually made over the
@@ -357,13 +390,14 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
       touch = 1;
       const double kt = pp.kt_factor * pp.kn;
       const double eta_t = pp.etat_factor * eta_n;
-      ft_out = contact::tangential_force(kt, eta_t, pp.mu, norm(fn), h, vt);
+      ft_out = contact::tangential_force(kt, eta_t, pp.mu, fn_abs, h, vt);
       f_out += ft_out;
     } else {
       (void)hist; (void)touch; (void)dt;
       ft_out = Vec3{};
     }
   } else {
+    (void)eta_n_lin;
     // Hertz–Mindlin (contact/hertz_mindlin.hpp), with √R* and √δ taken once:
     // K = 4/3 E* √R*, F_n = −(K √δ) δ η − η_n V_n, η_n = α √(m* K √δ), k_t = 8 G* √R* √δ.
     const double sqrt_r = std::sqrt(r_star), sqrt_d = std::sqrt(overlap);
@@ -400,19 +434,24 @@ inline void resolve_contact(double dt, double overlap, Vec3 eta, Vec3 vrel, Vec3
 template <bool Friction, ContactModule::Laws L, bool Record>
 void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   auto resolve = [dt](double overlap, Vec3 eta, Vec3 vrel, Vec3 vrel_step, const PairParams& pp, double m_eff,
-                      double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out, double* fn_mag) {
+                      double eta_n_lin, double r_star, Vec3& hist, std::uint8_t& touch, Vec3& f_out, Vec3& ft_out,
+                      double* fn_mag) {
     if constexpr (L == Laws::linear)
-      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
-                                                                   touch, f_out, ft_out, fn_mag);
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, eta_n_lin,
+                                                                   r_star, hist, touch, f_out, ft_out, fn_mag);
     else if constexpr (L == Laws::hertz)
-      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
-                                                           f_out, ft_out, fn_mag);
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, eta_n_lin, r_star,
+                                                           hist, touch, f_out, ft_out, fn_mag);
     else if (pp.law == ContactLaw::hertz_mindlin)
-      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist, touch,
-                                                           f_out, ft_out, fn_mag);
+      resolve_contact<ContactLaw::hertz_mindlin, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, eta_n_lin, r_star,
+                                                           hist, touch, f_out, ft_out, fn_mag);
     else
-      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, r_star, hist,
-                                                                   touch, f_out, ft_out, fn_mag);
+      resolve_contact<ContactLaw::linear_spring_dashpot, Friction>(dt, overlap, eta, vrel, vrel_step, pp, m_eff, eta_n_lin,
+                                                                   r_star, hist, touch, f_out, ft_out, fn_mag);
+  };
+  // Whether pair parameters @p pp take the linear law's η_n (the others take m*).
+  auto linear_law = [](const PairParams& pp) {
+    return L == Laws::linear || (L == Laws::mixed && pp.law == ContactLaw::linear_spring_dashpot);
   };
   constexpr bool record = Record;
   // Velocities the positions moved with over the last step, where the integrator keeps
@@ -451,6 +490,9 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     Vec3* const HIST = hist_.data();
     std::uint8_t* const TOUCH = touch_.data();
     double* const FN = fn_pair_.data();
+    // η_n per material pair when every free particle has one mass (tabulate_damping).
+    const double* const ETA_N = eta_n_common_.empty() ? nullptr : eta_n_common_.data();
+    const std::size_t nmat = pairs_.size();
     std::size_t active = 0;  // counted here, not through the reference, for the same reason
     // Three passes per block of listed pairs. The first finds the pairs in contact without
     // a branch (in a flowing bed about half the listed pairs are, in no pattern a
@@ -515,14 +557,21 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
           if (L == Laws::hertz || pp.law == ContactLaw::hertz_mindlin)
             vrel_step = step_velocity(i) - step_velocity(j) + cross(Li * step_spin(i) + Lj * step_spin(j), eta);
         // A fixed particle is a body of infinite mass: m* is the other's mass.
-        const double m_eff = IM[i] == 0.0 ? M[j] : IM[j] == 0.0 ? M[i] : M[i] * M[j] / (M[i] + M[j]);
+        const bool one_fixed = IM[i] == 0.0 || IM[j] == 0.0;
+        double m_eff = 0.0, eta_n = 0.0;
+        if (linear_law(pp) && ETA_N)
+          eta_n = ETA_N[2 * (static_cast<std::size_t>(MAT[i]) * nmat + static_cast<std::size_t>(MAT[j])) + one_fixed];
+        else {
+          m_eff = IM[i] == 0.0 ? M[j] : IM[j] == 0.0 ? M[i] : M[i] * M[j] / (M[i] + M[j]);
+          if (linear_law(pp)) eta_n = normal_damping(pp, m_eff);
+        }
         const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);
         double* fn_rec = nullptr;
         if constexpr (record) fn_rec = &FN[k];
         Vec3 f, ft;
         if constexpr (Friction)
-          resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, HIST[k], TOUCH[k], f, ft, fn_rec);
-        else resolve(overlap, eta, vrel, vrel_step, pp, m_eff, r_star, no_hist, no_touch, f, ft, fn_rec);
+          resolve(overlap, eta, vrel, vrel_step, pp, m_eff, eta_n, r_star, HIST[k], TOUCH[k], f, ft, fn_rec);
+        else resolve(overlap, eta, vrel, vrel_step, pp, m_eff, eta_n, r_star, no_hist, no_touch, f, ft, fn_rec);
         FX[i] += f.x; FY[i] += f.y; FZ[i] += f.z;
         FX[j] -= f.x; FY[j] -= f.y; FZ[j] -= f.z;
         if constexpr (Friction) {
@@ -599,11 +648,12 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         double* fn_rec = nullptr;
         if constexpr (record) fn_rec = &fn_wall_[ii * nw + w];
         // Against a wall R* = R_i and m* = m_i.
+        const double eta_n = linear_law(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
         Vec3 f, ft;
         if constexpr (Friction)
-          resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], wall_hist_[ii * nw + w],
+          resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], eta_n, p.radius[i], wall_hist_[ii * nw + w],
                   wall_touch_[ii * nw + w], f, ft, fn_rec);
-        else resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], p.radius[i], no_hist, no_touch, f, ft, fn_rec);
+        else resolve(overlap, eta, vrel, vrel_step, pp, p.mass[i], eta_n, p.radius[i], no_hist, no_touch, f, ft, fn_rec);
         p.add_force(i, f);
         if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
         const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};

@@ -219,6 +219,52 @@ TEST(PeriodicContacts, FixedParticlesActAsInfiniteMass) {
   EXPECT_DOUBLE_EQ(p.fy[0], -w.fy[0]);
 }
 
+// With every free particle of one mass the linear law's damping comes from a table per
+// material pair (m* = m/2, or m against a fixed particle); it must equal, bit for bit,
+// the damping taken per contact, which a single particle of another mass brings back.
+TEST(PeriodicContacts, CommonMassDampingEqualsPerContactDamping) {
+  cdm::ParticleStore p = random_packing(3000, 13, 0.02, 0.5e-3, 0.5e-3);
+  for (int k = 0; k < 200; ++k)  // fixed particles among them
+    p.add({0.001 * (k % 20), 0.001 * (k / 20), 0.0}, {}, 0.5e-3, 2500.0, k % 2, true);
+  p.enable_rotation();
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.inv_mass[i] != 0.0) { p.vx[i] = u(rng); p.vz[i] = u(rng); p.wy[i] = 100.0 * u(rng); }
+  cdm::PairTable pairs(2);
+  for (int a = 0; a < 2; ++a)
+    for (int b = a; b < 2; ++b) {
+      cdm::PairParams pp;
+      pp.kn = 1e3 * (1 + a + 2 * b); pp.en = 0.9 - 0.1 * (a + b); pp.kt_factor = 2.0 / 7.0; pp.etat_factor = 0.5;
+      pp.mu = 0.5;
+      pairs.set(a, b, pp);
+    }
+  std::vector<cdm::PlaneWall> walls{{"floor", {0, 0, 0}, {0, 0, 1}, 1}};
+  cdm::ParticleStore q = p;
+  q.mass[0] *= 1.5;  // one free particle of another mass: damping per contact for all
+  q.inv_mass[0] = 1.0 / q.mass[0];
+  cdm::ContactModule table(pairs, walls, true, 0.1e-3), per_contact(pairs, walls, true, 0.1e-3);
+  for (int step = 0; step < 2; ++step) {  // twice: the tangential history grows
+    p.clear_forces(); q.clear_forces();
+    table.add_forces(p, 1e-6);
+    per_contact.add_forces(q, 1e-6);
+  }
+  std::size_t compared = 0, fixed_partners = 0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    const double dx = p.x[i] - p.x[0], dy = p.y[i] - p.y[0], dz = p.z[i] - p.z[0];
+    if (dx * dx + dy * dy + dz * dz < 1.21e-6) continue;  // within reach of particle 0
+    if (p.fx[i] == 0.0) continue;
+    ++compared;
+    ASSERT_EQ(p.fx[i], q.fx[i]) << i;
+    ASSERT_EQ(p.fy[i], q.fy[i]) << i;
+    ASSERT_EQ(p.fz[i], q.fz[i]) << i;
+    ASSERT_EQ(p.ty[i], q.ty[i]) << i;
+    fixed_partners += p.inv_mass[i] == 0.0;
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(fixed_partners, 10u);  // pairs of a fixed and a free particle were compared
+}
+
 }  // namespace
 
 // Spatial sorting: ParticleStore::permute moves every field with its particle and keeps

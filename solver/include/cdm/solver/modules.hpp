@@ -173,6 +173,8 @@ class ContactModule final : public ForceModule {
   Slabs slabs(const ParticleStore& p) const;
   void rebuild(const ParticleStore& p);
   void list_wall_candidates(const ParticleStore& p);
+  /// Fills eta_n_common_ when every free particle has the same mass, else empties it.
+  void tabulate_damping(const ParticleStore& p);
 
   PairTable pairs_;
   std::vector<PlaneWall> walls_;
@@ -194,6 +196,12 @@ class ContactModule final : public ForceModule {
   std::vector<std::uint32_t> wall_candidates_;
   bool wall_candidates_stale_ = true;  // after load_state: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  // When every free particle has one mass m (a monodisperse bed), m* takes two values,
+  // m/2 and m (partner fixed), so the linear law's η_n one per material pair and kind
+  // of partner: [2 (a n_materials + b) + partner fixed]. Empty otherwise; η_n is then
+  // taken per contact. Tabulated at each build and after load_state.
+  std::vector<double> eta_n_common_;
+  bool damping_stale_ = true;
   double displacement_ = -1.0;          // see set_displacement; < 0: measure
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
   StepVelocities step_;                       // see set_step_velocities
