@@ -493,6 +493,10 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // η_n per material pair when every free particle has one mass (tabulate_damping).
     const double* const ETA_N = eta_n_common_.empty() ? nullptr : eta_n_common_.data();
     const std::size_t nmat = pairs_.size();
+    // Copies, for the same reason: through the closure and `this` the box's flags and
+    // periods were loaded again for every listed pair.
+    const PeriodicBox box = box_;
+    const bool wrap = periodic;
     std::size_t active = 0;  // counted here, not through the reference, for the same reason
     // Three passes per block of listed pairs. The first finds the pairs in contact without
     // a branch (in a flowing bed about half the listed pairs are, in no pattern a
@@ -511,7 +515,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       for (std::uint32_t k = b0; k < b1; ++k) {
         const std::uint32_t i = PI[k], j = PJ[k];
         Vec3 d{X[j] - X[i], Y[j] - Y[i], Z[j] - Z[i]};
-        if (periodic) d = box_.min_image(d);
+        if (wrap) d = box.min_image(d);
         const double reach = R[i] + R[j];
         const double d2 = dot(d, d);
         // Not "d2 < reach²": a NaN separation counts as a contact, and its NaN force is
