@@ -107,7 +107,7 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
     int m = 0;
     for (long d = -1; d <= 1; ++d) {
       long q = c + d;
-      if (box.on[k]) q = (q + dims[k]) % dims[k];
+      if (box.on[k]) q = q < 0 ? q + dims[k] : q >= dims[k] ? q - dims[k] : q;  // c is in [0, dims)
       else if (q < 0 || q >= dims[k]) continue;
       bool seen = false;
       for (int r = 0; r < m; ++r) seen |= out[r] == q;
