@@ -357,8 +357,9 @@ bool worse(const OverlapRecord& a, const OverlapRecord& b) {
 }
 
 // Force on i for one contact (j's force is its negative) under force law @p Law; j may
-// be a wall. @p hist and @p touch are the contact's tangential history slot; @p r_star
-// is used by Hertz–Mindlin only. Writes the normal force magnitude to @p fn_mag if given.
+// be a wall. @p hist and @p touch are the contact's tangential history slot; @p m_eff
+// and @p r_star are used by Hertz–Mindlin only, @p eta_n_lin (the normal damping η_n,
+// from m*) by the linear law only. Writes the normal force magnitude to @p fn_mag if given.
 // @p vrel is the relative contact velocity the forces are evaluated at; @p vrel_step
 // the one the positions moved with over the last step (Hertz–Mindlin's history).
 template <ContactLaw Law, bool Friction>
