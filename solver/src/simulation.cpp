@@ -58,6 +58,9 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Without a gas nothing reads the particles' velocities between a step's force
   // evaluation and its final kick, so that kick can wait for the next step (step()).
   deferred_kick_ = spec_.integrator == IntegratorScheme::velocity_verlet && !gas_;
+  // There the one pass per step sets the forces to the weight instead of zeroing them,
+  // sparing the gravity module (modules_.front()) a pass over masses and forces.
+  gravity_in_pass_ = deferred_kick_ && spec_.gravity;
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();
@@ -94,8 +97,12 @@ void Simulation::permute(const std::vector<std::uint32_t>& from) {
 void Simulation::compute_forces() {
   sort_if_due();
   if (!forces_zeroed_) particles_.clear_forces();  // else the integrator zeroed them as it read them
+  // Where the integrator set the forces to m g instead, the gravity module (the first)
+  // has been applied.
+  const std::size_t first = forces_hold_gravity_ ? 1 : 0;
   forces_zeroed_ = false;
-  for (auto& m : modules_) m->add_forces(particles_, spec_.dt);
+  forces_hold_gravity_ = false;
+  for (std::size_t k = first; k < modules_.size(); ++k) modules_[k]->add_forces(particles_, spec_.dt);
   forces_valid_ = true;
 }
 
@@ -216,6 +223,8 @@ struct VerletArrays {
   double *wx, *wy, *wz, *tx, *ty, *tz, *hwx, *hwy, *hwz;  // with rotation only
   const double *inv_mass, *inv_inertia;
   const double *x0 = nullptr, *y0 = nullptr, *z0 = nullptr;  // the contact list's build positions
+  const double* mass = nullptr;  // with gravity applied in the pass
+  Vec3 g{};                      // [m/s^2], with gravity applied in the pass
 };
 
 VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vector<double>& hvy,
@@ -254,10 +263,12 @@ template <class Kick>
 /// The first half of a step for particle i, from its velocity @p v and spin @p w at t:
 /// half kick, drift (wrapped into @p box if @p wrap), the predicted velocity and spin
 /// v(t) + Δt a(t) for the velocity-dependent forces, and the forces and torques zeroed
-/// once read.
+/// once read; with @p grav the forces are set to the weight m g instead (the gravity
+/// module's arithmetic on zeroed forces, 0 + m g, so the same to the bit).
 template <class Kick>
-[[gnu::always_inline]] inline void verlet_first_half(const VerletArrays& a, bool rot, bool wrap, const PeriodicBox& box,
-                                                     double dt, std::size_t i, Vec3 v, Vec3 w, const Kick& kick) {
+[[gnu::always_inline]] inline void verlet_first_half(const VerletArrays& a, bool rot, bool wrap, bool grav,
+                                                     const PeriodicBox& box, double dt, std::size_t i, Vec3 v, Vec3 w,
+                                                     const Kick& kick) {
   const double h = 0.5 * dt;
   kick(i, h, v.x, v.y, v.z, true);
   a.hvx[i] = v.x; a.hvy[i] = v.y; a.hvz[i] = v.z;
@@ -266,7 +277,12 @@ template <class Kick>
   a.x[i] = x; a.y[i] = y; a.z[i] = z;
   kick(i, h, v.x, v.y, v.z, false);  // predicted v(t+Δt)
   a.vx[i] = v.x; a.vy[i] = v.y; a.vz[i] = v.z;
-  a.fx[i] = 0.0; a.fy[i] = 0.0; a.fz[i] = 0.0;
+  if (grav) {
+    const double m = a.mass[i];
+    a.fx[i] = 0.0 + m * a.g.x; a.fy[i] = 0.0 + m * a.g.y; a.fz[i] = 0.0 + m * a.g.z;
+  } else {
+    a.fx[i] = 0.0; a.fy[i] = 0.0; a.fz[i] = 0.0;
+  }
   if (rot) {
     const double b = h * a.inv_inertia[i];
     a.hwx[i] = w.x + b * a.tx[i]; a.hwy[i] = w.y + b * a.ty[i]; a.hwz[i] = w.z + b * a.tz[i];
@@ -288,10 +304,11 @@ decltype(auto) with_flags(F&& f, bool b, Rest... rest) {
 
 /// Particles [i0, i1) of the one pass per step without a gas (Simulation::step): the
 /// state at t, completed by the last step's final kick if @p Pending, checked for
-/// finite values, then the first half of the step. Returns the largest squared
-/// displacement since the contact list's build (with @p Measure; else 0), or +inf if
-/// some particle's state at t was not finite.
-template <bool Pending, bool Rot, bool Wrap, bool Measure>
+/// finite values, then the first half of the step (the forces set to the weight with
+/// @p Grav). Returns the largest squared displacement since the contact list's build
+/// (with @p Measure; else the largest squared drift of this step), or +inf if some
+/// particle's state at t was not finite.
+template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   const double h = 0.5 * dt;
   const PlainKick kick{a.inv_mass, a.fx, a.fy, a.fz};
@@ -305,9 +322,14 @@ double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std
       if constexpr (Rot) w = {a.wx[i], a.wy[i], a.wz[i]};
     }
     const bool finite = verlet_state_finite(a, Rot, i, v, w);
-    verlet_first_half(a, Rot, Wrap, box, dt, i, v, w, kick);
-    double d2 = 0.0;
-    if constexpr (Measure) d2 = ContactModule::displacement(box, {a.x[i] - a.x0[i], a.y[i] - a.y0[i], a.z[i] - a.z0[i]});
+    verlet_first_half(a, Rot, Wrap, Grav, box, dt, i, v, w, kick);
+    double d2;
+    if constexpr (Measure) {
+      d2 = ContactModule::displacement(box, {a.x[i] - a.x0[i], a.y[i] - a.y0[i], a.z[i] - a.z0[i]});
+    } else {
+      const double sx = dt * a.hvx[i], sy = dt * a.hvy[i], sz = dt * a.hvz[i];  // this step's drift
+      d2 = sx * sx + sy * sy + sz * sz;
+    }
     worst = std::max(worst, finite ? d2 : std::numeric_limits<double>::infinity());
   }
   return worst;
@@ -448,20 +470,46 @@ void Simulation::step() {
         // list was built (as ContactModule would in a pass of its own). One reduction
         // carries both: the squared displacement, or +inf for a state that is not finite.
         // Without a gas there is no drag: kick() is the plain one (verlet_pass).
-        const bool measure = contact_ && contact_->listed(n);
+        // The displacement is measured exactly (reading the build positions) only once
+        // a bound on it may reach half the skin: the sum, over the steps since the
+        // build, of each step's largest drift (max_i Δt |v_i(t+Δt/2)|), which the pass
+        // returns otherwise. Below 0.49 skin (a margin far beyond rounding) the exact
+        // measure could not call for a rebuild either, so the lists are built at the
+        // same steps. The bound is unknown until the first build this object sees.
+        constexpr double not_finite = std::numeric_limits<double>::infinity();
+        const bool listed = contact_ && contact_->listed(n);
+        bool measure = false;
+        if (listed) {
+          if (builds_seen_ != contact_->list_builds()) {
+            drift_bound_ = builds_seen_ == unknown_builds ? not_finite : 0.0;
+            builds_seen_ = contact_->list_builds();
+          }
+          measure = !(drift_bound_ < 0.49 * contact_->skin());
+        }
         if (measure) {
           a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
         }
+        const bool grav = gravity_in_pass_;
+        if (grav) {
+          a.mass = p.mass.data();
+          a.g = spec_.g;
+        }
         const double worst = parallel_max_blocks(n, [&](std::size_t i0, std::size_t i1) {
-          return with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure>() {
-            return verlet_pass<Pending, Rot, Wrap, Measure>(a, box, dt, i0, i1);
-          }, pending, rot, wrap, measure);
+          return with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav>() {
+            return verlet_pass<Pending, Rot, Wrap, Measure, Grav>(a, box, dt, i0, i1);
+          }, pending, rot, wrap, measure, grav);
         });
-        constexpr double not_finite = std::numeric_limits<double>::infinity();
         kick_pending_ = false;
         if (worst == not_finite) check_state(1.0);  // names the state at t (time_ is still t)
-        if (measure) contact_->set_displacement(worst);
+        if (measure) {
+          contact_->set_displacement(worst);
+        } else if (listed) {
+          drift_bound_ += std::sqrt(worst);
+          // Past the margin the module measures itself this time, the pass from the next step.
+          if (drift_bound_ < 0.49 * contact_->skin()) contact_->set_displacement(drift_bound_ * drift_bound_);
+        }
         forces_zeroed_ = true;
+        forces_hold_gravity_ = grav;
         compute_forces();
         kick_pending_ = true;
         nonfinite = 0.0;  // checked when the step is completed (complete_step, or the next step)
@@ -469,7 +517,7 @@ void Simulation::step() {
       }
       const auto kick = kick_fn();
       parallel_for(n, [&](std::size_t i) {
-        verlet_first_half(a, rot, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
+        verlet_first_half(a, rot, false, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
       });
       forces_zeroed_ = true;
       wrap_positions();
@@ -755,6 +803,7 @@ void Simulation::save_state(OutArchive& a) const {
 }
 
 void Simulation::load_state(InArchive& a) {
+  builds_seen_ = unknown_builds;  // the displacement since the restored list's build is unknown
   ParticleStore& p = particles_;
   const std::uint64_t n0 = p.size();
   std::uint64_t n = 0;
