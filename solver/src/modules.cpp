@@ -109,10 +109,13 @@ void ContactModule::load_state(InArchive& a) {
 void ContactModule::list_wall_candidates(const ParticleStore& p) {
   // From the positions at the last build (x0_), so a restart lists exactly what the
   // build did. A particle moves less than skin/2 before the next build, so one farther
-  // than r + skin from every wall cannot reach one. A wall not perpendicular to every
-  // periodic axis sees wrapped particles jump, so then every particle is tested.
+  // than r + skin from a wall cannot reach it: each particle is listed with the walls it
+  // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
+  // jump, so then every particle is listed with every wall.
   const std::size_t n = x0_.size(), nw = walls_.size();
   wall_candidates_.clear();
+  wall_begin_.assign(1, 0);
+  wall_ids_.clear();
   wall_candidates_stale_ = false;
   bool filter = skin_ >= 0.0;
   for (const PlaneWall& w : walls_) {
@@ -121,21 +124,21 @@ void ContactModule::list_wall_candidates(const ParticleStore& p) {
       if (box_.on[a] && nrm[a] != 0.0) filter = false;
   }
   if (!nw) return;
-  for (std::size_t i = 0; i < n; ++i) {
-    bool near = !filter;
-    for (std::size_t w = 0; w < nw && !near; ++w)
-      near = walls_[w].distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_;
-    if (near) wall_candidates_.push_back(static_cast<std::uint32_t>(i));
-  }
-  // Particles no longer listed are not in contact with any wall.
   if (record_ && fn_wall_.size() != n * nw) fn_wall_.assign(n * nw, -1.0);
-  std::vector<std::uint8_t> listed(n, 0);
-  for (std::uint32_t i : wall_candidates_) listed[i] = 1;
+  const bool history = wall_touch_.size() == n * nw;
   for (std::size_t i = 0; i < n; ++i) {
-    if (listed[i]) continue;
+    const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
-      if (wall_touch_.size() == n * nw) wall_touch_[i * nw + w] = 0;
-      if (record_) fn_wall_[i * nw + w] = -1.0;
+      if (!filter || walls_[w].distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
+        wall_ids_.push_back(static_cast<std::uint32_t>(w));
+      } else {  // not listed: not in contact with that wall
+        if (history) wall_touch_[i * nw + w] = 0;
+        if (record_) fn_wall_[i * nw + w] = -1.0;
+      }
+    }
+    if (wall_ids_.size() != before) {
+      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+      wall_begin_.push_back(static_cast<std::uint32_t>(wall_ids_.size()));
     }
   }
 }
@@ -631,7 +634,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t i = wall_candidates_[c];
       const std::size_t ii = i;
-      for (std::size_t w = 0; w < nw; ++w) {
+      for (std::uint32_t q = wall_begin_[c]; q < wall_begin_[c + 1]; ++q) {
+        const std::size_t w = wall_ids_[q];
         const PlaneWall& wall = walls_[w];
         const double dist = wall.distance(p.position(i));
         const double overlap = p.radius[i] - dist;

@@ -196,6 +196,9 @@ class ContactModule final : public ForceModule {
   // Particles that may touch a wall before the next build (within r + skin of one at
   // the build, in index order), or every particle; only these are tested against walls.
   std::vector<std::uint32_t> wall_candidates_;
+  // The walls candidate c may touch: wall_ids_[wall_begin_[c] .. wall_begin_[c+1]), in
+  // wall order.
+  std::vector<std::uint32_t> wall_begin_, wall_ids_;
   bool wall_candidates_stale_ = true;  // after load_state: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
   // When every free particle has one mass m (a monodisperse bed), m* takes two values,
