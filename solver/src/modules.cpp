@@ -6,6 +6,7 @@
 #include "cdm/solver/parallel.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace cdm {
@@ -101,6 +102,7 @@ void ContactModule::load_state(InArchive& a) {
   built_ = built != 0;
   builds_ = builds;
   displacement_ = -1.0;
+  drift_bound_ = std::numeric_limits<double>::infinity();  // the moves since the build are unknown
   n_active_ = active;
   wall_candidates_stale_ = true;  // listed from the build's positions at the next evaluation
   damping_stale_ = true;
@@ -323,6 +325,7 @@ void ContactModule::rebuild(const ParticleStore& p) {
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   built_ = true;
   ++builds_;
+  drift_bound_ = 0.0;
   list_wall_candidates(p);
   tabulate_damping(p);
 }
@@ -345,7 +348,7 @@ void ContactModule::tabulate_damping(const ParticleStore& p) {
   for (std::size_t a = 0; a < nmat; ++a)
     for (std::size_t b = 0; b < nmat; ++b) {
       const PairParams& pp = pairs_.get(static_cast<int>(a), static_cast<int>(b));
-      eta_n_common_[2 * (a * nmat + b)] = normal_damping(pp, m * m / (m + m));  // two free particles
+      eta_n_common_[2 * (a * nmat + b)] = normal_damping(pp, effective_mass(m, m));  // two free particles
       eta_n_common_[2 * (a * nmat + b) + 1] = normal_damping(pp, m);             // one of them fixed
     }
 }
@@ -570,7 +573,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         if (linear_law(pp) && ETA_N)
           eta_n = ETA_N[2 * (static_cast<std::size_t>(MAT[i]) * nmat + static_cast<std::size_t>(MAT[j])) + one_fixed];
         else {
-          m_eff = IM[i] == 0.0 ? M[j] : IM[j] == 0.0 ? M[i] : M[i] * M[j] / (M[i] + M[j]);
+          m_eff = IM[i] == 0.0 ? M[j] : IM[j] == 0.0 ? M[i] : effective_mass(M[i], M[j]);
           if (linear_law(pp)) eta_n = normal_damping(pp, m_eff);
         }
         const double r_star = L == Laws::linear ? 0.0 : ri * rj / (ri + rj);

@@ -22,7 +22,10 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
   }
   if (spec_.gas != GasModel::none) build_gas();
-  if (spec_.gravity) modules_.push_back(std::make_unique<GravityModule>(spec_.g));
+  if (spec_.gravity) {
+    modules_.push_back(std::make_unique<GravityModule>(spec_.g));
+    gravity_ = modules_.back().get();
+  }
   if (spec_.normal_contact != NormalContactModel::none) {
     // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
     double d_max = 0.0;
@@ -59,7 +62,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // evaluation and its final kick, so that kick can wait for the next step (step()).
   deferred_kick_ = spec_.integrator == IntegratorScheme::velocity_verlet && !gas_;
   // There the one pass per step sets the forces to the weight instead of zeroing them,
-  // sparing the gravity module (modules_.front()) a pass over masses and forces.
+  // sparing the gravity module a pass over masses and forces.
   gravity_in_pass_ = deferred_kick_ && spec_.gravity;
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
@@ -97,12 +100,12 @@ void Simulation::permute(const std::vector<std::uint32_t>& from) {
 void Simulation::compute_forces() {
   sort_if_due();
   if (!forces_zeroed_) particles_.clear_forces();  // else the integrator zeroed them as it read them
-  // Where the integrator set the forces to m g instead, the gravity module (the first)
-  // has been applied.
-  const std::size_t first = forces_hold_gravity_ ? 1 : 0;
+  // Where the integrator set the forces to m g instead, gravity has been applied.
+  const ForceModule* applied = forces_hold_gravity_ ? gravity_ : nullptr;
   forces_zeroed_ = false;
   forces_hold_gravity_ = false;
-  for (std::size_t k = first; k < modules_.size(); ++k) modules_[k]->add_forces(particles_, spec_.dt);
+  for (auto& m : modules_)
+    if (m.get() != applied) m->add_forces(particles_, spec_.dt);
   forces_valid_ = true;
 }
 
@@ -470,22 +473,12 @@ void Simulation::step() {
         // list was built (as ContactModule would in a pass of its own). One reduction
         // carries both: the squared displacement, or +inf for a state that is not finite.
         // Without a gas there is no drag: kick() is the plain one (verlet_pass).
-        // The displacement is measured exactly (reading the build positions) only once
-        // a bound on it may reach half the skin: the sum, over the steps since the
-        // build, of each step's largest drift (max_i Δt |v_i(t+Δt/2)|), which the pass
-        // returns otherwise. Below 0.49 skin (a margin far beyond rounding) the exact
-        // measure could not call for a rebuild either, so the lists are built at the
-        // same steps. The bound is unknown until the first build this object sees.
+        // The displacement is measured exactly (reading the build positions) only when
+        // the module's bound on it nears half the skin; otherwise the pass returns this
+        // step's largest drift, which the module adds to that bound.
         constexpr double not_finite = std::numeric_limits<double>::infinity();
         const bool listed = contact_ && contact_->listed(n);
-        bool measure = false;
-        if (listed) {
-          if (builds_seen_ != contact_->list_builds()) {
-            drift_bound_ = builds_seen_ == unknown_builds ? not_finite : 0.0;
-            builds_seen_ = contact_->list_builds();
-          }
-          measure = !(drift_bound_ < 0.49 * contact_->skin());
-        }
+        const bool measure = listed && contact_->displacement_needed();
         if (measure) {
           a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
         }
@@ -501,13 +494,8 @@ void Simulation::step() {
         });
         kick_pending_ = false;
         if (worst == not_finite) check_state(1.0);  // names the state at t (time_ is still t)
-        if (measure) {
-          contact_->set_displacement(worst);
-        } else if (listed) {
-          drift_bound_ += std::sqrt(worst);
-          // Past the margin the module measures itself this time, the pass from the next step.
-          if (drift_bound_ < 0.49 * contact_->skin()) contact_->set_displacement(drift_bound_ * drift_bound_);
-        }
+        if (measure) contact_->set_displacement(worst);
+        else if (listed) contact_->add_drift(worst);
         forces_zeroed_ = true;
         forces_hold_gravity_ = grav;
         compute_forces();
@@ -803,7 +791,6 @@ void Simulation::save_state(OutArchive& a) const {
 }
 
 void Simulation::load_state(InArchive& a) {
-  builds_seen_ = unknown_builds;  // the displacement since the restored list's build is unknown
   ParticleStore& p = particles_;
   const std::uint64_t n0 = p.size();
   std::uint64_t n = 0;

@@ -58,6 +58,9 @@ inline double damping_ratio_from_restitution(double en) {
   return std::abs(l) / std::sqrt(std::numbers::pi * std::numbers::pi + l * l);
 }
 
+/// Effective mass [kg] of two free bodies of masses @p mi and @p mj.
+inline double effective_mass(double mi, double mj) { return mi * mj / (mi + mj); }
+
 /// Normal dashpot coefficient eta_n [kg/s] for effective mass m_eff (eq 29).
 inline double normal_damping(const PairParams& p, double m_eff) {
   return 2.0 * std::sqrt(m_eff * p.kn) * p.damping_factor;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 /// @file modules.hpp
 /// @brief Physics modules. A scene builds only the modules it names; each adds its
 /// contribution to the particles' forces (and torques) once per force evaluation.
@@ -90,8 +91,6 @@ class ContactModule final : public ForceModule {
   /// Contacts carrying tangential history (zero when frictionless).
   std::size_t history_size() const { return friction_ ? n_active_ : 0; }
   std::size_t list_builds() const { return builds_; }
-  /// Verlet-list skin [m]: the list is rebuilt once a particle has moved half of it.
-  double skin() const { return skin_; }
   std::size_t listed_pairs() const { return pi_.size(); }
   const std::vector<PlaneWall>& walls() const { return walls_; }
   const PairTable& pairs() const { return pairs_; }
@@ -125,6 +124,19 @@ class ContactModule final : public ForceModule {
   /// by the integrator in its own pass: the next evaluation takes it instead of a pass
   /// of its own. Used once; ignored if negative.
   void set_displacement(double d2) { displacement_ = d2; }
+  /// Whether the integrator must measure displacement() this step: false while the sum
+  /// of each step's largest drift since the build (add_drift) stays below 0.49 skin,
+  /// where the exact measure could not call for a rebuild either (the margin is far
+  /// beyond rounding), so lists are built at the same steps. Unknown, so true, after
+  /// load_state until the next build.
+  bool displacement_needed() const { return !(drift_bound_ < drift_limit()); }
+  /// For an integrator that did not measure: the largest squared drift [m^2] of any
+  /// particle over the step just taken (max_i |Δt v_i|²). Bounds the displacement for
+  /// the next evaluation, as set_displacement would, while below the margin.
+  void add_drift(double d2) {
+    drift_bound_ += std::sqrt(d2);
+    if (drift_bound_ < drift_limit()) displacement_ = drift_bound_ * drift_bound_;
+  }
   /// A spatial order of the particles (for ParticleStore::permute): by cells one
   /// interaction range wide, the slab axis slowest, so that each slab's particles, and
   /// the partners of a particle, sit close together in memory. Deterministic: ties keep
@@ -164,6 +176,7 @@ class ContactModule final : public ForceModule {
   template <bool Friction, Laws L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
   bool needs_rebuild(const ParticleStore& p) const;
+  double drift_limit() const { return 0.49 * skin_; }
   /// How the particles' bounding box is cut into slabs (see the class comment).
   struct Slabs {
     int axis = 0;          // the cut axis (0 when nothing is cut)
@@ -208,6 +221,7 @@ class ContactModule final : public ForceModule {
   std::vector<double> eta_n_common_;
   bool damping_stale_ = true;
   double displacement_ = -1.0;          // see set_displacement; < 0: measure
+  double drift_bound_ = 0.0;            // see displacement_needed [m]
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
   StepVelocities step_;                       // see set_step_velocities
   bool built_ = false;

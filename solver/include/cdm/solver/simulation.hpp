@@ -117,6 +117,7 @@ class Simulation {
   mutable ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   ContactModule* contact_ = nullptr;
+  const ForceModule* gravity_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;
   std::unique_ptr<fluid::GasSolver> solver_;
@@ -132,12 +133,7 @@ class Simulation {
   bool forces_valid_ = false;
   bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
   bool gravity_in_pass_ = false;      // velocity Verlet's one pass applies gravity (step())
-  bool forces_hold_gravity_ = false;  // ... and has: the gravity module is skipped once
-  // A bound on the particles' displacement since the contact list's build [m] (step()),
-  // for the list's build count builds_seen_; unknown_builds: none seen yet.
-  static constexpr std::size_t unknown_builds = static_cast<std::size_t>(-1);
-  std::size_t builds_seen_ = unknown_builds;
-  double drift_bound_ = 0.0;
+  bool forces_hold_gravity_ = false;  // ... and has: gravity_ is skipped once
   bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
   mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   bool restarted_ = false;
