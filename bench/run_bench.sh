@@ -12,11 +12,15 @@
 # dt = t_c/25, its data file read by both peers; cdm: its own scene at dt = t_c/50 up to
 # a checkpoint, restarted for each timed run). Contact history starts empty in the
 # peers' timed runs (they read a data file) and is carried over in cdm's (a restart).
-# Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results).
+# Then runs bench/pass_probe (the pass's memory traffic in four layouts, without cdm) and
+# appends its table to the summary.
+# Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results),
+# PROBE (default build/release/bench/pass_probe).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
 cdm="${CDM:-$root/build/release/app/cdm}"
+probe="${PROBE:-$root/build/release/bench/pass_probe}"
 reps="${REPS:-3}"
 out="${OUT:-$here/results}"
 problems=("$@")
@@ -159,3 +163,17 @@ for prob in multi:
         cells = [f"{med[code][k]:.2f}" + ("" if code == "cdm" else f" ({med[code][k] / med['cdm'][k]:.2f})") for k in range(nseg)]
         print(f"| {'cdm' if code == 'cdm2' else code} | {2 if code == 'cdm2' else 1} | " + " | ".join(cells) + " |")
 PY
+
+# What the memory system gives one core for the pass's traffic, on this machine, now.
+if [ -x "$probe" ]; then
+  {
+    echo
+    echo "bench/pass_probe (velocity Verlet's pass without cdm, one thread; bench/README.md):"
+    echo
+    echo '```'
+    "$probe" 1e4 1e5 1e6
+    echo '```'
+  } | tee -a "$out/summary.md"
+else
+  echo "no $probe: build it (cmake --build build/release --target pass_probe) for the pass's memory table"
+fi

@@ -1,0 +1,193 @@
+// pass_probe: the memory traffic of velocity Verlet's one pass per step, without cdm,
+// in four memory layouts.
+//
+// The pass (solver/src/simulation.cpp, verlet_pass) reads and rewrites 15 doubles per
+// particle (position, half-step velocity, force, half-step spin, torque), reads 3
+// (mass, inverse mass, inverse inertia) and writes 6 it does not read (predicted
+// velocity and spin, whose lines the processor still reads for ownership): 360 bytes
+// per particle-step between the core and wherever the data lives. This program sweeps
+// the same 24 doubles per particle with the same reads and writes and next to no
+// arithmetic, so that cdm's pass time per particle can be set against what the memory
+// system gives one core for that traffic at that N (issue #7: cost per particle-step
+// at 1e6 against 1e4), and against what another layout would give:
+//
+//   soa       24 arrays, one per quantity, their starts 16 bytes apart modulo the
+//             4 KiB page (as cdm's heap-allocated ParticleStore arrays mostly are)
+//   soa-page  the same 24 arrays all starting at the same offset in a page (as arrays
+//             allocated separately by mmap are): every array maps to the same cache
+//             sets, a hazard for any structure-of-arrays code
+//   vec3      8 arrays of 3 interleaved doubles (x y z, and so on; the masses as one)
+//   aos       one array of 24 doubles per particle
+//
+// Usage: pass_probe [N ...]   (default 1e4 1e5 1e6); one thread.
+// Output: a whitespace table: per N and layout, the median time per particle of 5
+// timed batches of sweeps (each batch at least 0.1 s), the implied bandwidth and the
+// data's size.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr int nq = 24;  // doubles per particle
+// Quantity order: 0-2 x, 3-5 half-step velocity, 6-8 force, 9-11 half-step spin,
+// 12-14 torque, 15 inverse mass, 16 inverse inertia, 17 mass, 18-20 velocity, 21-23 spin.
+
+/// Where quantity q of particle i lives: base[q] + i * stride[q] (in doubles).
+struct Layout {
+  const char* name;
+  double* base[nq];
+  std::size_t stride[nq];
+};
+
+struct Arena {
+  std::unique_ptr<char, decltype(&std::free)> mem{nullptr, &std::free};
+  Layout layout{};
+};
+
+Arena make(const std::string& kind, std::size_t n) {
+  Arena a;
+  const std::size_t page = 4096;
+  const std::size_t array = ((n * sizeof(double) + page - 1) / page + 1) * page;  // one quantity, page-rounded
+  const std::size_t total = nq * array + 2 * page;
+  a.mem.reset(static_cast<char*>(std::aligned_alloc(page, total)));
+  if (!a.mem) {
+    std::fprintf(stderr, "pass_probe: cannot allocate %zu bytes for N = %zu\n", total, n);
+    std::exit(1);
+  }
+  char* m = a.mem.get();
+  std::memset(m, 0, total);
+  Layout& l = a.layout;
+  if (kind == "soa" || kind == "soa-page") {
+    const std::size_t skew = kind == "soa" ? 16 : 0;
+    for (int q = 0; q < nq; ++q) {
+      l.base[q] = reinterpret_cast<double*>(m + q * array + q * skew);
+      l.stride[q] = 1;
+    }
+  } else if (kind == "vec3") {
+    for (int q = 0; q < nq; ++q) {
+      l.base[q] = reinterpret_cast<double*>(m + (q / 3) * 3 * array + 16 * (q / 3)) + q % 3;
+      l.stride[q] = 3;
+    }
+  } else {
+    for (int q = 0; q < nq; ++q) {
+      l.base[q] = reinterpret_cast<double*>(m) + q;
+      l.stride[q] = nq;
+    }
+  }
+  l.name = kind == "soa" ? "soa" : kind == "soa-page" ? "soa-page" : kind == "vec3" ? "vec3" : "aos";
+  for (std::size_t i = 0; i < n; ++i) {
+    l.base[15][i * l.stride[15]] = 1.0 / 1.3e-6;
+    l.base[16][i * l.stride[16]] = 1.0 / 1.3e-13;
+    l.base[17][i * l.stride[17]] = 1.3e-6;
+  }
+  return a;
+}
+
+// One sweep: half kick, drift, predicted velocity and spin, forces set to (a tiny)
+// weight, torques zeroed: the pass's reads and writes. Written out per layout, each
+// array's pointer in a local, as real code would hold them.
+constexpr double dt = 1.6e-6, h = 0.5 * dt, g = -9.81e-9;
+
+void sweep_soa(const Layout& l, std::size_t n) {
+  double *const x = l.base[0], *const y = l.base[1], *const z = l.base[2];
+  double *const hvx = l.base[3], *const hvy = l.base[4], *const hvz = l.base[5];
+  double *const fx = l.base[6], *const fy = l.base[7], *const fz = l.base[8];
+  double *const hwx = l.base[9], *const hwy = l.base[10], *const hwz = l.base[11];
+  double *const tx = l.base[12], *const ty = l.base[13], *const tz = l.base[14];
+  const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
+  double *const vx = l.base[18], *const vy = l.base[19], *const vz = l.base[20];
+  double *const wx = l.base[21], *const wy = l.base[22], *const wz = l.base[23];
+  for (std::size_t i = 0; i < n; ++i) {
+    const double b = h * im[i], c = h * ii[i];
+    const double ux = hvx[i] + b * fx[i], uy = hvy[i] + b * fy[i], uz = hvz[i] + b * fz[i];
+    hvx[i] = ux; hvy[i] = uy; hvz[i] = uz;
+    x[i] += dt * ux; y[i] += dt * uy; z[i] += dt * uz;
+    vx[i] = ux + b * fx[i]; vy[i] = uy + b * fy[i]; vz[i] = uz + b * fz[i];
+    fx[i] = 0.0; fy[i] = 0.0; fz[i] = m[i] * g;
+    const double sx = hwx[i] + c * tx[i], sy = hwy[i] + c * ty[i], sz = hwz[i] + c * tz[i];
+    hwx[i] = sx; hwy[i] = sy; hwz[i] = sz;
+    wx[i] = sx + c * tx[i]; wy[i] = sy + c * ty[i]; wz[i] = sz + c * tz[i];
+    tx[i] = 0.0; ty[i] = 0.0; tz[i] = 0.0;
+  }
+}
+
+/// Groups of three quantities (S = 3, one array each) or all 24 in one (S = 24): the
+/// same arithmetic on p[q] + i * S.
+template <std::size_t S>
+void sweep_packed(const Layout& l, std::size_t n) {
+  double *const X = l.base[0], *const HV = l.base[3], *const F = l.base[6], *const HW = l.base[9];
+  double *const T = l.base[12], *const M = l.base[15], *const V = l.base[18], *const W = l.base[21];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t k = i * S;
+    const double b = h * M[k], c = h * M[k + 1];
+    const double ux = HV[k] + b * F[k], uy = HV[k + 1] + b * F[k + 1], uz = HV[k + 2] + b * F[k + 2];
+    HV[k] = ux; HV[k + 1] = uy; HV[k + 2] = uz;
+    X[k] += dt * ux; X[k + 1] += dt * uy; X[k + 2] += dt * uz;
+    V[k] = ux + b * F[k]; V[k + 1] = uy + b * F[k + 1]; V[k + 2] = uz + b * F[k + 2];
+    F[k] = 0.0; F[k + 1] = 0.0; F[k + 2] = M[k + 2] * g;
+    const double sx = HW[k] + c * T[k], sy = HW[k + 1] + c * T[k + 1], sz = HW[k + 2] + c * T[k + 2];
+    HW[k] = sx; HW[k + 1] = sy; HW[k + 2] = sz;
+    W[k] = sx + c * T[k]; W[k + 1] = sy + c * T[k + 1]; W[k + 2] = sz + c * T[k + 2];
+    T[k] = 0.0; T[k + 1] = 0.0; T[k + 2] = 0.0;
+  }
+}
+
+void sweep(const Layout& l, std::size_t n) {
+  switch (l.stride[0]) {
+    case 1: sweep_soa(l, n); break;
+    case 3: sweep_packed<3>(l, n); break;
+    default: sweep_packed<nq>(l, n); break;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::size_t> sizes;
+  for (int k = 1; k < argc; ++k) {
+    char* end = nullptr;
+    const double v = std::strtod(argv[k], &end);
+    if (end == argv[k] || *end != '\0' || !(v >= 1.0) || v > 1e8) {
+      std::fprintf(stderr, "pass_probe: argument %d: '%s' is not a particle count in [1, 1e8]\n", k, argv[k]);
+      return 2;
+    }
+    sizes.push_back(static_cast<std::size_t>(v));
+  }
+  if (sizes.empty()) sizes = {10000, 100000, 1000000};
+  constexpr double bytes = 15 * 16 + 3 * 8 + 6 * 16;  // read+write, read, write (+ read for ownership)
+  std::printf("# pass_probe: velocity Verlet's pass, %g B per particle-step, one thread\n", bytes);
+  std::printf("# N  layout  time_per_particle[ns]  bandwidth[GB/s]  data[MB]\n");
+  using clock = std::chrono::steady_clock;
+  for (const std::size_t n : sizes) {
+    for (const char* kind : {"soa", "soa-page", "vec3", "aos"}) {
+      const Arena a = make(kind, n);
+      sweep(a.layout, n);  // caches warm
+      std::size_t reps = 1;  // sweeps per batch: enough for 0.1 s
+      for (;;) {
+        const auto t0 = clock::now();
+        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n);
+        if (std::chrono::duration<double>(clock::now() - t0).count() >= 0.1) break;
+        reps *= 2;
+      }
+      std::vector<double> t;
+      for (int batch = 0; batch < 5; ++batch) {
+        const auto t0 = clock::now();
+        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n);
+        t.push_back(std::chrono::duration<double>(clock::now() - t0).count() / static_cast<double>(reps * n));
+      }
+      std::sort(t.begin(), t.end());
+      const double med = t[t.size() / 2];
+      volatile double sink = a.layout.base[0][(n / 2) * a.layout.stride[0]];  // the sweeps' results are used
+      (void)sink;
+      std::printf("%zu %s %.2f %.1f %.1f\n", n, a.layout.name, med * 1e9, bytes / med * 1e-9, nq * 8.0 * n / 1e6);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
