@@ -29,7 +29,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
-#include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -50,7 +50,7 @@ struct Arena {
   Layout layout{};
 };
 
-Arena make(const std::string& kind, std::size_t n) {
+Arena make(const char* kind, std::size_t n) {
   Arena a;
   const std::size_t page = 4096;
   const std::size_t array = ((n * sizeof(double) + page - 1) / page + 1) * page;  // one quantity, page-rounded
@@ -63,13 +63,14 @@ Arena make(const std::string& kind, std::size_t n) {
   char* m = a.mem.get();
   std::memset(m, 0, total);
   Layout& l = a.layout;
-  if (kind == "soa" || kind == "soa-page") {
-    const std::size_t skew = kind == "soa" ? 16 : 0;
+  const std::string_view k = kind;
+  if (k == "soa" || k == "soa-page") {
+    const std::size_t skew = k == "soa" ? 16 : 0;
     for (int q = 0; q < nq; ++q) {
       l.base[q] = reinterpret_cast<double*>(m + q * array + q * skew);
       l.stride[q] = 1;
     }
-  } else if (kind == "vec3") {
+  } else if (k == "vec3") {
     for (int q = 0; q < nq; ++q) {
       l.base[q] = reinterpret_cast<double*>(m + (q / 3) * 3 * array + 16 * (q / 3)) + q % 3;
       l.stride[q] = 3;
@@ -80,7 +81,7 @@ Arena make(const std::string& kind, std::size_t n) {
       l.stride[q] = nq;
     }
   }
-  l.name = kind == "soa" ? "soa" : kind == "soa-page" ? "soa-page" : kind == "vec3" ? "vec3" : "aos";
+  l.name = kind;
   for (std::size_t i = 0; i < n; ++i) {
     l.base[15][i * l.stride[15]] = 1.0 / 1.3e-6;
     l.base[16][i * l.stride[16]] = 1.0 / 1.3e-13;

@@ -61,9 +61,6 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Without a gas nothing reads the particles' velocities between a step's force
   // evaluation and its final kick, so that kick can wait for the next step (step()).
   deferred_kick_ = spec_.integrator == IntegratorScheme::velocity_verlet && !gas_;
-  // There the one pass per step sets the forces to the weight instead of zeroing them,
-  // sparing the gravity module a pass over masses and forces.
-  gravity_in_pass_ = deferred_kick_ && spec_.gravity;
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();
@@ -482,7 +479,9 @@ void Simulation::step() {
         if (measure) {
           a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
         }
-        const bool grav = gravity_in_pass_;
+        // With gravity the pass sets the forces to the weight instead of zeroing them,
+        // sparing the gravity module a pass over masses and forces.
+        const bool grav = gravity_ != nullptr;
         if (grav) {
           a.mass = p.mass.data();
           a.g = spec_.g;

@@ -1,8 +1,8 @@
 #pragma once
-#include <cmath>
 /// @file modules.hpp
 /// @brief Physics modules. A scene builds only the modules it names; each adds its
 /// contribution to the particles' forces (and torques) once per force evaluation.
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>

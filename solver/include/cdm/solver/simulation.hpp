@@ -132,8 +132,7 @@ class Simulation {
   std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
   bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
-  bool gravity_in_pass_ = false;      // velocity Verlet's one pass applies gravity (step())
-  bool forces_hold_gravity_ = false;  // ... and has: gravity_ is skipped once
+  bool forces_hold_gravity_ = false;  // velocity Verlet's one pass applied gravity: gravity_ is skipped once
   bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
   mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   bool restarted_ = false;
