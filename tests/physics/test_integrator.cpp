@@ -146,4 +146,21 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
       EXPECT_NE(what.find(" 3 "), std::string::npos) << what;
     }
   }
+  {
+    // A torque made NaN, and the state not read: the step that uses it leaves its final
+    // kick pending with a NaN spin, which the next step's pass (the spin's own loop,
+    // its final kick done there) finds before moving on, and reports at its step.
+    cdm::Simulation sim(scene());
+    for (int k = 0; k < 5; ++k) sim.step();
+    sim.particles().tz[3] = std::numeric_limits<double>::quiet_NaN();
+    sim.step();
+    try {
+      sim.step();
+      FAIL() << "a NaN spin went unreported";
+    } catch (const cdm::SimulationError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("(step 6)"), std::string::npos) << what;
+      EXPECT_NE(what.find(" 3 "), std::string::npos) << what;
+    }
+  }
 }
