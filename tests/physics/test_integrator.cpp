@@ -115,20 +115,27 @@ TEST(VelocityVerlet, StateReadIsTheStateAtItsTime) {
   EXPECT_NE(sim.particles().vz[0], v + sim.dt() * -9.81) << "the predicted velocity is not the state";
 }
 
+/// Runs @p action, which must throw cdm::SimulationError naming step @p step and the
+/// particle @p particle (@p what_failed says what went unreported otherwise).
+template <class Action>
+void expect_reported(Action action, const std::string& step, const std::string& particle, const char* what_failed) {
+  try {
+    action();
+    FAIL() << what_failed;
+  } catch (const cdm::SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("(step " + step + ")"), std::string::npos) << what;
+    EXPECT_NE(what.find(" " + particle + " "), std::string::npos) << what;
+  }
+}
+
 TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
   {
     // A velocity made NaN between steps: the next step's pass finds it before moving on.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
     sim.particles().vx[17] = std::numeric_limits<double>::quiet_NaN();
-    try {
-      sim.step();
-      FAIL() << "a NaN velocity went unreported";
-    } catch (const cdm::SimulationError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("(step 5)"), std::string::npos) << what;
-      EXPECT_NE(what.find(" 17 "), std::string::npos) << what;
-    }
+    expect_reported([&] { sim.step(); }, "5", "17", "a NaN velocity went unreported");
   }
   {
     // A force made NaN: the step that uses it completes with a NaN velocity, and reading
@@ -137,14 +144,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     for (int k = 0; k < 5; ++k) sim.step();
     sim.particles().fz[3] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
-    try {
-      (void)sim.particles();
-      FAIL() << "a NaN state was returned";
-    } catch (const cdm::SimulationError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("(step 6)"), std::string::npos) << what;
-      EXPECT_NE(what.find(" 3 "), std::string::npos) << what;
-    }
+    expect_reported([&] { (void)sim.particles(); }, "6", "3", "a NaN state was returned");
   }
   {
     // A torque made NaN, and the state not read: the step that uses it leaves its final
@@ -154,13 +154,6 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     for (int k = 0; k < 5; ++k) sim.step();
     sim.particles().tz[3] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
-    try {
-      sim.step();
-      FAIL() << "a NaN spin went unreported";
-    } catch (const cdm::SimulationError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("(step 6)"), std::string::npos) << what;
-      EXPECT_NE(what.find(" 3 "), std::string::npos) << what;
-    }
+    expect_reported([&] { sim.step(); }, "6", "3", "a NaN spin went unreported");
   }
 }
