@@ -368,9 +368,10 @@ template <bool Pending>
 /// The arithmetic per particle is verlet_final_velocity's and verlet_first_half's, to
 /// the bit, but done one axis at a time over blocks of particles: a loop over all 24
 /// arrays at once ran at half the speed the same traffic gets in loops over 4 to 6
-/// arrays each (bench/pass_probe, layouts soa and soa-axis). The finiteness test sums the state at t axis by axis, (x + v_x)
-/// + (y + v_y) + …: a different order from verlet_state_finite's, finite for the same
-/// finite states short of overflow (itself a blow-up).
+/// arrays each (bench/pass_probe, layouts soa and soa-axis). The finiteness test sums
+/// the state at t axis by axis, (x + v_x) + (y + v_y) + …: a different order from
+/// verlet_state_finite's, finite for the same finite states short of overflow (itself a
+/// blow-up).
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 2048;
