@@ -187,6 +187,20 @@ ContactModule::Slabs ContactModule::slabs(const ParticleStore& p) const {
   return g;
 }
 
+std::size_t ContactModule::thread_first_slab(std::size_t t, std::size_t nt) const {
+  const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
+  if (t >= nt) return nslab;
+  // The first slab that starts at or after thread t's share of the listed pairs.
+  const std::size_t at = slab_start_.empty() ? 0 : slab_start_.back() * t / nt;
+  return static_cast<std::size_t>(std::lower_bound(slab_start_.begin(), slab_start_.begin() + nslab, at) -
+                                  slab_start_.begin());
+}
+
+std::pair<std::size_t, std::size_t> ContactModule::thread_slabs() const {
+  const auto [t, nt] = thread_id();
+  return {thread_first_slab(t, nt), thread_first_slab(t + 1, nt)};
+}
+
 std::vector<std::uint32_t> ContactModule::spatial_order(const ParticleStore& p) const {
   const std::size_t n = p.size();
   const Slabs g = slabs(p);
@@ -472,7 +486,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     return step_vel ? Vec3{(*step_.wx)[i], (*step_.wy)[i], (*step_.wz)[i]} : p.angular_velocity(i);
   };
 
-  // Particle–particle, slab by slab: even slabs in parallel, then odd ones.
+  // Particle–particle, slab by slab: even slabs in parallel, then odd ones, each thread
+  // in its own run of slabs (thread_slabs; see the class comment).
   const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
@@ -607,22 +622,22 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     for (std::size_t pass = 0; pass < 2; ++pass)
       for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start_[s], slab_start_[s + 1], active, worst);
   } else {
-    for (std::size_t pass = 0; pass < 2; ++pass) {
-      const long jobs = static_cast<long>((nslab + 1 - pass) / 2);
 #pragma omp parallel
-      {
-        std::size_t my_active = 0;
-        OverlapRecord my_worst;
-#pragma omp for schedule(dynamic, 1)
-        for (long t = 0; t < jobs; ++t) {
-          const std::size_t s = pass + 2 * static_cast<std::size_t>(t);
+    {
+      std::size_t my_active = 0;
+      OverlapRecord my_worst;
+      const auto [s0, s1] = thread_slabs();
+      for (std::size_t pass = 0; pass < 2; ++pass) {
+        for (std::size_t s = s0 + ((s0 & 1) != pass); s < s1; s += 2)
           pair_range(slab_start_[s], slab_start_[s + 1], my_active, my_worst);
+        if (pass == 0) {
+#pragma omp barrier
         }
+      }
 #pragma omp critical(cdm_contact_reduce)
-        {
-          active += my_active;
-          if (worse(my_worst, worst)) worst = my_worst;
-        }
+      {
+        active += my_active;
+        if (worse(my_worst, worst)) worst = my_worst;
       }
     }
   }
@@ -681,9 +696,13 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     {
       std::size_t my_active = 0;
       OverlapRecord my_worst;
-      const std::size_t chunk = 1024, nchunk = (nc + chunk - 1) / chunk;
-#pragma omp for schedule(static)
-      for (std::size_t c = 0; c < nchunk; ++c) wall_range(c * chunk, std::min(nc, (c + 1) * chunk), my_active, my_worst);
+      // The candidates among the particles this thread moves in the integrator's pass
+      // (thread_range): their forces are in its cache.
+      const auto [i0, i1] = thread_range(n);
+      const auto c0 = std::lower_bound(wall_candidates_.begin(), wall_candidates_.end(), i0);
+      const auto c1 = std::lower_bound(c0, wall_candidates_.end(), i1);
+      wall_range(static_cast<std::size_t>(c0 - wall_candidates_.begin()),
+                 static_cast<std::size_t>(c1 - wall_candidates_.begin()), my_active, my_worst);
 #pragma omp critical(cdm_contact_reduce)
       {
         active += my_active;

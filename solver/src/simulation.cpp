@@ -544,7 +544,9 @@ void Simulation::step() {
           a.mass = p.mass.data();
           a.g = spec_.g;
         }
-        const double worst = parallel_max_blocks(n, [&](std::size_t i0, std::size_t i1) {
+        // One contiguous range per thread, about the particles whose forces the same
+        // thread's part of the pair loop wrote (ContactModule's thread_slabs).
+        const double worst = parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
           return with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav>() {
             return verlet_pass<Pending, Rot, Wrap, Measure, Grav>(a, box, dt, i0, i1);
           }, pending, rot, wrap, measure, grav);

@@ -5,10 +5,30 @@
 /// microsecond even with if(false), which would dominate one-particle runs).
 #include <algorithm>
 #include <cstddef>
+#include <utility>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace cdm {
 
 inline constexpr std::size_t parallel_threshold = 4096;
+
+/// The calling thread's number and the team's size (0 and 1 outside a parallel region).
+inline std::pair<std::size_t, std::size_t> thread_id() {
+#ifdef _OPENMP
+  return {static_cast<std::size_t>(omp_get_thread_num()), static_cast<std::size_t>(omp_get_num_threads())};
+#else
+  return {0, 1};
+#endif
+}
+
+/// The calling thread's share [i0, i1) of [0, n) split into contiguous, equal ranges
+/// over the team (inside a parallel region; the whole of it outside one).
+inline std::pair<std::size_t, std::size_t> thread_range(std::size_t n) {
+  const auto [t, nt] = thread_id();
+  return {n * t / nt, n * (t + 1) / nt};
+}
 
 /// f(i) for i in [0, n); iterations must be independent.
 template <class F>
@@ -34,18 +54,18 @@ inline double parallel_max(std::size_t n, F&& f) {
   return m;
 }
 
-/// max over blocks [i0, i1) covering [0, n) of f(i0, i1), for loops that want a range
-/// of their own (pointers held in locals, flags tested once per block).
+/// max over f(i0, i1) for ranges [i0, i1) that cover [0, n), one per thread, each
+/// thread's from @p share() (called inside the parallel region: thread_range, or
+/// another split in which each thread finds in its cache what it wrote in an earlier
+/// loop); the whole range on one thread below the threshold.
 template <class F>
-inline double parallel_max_blocks(std::size_t n, F&& f) {
+inline double parallel_max_ranges(std::size_t n, F&& f) {
   double m = 0.0;
   if (n > parallel_threshold) {
-    constexpr std::size_t block = 4096;
-    const long nblock = static_cast<long>((n + block - 1) / block);
-#pragma omp parallel for schedule(static) reduction(max : m)
-    for (long b = 0; b < nblock; ++b) {
-      const std::size_t i0 = static_cast<std::size_t>(b) * block;
-      m = std::max(m, f(i0, std::min(n, i0 + block)));
+#pragma omp parallel reduction(max : m)
+    {
+      const auto [i0, i1] = thread_range(n);
+      if (i0 < i1) m = std::max(m, f(i0, i1));
     }
   } else {
     m = std::max(m, f(std::size_t{0}, n));
