@@ -261,14 +261,18 @@ void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
   // The candidates live only while the list is built, and are released before the
   // history is carried over (the rebuild sets the run's peak memory). Reserved at the
-  // last list's size plus a margin, so that they rarely grow by doubling.
-  std::vector<ContactPair> candidates;
-  candidates.reserve(pi_.size() + pi_.size() / 8 + 64);
-  search_.find_contacts(p, skin_, candidates, box_);  // sorted by (i, j)
+  // last list's size plus a margin, so that they rarely grow by doubling. One chunk per
+  // thread (each lists its own particles' pairs), in (i, j) order chunk after chunk.
+  std::vector<std::vector<ContactPair>> candidates;
+  search_.find_contacts(p, skin_, candidates, box_, pi_.size() + pi_.size() / 8 + 64);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
-  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                  [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
-                   candidates.end());
+  std::size_t listed = 0;
+  for (auto& chunk : candidates) {
+    chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
+                               [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
+                chunk.end());
+    listed += chunk.size();
+  }
 
   const Slabs g = slabs(p);
   const std::size_t nslab = g.count;
@@ -282,22 +286,30 @@ void ContactModule::rebuild(const ParticleStore& p) {
   };
 
   // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.
-  std::vector<std::uint32_t> start(nslab + 1, 0), owner(candidates.size());
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    owner[k] = static_cast<std::uint32_t>(std::min(slab_of(candidates[k].i), slab_of(candidates[k].j)));
-    ++start[owner[k] + 1];
+  std::vector<std::uint32_t> start(nslab + 1, 0), owner(listed);
+  {
+    std::size_t k = 0;
+    for (const auto& chunk : candidates)
+      for (const ContactPair& cp : chunk) {
+        owner[k] = static_cast<std::uint32_t>(std::min(slab_of(cp.i), slab_of(cp.j)));
+        ++start[owner[k++] + 1];
+      }
   }
   for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
-  std::vector<std::uint32_t> pi(candidates.size()), pj(candidates.size());
+  std::vector<std::uint32_t> pi(listed), pj(listed);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      const std::uint32_t at = fill[owner[k]]++;
-      pi[at] = candidates[k].i;
-      pj[at] = candidates[k].j;
+    std::size_t k = 0;
+    for (auto& chunk : candidates) {
+      for (const ContactPair& cp : chunk) {
+        const std::uint32_t at = fill[owner[k++]]++;
+        pi[at] = cp.i;
+        pj[at] = cp.j;
+      }
+      std::vector<ContactPair>().swap(chunk);
     }
   }
-  std::vector<ContactPair>().swap(candidates);
+  std::vector<std::vector<ContactPair>>().swap(candidates);
   std::vector<std::uint32_t>().swap(owner);
   if (friction_) {
     // Carry the history of every pair listed before and after (every pair in contact

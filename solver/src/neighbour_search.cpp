@@ -1,5 +1,7 @@
 #include "cdm/solver/neighbour_search.hpp"
 
+#include "cdm/solver/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -41,8 +43,26 @@ void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::v
 
 void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
                                    const PeriodicBox& box) {
+  std::vector<std::vector<ContactPair>> chunks;
+  find_contacts(p, margin, chunks, box);
   out.clear();
+  if (chunks.size() == 1) {
+    out.swap(chunks[0]);
+    return;
+  }
+  std::size_t total = 0;
+  for (const auto& c : chunks) total += c.size();
+  out.reserve(total);
+  for (const auto& c : chunks) out.insert(out.end(), c.begin(), c.end());
+}
+
+void CellListSearch::find_contacts(const ParticleStore& p, double margin,
+                                   std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
+                                   std::size_t expected) {
   const std::size_t n = p.size();
+  const bool threads = n > parallel_threshold;
+  if (!threads) chunks.resize(1);
+  for (auto& c : chunks) c.clear();
   if (n < 2) return;
   double lo[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                   std::numeric_limits<double>::max()};
@@ -116,8 +136,9 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
     return m;
   };
   const bool periodic = box.any();
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t row = out.size();
+  // Particle i's pairs with every j > i, appended to @p out in order of j.
+  auto row = [&](std::size_t i, std::vector<ContactPair>& out) {
+    const std::size_t first = out.size();
     long nx[3], ny[3], nz[3];
     const int mx = neighbours(coord(p.x[i], 0), 0, nx), my = neighbours(coord(p.y[i], 1), 1, ny),
               mz = neighbours(coord(p.z[i], 2), 2, nz);
@@ -136,7 +157,26 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
         }
     // i's pairs follow those of every lower i, so sorting each row sorts the whole list
     // (a few pairs each, not a sort of them all).
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(row), out.end(), by_pair);
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), by_pair);
+  };
+  if (!threads) {
+    chunks[0].reserve(expected);
+    for (std::size_t i = 0; i < n; ++i) row(i, chunks[0]);
+    return;
+  }
+  // Each thread lists the rows of its own particles (thread_range) into its chunk: the
+  // chunks in thread order are the rows in order, whatever the thread count.
+#pragma omp parallel
+  {
+    const auto [t, nt] = thread_id();
+#pragma omp single
+    {
+      chunks.resize(nt);
+      for (auto& c : chunks) c.clear();
+    }
+    const auto [i0, i1] = thread_range(n);
+    chunks[t].reserve(expected / nt + 64);
+    for (std::size_t i = i0; i < i1; ++i) row(i, chunks[t]);
   }
 }
 

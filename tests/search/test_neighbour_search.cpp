@@ -9,8 +9,11 @@
 #include <limits>
 #include <random>
 
+#include <omp.h>
+
 #include "cdm/solver/modules.hpp"
 #include "cdm/solver/neighbour_search.hpp"
+#include "cdm/solver/parallel.hpp"
 
 namespace {
 
@@ -46,6 +49,38 @@ TEST(NeighbourSearch, CellListEqualsAllPairsOnRandomPolydisperseParticles) {
     EXPECT_GT(brute.size(), 2000u) << "the test packing should be dense";
     expect_same(cells, brute);
   }
+}
+
+TEST(NeighbourSearch, PerThreadChunksConcatenateToTheOneList) {
+  // Above the parallel threshold each thread lists its own particles' pairs into a
+  // chunk; in order the chunks must be the list one thread makes, for any team size.
+  const cdm::ParticleStore p = random_packing(12000, 5, 0.05, 0.5e-3, 2e-3);
+  ASSERT_GT(p.size(), cdm::parallel_threshold);
+  cdm::CellListSearch cl;
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  std::vector<cdm::ContactPair> one;
+  cl.find_contacts(p, 0.3e-3, one);
+  ASSERT_GT(one.size(), 2000u);
+  for (int nt : {1, 2, 3}) {
+    omp_set_num_threads(nt);
+    std::vector<std::vector<cdm::ContactPair>> chunks;
+    cl.find_contacts(p, 0.3e-3, chunks);
+    ASSERT_EQ(chunks.size(), static_cast<std::size_t>(nt));
+    std::vector<cdm::ContactPair> joined;
+    for (std::size_t t = 0; t < chunks.size(); ++t) {
+      for (const cdm::ContactPair& c : chunks[t]) {  // thread t's own particles i
+        EXPECT_GE(c.i, p.size() * t / chunks.size()) << nt << " threads, chunk " << t;
+        EXPECT_LT(c.i, p.size() * (t + 1) / chunks.size()) << nt << " threads, chunk " << t;
+      }
+      joined.insert(joined.end(), chunks[t].begin(), chunks[t].end());
+    }
+    expect_same(joined, one);
+    std::vector<cdm::ContactPair> flat;
+    cl.find_contacts(p, 0.3e-3, flat);
+    expect_same(flat, one);
+  }
+  omp_set_num_threads(threads_before);
 }
 
 TEST(NeighbourSearch, DegenerateLayouts) {

@@ -29,6 +29,12 @@ class CellListSearch {
  public:
   void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
                      const PeriodicBox& box = {});
+  /// The same pairs in @p chunks, which concatenated in order are @p out above: above
+  /// the parallel threshold each thread lists the pairs of its own run of particles i
+  /// (thread_range) into a chunk of its own (so the list is built in parallel and never
+  /// copied whole). @p expected: about how many pairs to expect in all (capacity).
+  void find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+                     const PeriodicBox& box = {}, std::size_t expected = 0);
 
  private:
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
