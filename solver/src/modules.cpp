@@ -188,12 +188,12 @@ ContactModule::Slabs ContactModule::slabs(const ParticleStore& p) const {
 }
 
 std::size_t ContactModule::thread_first_slab(std::size_t t, std::size_t nt) const {
-  const std::size_t nslab = slab_start_.empty() ? 0 : slab_start_.size() - 1;
+  const std::size_t nslab = slab_cost_.empty() ? 0 : slab_cost_.size() - 1;
   if (t >= nt) return nslab;
-  // The first slab that starts at or after thread t's share of the listed pairs.
-  const std::size_t at = slab_start_.empty() ? 0 : slab_start_.back() * t / nt;
-  return static_cast<std::size_t>(std::lower_bound(slab_start_.begin(), slab_start_.begin() + nslab, at) -
-                                  slab_start_.begin());
+  // The first slab that starts at or after thread t's share of the estimated cost.
+  const std::uint64_t at = slab_cost_.empty() ? 0 : slab_cost_.back() * t / nt;
+  return static_cast<std::size_t>(std::lower_bound(slab_cost_.begin(), slab_cost_.begin() + nslab, at) -
+                                  slab_cost_.begin());
 }
 
 std::pair<std::size_t, std::size_t> ContactModule::thread_slabs() const {
@@ -348,6 +348,7 @@ void ContactModule::rebuild(const ParticleStore& p) {
   pi_.swap(pi);
   pj_.swap(pj);
   slab_start_.swap(start);
+  slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   built_ = true;
   ++builds_;
@@ -633,15 +634,27 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // Same order as the threaded path: even slabs, then odd slabs.
     for (std::size_t pass = 0; pass < 2; ++pass)
       for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start_[s], slab_start_[s + 1], active, worst);
+    slab_active_.clear();  // not needed on one thread
   } else {
+    // Each thread's share of the slabs by their estimated cost: a listed pair costs one,
+    // a pair in contact at the last evaluation (slab_active_) kTouchCost more (its
+    // geometry and force law). Only the split depends on it, never the results.
+    if (slab_active_.size() != nslab) slab_active_.assign(nslab, 0);
+    slab_cost_.resize(nslab + 1);
+    slab_cost_[0] = 0;
+    for (std::size_t s = 0; s < nslab; ++s)
+      slab_cost_[s + 1] = slab_cost_[s] + (slab_start_[s + 1] - slab_start_[s]) + kTouchCost * slab_active_[s];
 #pragma omp parallel
     {
       std::size_t my_active = 0;
       OverlapRecord my_worst;
       const auto [s0, s1] = thread_slabs();
       for (std::size_t pass = 0; pass < 2; ++pass) {
-        for (std::size_t s = s0 + ((s0 & 1) != pass); s < s1; s += 2)
+        for (std::size_t s = s0 + ((s0 & 1) != pass); s < s1; s += 2) {
+          const std::size_t before = my_active;
           pair_range(slab_start_[s], slab_start_[s + 1], my_active, my_worst);
+          slab_active_[s] = static_cast<std::uint32_t>(my_active - before);
+        }
         if (pass == 0) {
 #pragma omp barrier
         }

@@ -74,10 +74,13 @@ struct OverlapRecord {
 /// in parallel, then odd ones; each slab is one thread's, in a fixed order. Every
 /// particle therefore receives its contributions in the same order whatever the number
 /// of threads: trajectories are bit-identical for 1, 2, … threads. Each thread takes one
-/// contiguous run of slabs with about an equal share of the listed pairs (the even ones
-/// of its run, then the odd ones): after the spatial sort its slabs' particles are
-/// about its share of the integrator's pass and of the wall loop (thread_range), so a
-/// thread finds in its own cache the forces and positions it works on. (Slabs handed
+/// contiguous run of slabs with about an equal share of their estimated cost (listed
+/// pairs, those in contact at the last evaluation counted kTouchCost times more; the
+/// even slabs of its run, then the odd ones): after the spatial sort its slabs'
+/// particles are about its share of the integrator's pass and of the wall loop
+/// (thread_range), so a thread finds in its own cache the forces and positions it works
+/// on. Where the contacts crowd into a few slabs (a bed forming at the bottom of a tall
+/// box) the two shares part and the cross-core traffic returns. (Slabs handed
 /// out one by one as threads came free made the pass on two threads at 1e4 particles
 /// three times as slow per particle: most lines came from the other core's cache.)
 ///
@@ -193,7 +196,7 @@ class ContactModule final : public ForceModule {
   };
   Slabs slabs(const ParticleStore& p) const;
   /// The calling thread's slabs [s0, s1) in the pair loop: contiguous, with about
-  /// equal shares of the listed pairs (inside a parallel region; all outside one).
+  /// equal shares of slab_cost_ (inside a parallel region; all outside one).
   std::pair<std::size_t, std::size_t> thread_slabs() const;
   /// Thread t's first slab of nt in thread_slabs.
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
@@ -213,6 +216,12 @@ class ContactModule final : public ForceModule {
   // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
   // [slab_start_[s], slab_start_[s+1]).
   std::vector<std::uint32_t> pi_, pj_, slab_start_;
+  // For splitting the slabs among threads only (never the results): each slab's pairs
+  // in contact at the last threaded evaluation, and the running sum of the slabs'
+  // estimated cost (listed pairs + kTouchCost × those in contact).
+  static constexpr std::uint64_t kTouchCost = 3;
+  std::vector<std::uint32_t> slab_active_;
+  std::vector<std::uint64_t> slab_cost_;
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
