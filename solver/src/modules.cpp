@@ -634,7 +634,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // Same order as the threaded path: even slabs, then odd slabs.
     for (std::size_t pass = 0; pass < 2; ++pass)
       for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start_[s], slab_start_[s + 1], active, worst);
-    slab_active_.clear();  // not needed on one thread
+    slab_active_.clear();  // below the threshold nothing is split among threads
   } else {
     // Each thread's share of the slabs by their estimated cost: a listed pair costs one,
     // a pair in contact at the last evaluation (slab_active_) kTouchCost more (its

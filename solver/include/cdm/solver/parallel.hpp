@@ -54,10 +54,10 @@ inline double parallel_max(std::size_t n, F&& f) {
   return m;
 }
 
-/// max over f(i0, i1) for ranges [i0, i1) that cover [0, n), one per thread, each
-/// thread's from @p share() (called inside the parallel region: thread_range, or
-/// another split in which each thread finds in its cache what it wrote in an earlier
-/// loop); the whole range on one thread below the threshold.
+/// max over f(i0, i1) for ranges [i0, i1) that cover [0, n): one contiguous range per
+/// thread (thread_range), so a thread sweeps the same particles step after step (and
+/// those of parallel_for's static schedule, to within a few at each end); the whole
+/// range on the calling thread below the threshold.
 template <class F>
 inline double parallel_max_ranges(std::size_t n, F&& f) {
   double m = 0.0;
