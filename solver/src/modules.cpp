@@ -259,12 +259,44 @@ void ContactModule::permute(const std::vector<std::uint32_t>& from) {
 
 void ContactModule::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
+  // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
+  // small. First the history to carry over: only the pairs in contact have any (a pair
+  // not in contact starts afresh), so their partner and history are set apart, by
+  // particle i (a counting sort, stable: row i is [carry_first[i], carry_first[i+1])),
+  // and the old list is released before the new one is built.
+  std::vector<std::uint32_t> carry_first, carry_j;
+  std::vector<Vec3> carry_hist;
+  if (friction_ && built_ && !pi_.empty()) {
+    const std::size_t rows = std::max(n, x0_.size());
+    carry_first.assign(rows + 1, 0);
+    std::size_t carried = 0;
+    for (std::size_t k = 0; k < pi_.size(); ++k)
+      if (touch_[k]) {
+        ++carry_first[pi_[k] + 1];
+        ++carried;
+      }
+    for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
+    carry_j.resize(carried);
+    carry_hist.resize(carried);
+    std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
+    for (std::size_t k = 0; k < pi_.size(); ++k)
+      if (touch_[k]) {
+        const std::uint32_t at = fill[pi_[k]]++;
+        carry_j[at] = pj_[k];
+        carry_hist[at] = hist_[k];
+      }
+  }
+  const std::size_t last_size = pi_.size();
+  std::vector<std::uint32_t>().swap(pi_);
+  std::vector<std::uint32_t>().swap(pj_);
+  std::vector<Vec3>().swap(hist_);
+  std::vector<std::uint8_t>().swap(touch_);
   // The candidates live only while the list is built, and are released before the
-  // history is carried over (the rebuild sets the run's peak memory). Reserved at the
-  // last list's size plus a margin, so that they rarely grow by doubling. One chunk per
-  // thread (each lists its own particles' pairs), in (i, j) order chunk after chunk.
+  // history is carried over. Reserved at the last list's size plus a margin, so that
+  // they rarely grow by doubling. One chunk per thread (each lists its own particles'
+  // pairs), in (i, j) order chunk after chunk.
   std::vector<std::vector<ContactPair>> candidates;
-  search_.find_contacts(p, skin_, candidates, box_, pi_.size() + pi_.size() / 8 + 64);
+  search_.find_contacts(p, skin_, candidates, box_, last_size + last_size / 8 + 64);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
   std::size_t listed = 0;
   for (auto& chunk : candidates) {
@@ -312,28 +344,17 @@ void ContactModule::rebuild(const ParticleStore& p) {
   std::vector<std::vector<ContactPair>>().swap(candidates);
   std::vector<std::uint32_t>().swap(owner);
   if (friction_) {
-    // Carry the history of every pair listed before and after (every pair in contact
-    // is in both lists), looked up by (i, j) in the old list.
+    // Carry the history of every pair in contact at the last evaluation (each is in
+    // both lists): a new pair looks for its j among the few carried pairs of its i.
     std::vector<Vec3> hist(pi.size());
     std::vector<std::uint8_t> touch(pi.size(), 0);
-    if (built_ && !pi_.empty()) {
-      // The old pairs by their particle i (a counting sort, stable): a new pair looks
-      // for its j among the few old pairs of its i. After the loop first[i] is where
-      // row i ends, so row i is [first[i-1], first[i]).
-      const std::size_t rows = std::max(n, x0_.size());
-      std::vector<std::uint32_t> first(rows + 1, 0), old(pi_.size());
-      for (std::size_t k = 0; k < pi_.size(); ++k) ++first[pi_[k] + 1];
-      for (std::size_t r = 0; r < rows; ++r) first[r + 1] += first[r];
-      for (std::size_t k = 0; k < pi_.size(); ++k) old[first[pi_[k]]++] = static_cast<std::uint32_t>(k);
+    if (!carry_j.empty()) {
       for (std::size_t k = 0; k < pi.size(); ++k) {
         const std::uint32_t i = pi[k], j = pj[k];
-        for (std::uint32_t q = i ? first[i - 1] : 0; q < first[i]; ++q) {
-          const std::uint32_t o = old[q];
-          if (pj_[o] != j) continue;
-          if (touch_[o]) {
-            hist[k] = hist_[o];
-            touch[k] = 1;
-          }
+        for (std::uint32_t q = carry_first[i]; q < carry_first[i + 1]; ++q) {
+          if (carry_j[q] != j) continue;
+          hist[k] = carry_hist[q];
+          touch[k] = 1;
           break;
         }
       }
