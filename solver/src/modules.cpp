@@ -269,15 +269,11 @@ void ContactModule::rebuild(const ParticleStore& p) {
   if (friction_ && built_ && !pi_.empty()) {
     const std::size_t rows = std::max(n, x0_.size());
     carry_first.assign(rows + 1, 0);
-    std::size_t carried = 0;
     for (std::size_t k = 0; k < pi_.size(); ++k)
-      if (touch_[k]) {
-        ++carry_first[pi_[k] + 1];
-        ++carried;
-      }
+      if (touch_[k]) ++carry_first[pi_[k] + 1];
     for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
-    carry_j.resize(carried);
-    carry_hist.resize(carried);
+    carry_j.resize(carry_first[rows]);
+    carry_hist.resize(carry_first[rows]);
     std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
     for (std::size_t k = 0; k < pi_.size(); ++k)
       if (touch_[k]) {

@@ -61,8 +61,10 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin,
                                    std::size_t expected) {
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
-  if (!threads) chunks.resize(1);
-  for (auto& c : chunks) c.clear();
+  if (!threads) {  // one chunk; with threads, one per thread (sized in the parallel region)
+    chunks.resize(1);
+    chunks[0].clear();
+  }
   if (n < 2) return;
   double lo[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                   std::numeric_limits<double>::max()};
