@@ -1,8 +1,9 @@
 #include "cdm/solver/particle_store.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <numbers>
-
 
 namespace cdm {
 
@@ -79,6 +80,14 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
 void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {
   if (!rotation_enabled_) return;
   wx[i] = w.x; wy[i] = w.y; wz[i] = w.z;
+}
+
+bool ParticleStore::same_mass() const {
+  // Compared as bits, so that reading the one value reproduces every particle's exactly.
+  auto same = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [&](double a) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(v[0]); });
+  };
+  return same(mass) && same(inv_mass) && (!has_rotation() || same(inv_inertia));
 }
 
 void ParticleStore::clear_forces() {

@@ -157,3 +157,20 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     expect_reported([&] { sim.step(); }, "6", "3", "a NaN spin went unreported");
   }
 }
+
+TEST(ParticleStore, SameMassIsBitForBit) {
+  // Velocity Verlet's pass reads one m, 1/m and 1/I for all particles when they agree
+  // to the bit (a bed of one kind of particle); one particle apart (a radius one part in
+  // 1e15 larger, or fixed) keeps the per-particle arrays.
+  auto store = [](double r_last, bool fixed_last) {
+    cdm::ParticleStore p;
+    p.enable_rotation();
+    for (int i = 0; i < 3; ++i) p.add({0.01 * i, 0.0, 0.0}, {}, 0.5e-3, 2500.0, 0);
+    p.add({0.05, 0.0, 0.0}, {}, r_last, 2500.0, 0, fixed_last);
+    return p;
+  };
+  EXPECT_TRUE(store(0.5e-3, false).same_mass());
+  EXPECT_FALSE(store(0.5e-3 * (1.0 + 1e-15), false).same_mass());
+  EXPECT_FALSE(store(0.5e-3, true).same_mass());
+  EXPECT_TRUE(cdm::ParticleStore().same_mass());
+}

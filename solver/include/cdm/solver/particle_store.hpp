@@ -80,6 +80,9 @@ struct ParticleStore {
   void add_force(std::size_t i, Vec3 f) { fx[i] += f.x; fy[i] += f.y; fz[i] += f.z; }
   void add_torque(std::size_t i, Vec3 t) { tx[i] += t.x; ty[i] += t.y; tz[i] += t.z; }
   void clear_forces();
+  /// Whether every particle has the same mass, 1/m and (with rotation) 1/I, bit for
+  /// bit (a bed of one kind of particle; none fixed, or all).
+  bool same_mass() const;
 
  private:
   bool rotation_enabled_ = false;

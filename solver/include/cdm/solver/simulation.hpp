@@ -35,7 +35,11 @@ class Simulation {
   /// The particles at time(). Reading them completes the last step where its final
   /// kick was left pending (see step()); a state that went non-finite in that step is
   /// reported here then (SimulationError).
-  ParticleStore& particles() { complete_step(); return particles_; }
+  ParticleStore& particles() {
+    complete_step();
+    one_mass_ = -1;  // the caller may change masses
+    return particles_;
+  }
   const ParticleStore& particles() const { complete_step(); return particles_; }
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
@@ -135,6 +139,9 @@ class Simulation {
   bool forces_hold_gravity_ = false;  // velocity Verlet's one pass applied gravity: gravity_ is skipped once
   bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
   mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
+  // Whether every particle has the same m, 1/m and 1/I (ParticleStore::same_mass): 1 yes,
+  // 0 no, -1 not known (found at the next step).
+  int one_mass_ = -1;
   bool restarted_ = false;
   // Velocity Verlet keeps v(t+Δt/2) between the half kicks (mutable: with the pending
   // kick, part of the state that the const complete_step() completes).
