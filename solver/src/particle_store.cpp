@@ -85,7 +85,8 @@ void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {
 bool ParticleStore::same_mass() const {
   // Compared as bits, so that reading the one value reproduces every particle's exactly.
   auto same = [](const std::vector<double>& v) {
-    return std::all_of(v.begin(), v.end(), [&](double a) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(v[0]); });
+    auto bits = [](double a) { return std::bit_cast<std::uint64_t>(a); };
+    return std::all_of(v.begin(), v.end(), [&](double a) { return bits(a) == bits(v[0]); });
   };
   return same(mass) && same(inv_mass) && (!has_rotation() || same(inv_inertia));
 }
