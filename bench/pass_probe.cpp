@@ -15,7 +15,9 @@
 //             4 KiB page (as cdm's heap-allocated ParticleStore arrays mostly are)
 //   soa-axis  the soa arrays, swept as cdm's pass now sweeps them: one axis at a time
 //             (x, then y, then z of position, velocities and force; then each axis of
-//             the spins and torque) over blocks of 2048 particles, 4 to 6 arrays a loop
+//             the spins and torque) over blocks of 32768 particles, 4 to 6 arrays a loop
+//   soa-axis-2k  the same over blocks of 2048 particles (cdm's pass in sessions 13–15):
+//             each loop starts its streams 16 times as often
 //   soa-page  the same 24 arrays all starting at the same offset in a page (as arrays
 //             allocated separately by mmap are): every array maps to the same cache
 //             sets, a hazard for any structure-of-arrays code
@@ -67,7 +69,7 @@ Arena make(const char* kind, std::size_t n) {
   std::memset(m, 0, total);
   Layout& l = a.layout;
   const std::string_view k = kind;
-  if (k == "soa" || k == "soa-axis" || k == "soa-page") {
+  if (k == "soa" || k == "soa-axis" || k == "soa-axis-2k" || k == "soa-page") {
     const std::size_t skew = k == "soa-page" ? 0 : 16;
     for (int q = 0; q < nq; ++q) {
       l.base[q] = reinterpret_cast<double*>(m + q * array + q * skew);
@@ -123,8 +125,8 @@ void sweep_soa(const Layout& l, std::size_t n) {
 
 /// The soa layout one axis at a time over blocks of particles (cdm's verlet_pass): the
 /// same arithmetic per particle as sweep_soa, in 6 loops of 4 to 6 arrays each.
+template <std::size_t block>
 void sweep_soa_axis(const Layout& l, std::size_t n) {
-  constexpr std::size_t block = 2048;
   const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
   auto axis = [&](int q, double gq, std::size_t i0, std::size_t i1) {
     double *const X = l.base[q], *const HV = l.base[3 + q], *const F = l.base[6 + q], *const V = l.base[18 + q];
@@ -178,7 +180,8 @@ void sweep_packed(const Layout& l, std::size_t n) {
 void sweep(const Layout& l, std::size_t n) {
   switch (l.stride[0]) {
     case 1:
-      if (std::string_view(l.name) == "soa-axis") sweep_soa_axis(l, n);
+      if (std::string_view(l.name) == "soa-axis") sweep_soa_axis<32768>(l, n);
+      else if (std::string_view(l.name) == "soa-axis-2k") sweep_soa_axis<2048>(l, n);
       else sweep_soa(l, n);
       break;
     case 3: sweep_packed<3>(l, n); break;
@@ -205,7 +208,7 @@ int main(int argc, char** argv) {
   std::printf("# N  layout  time_per_particle[ns]  bandwidth[GB/s]  data[MB]\n");
   using clock = std::chrono::steady_clock;
   for (const std::size_t n : sizes) {
-    for (const char* kind : {"soa", "soa-axis", "soa-page", "vec3", "aos"}) {
+    for (const char* kind : {"soa", "soa-axis", "soa-axis-2k", "soa-page", "vec3", "aos"}) {
       const Arena a = make(kind, n);
       sweep(a.layout, n);  // caches warm
       std::size_t reps = 1;  // sweeps per batch: enough for 0.1 s

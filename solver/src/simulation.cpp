@@ -363,6 +363,14 @@ template <bool Pending, bool One>
   }
 }
 
+/// The calling thread's scratch for verlet_pass, at least @p n doubles: on the heap (a
+/// block's is 512 KiB, much for a thread's stack), kept between steps.
+double* pass_scratch(std::size_t n) {
+  thread_local std::vector<double> scratch;
+  if (scratch.size() < n) scratch.resize(n);
+  return scratch.data();
+}
+
 /// Particles [i0, i1) of the one pass per step without a gas (Simulation::step): the
 /// state at t, completed by the last step's final kick if @p Pending, checked for
 /// finite values, then the first half of the step (the forces set to the weight with
@@ -373,14 +381,20 @@ template <bool Pending, bool One>
 /// The arithmetic per particle is verlet_final_velocity's and verlet_first_half's, to
 /// the bit, but done one axis at a time over blocks of particles: a loop over all 24
 /// arrays at once ran at half the speed the same traffic gets in loops over 4 to 6
-/// arrays each (bench/pass_probe, layouts soa and soa-axis). The finiteness test sums
-/// the state at t axis by axis, (x + v_x) + (y + v_y) + …: a different order from
-/// verlet_state_finite's, finite for the same finite states short of overflow (itself a
-/// blow-up).
+/// arrays each (bench/pass_probe, layouts soa and soa-axis). The blocks are long: each
+/// of the six loops per block starts four new streams, and in DRAM (1e5 particles and
+/// up) a stream's first lines cost more than the rest; blocks of 32768 particles instead
+/// of 2048 took 13 % off the pass at 1e6 on one thread (bench/README.md, session 16).
+/// The finiteness test sums the state at t axis by axis, (x + v_x) + (y + v_y) + …: a
+/// different order from verlet_state_finite's, finite for the same finite states short
+/// of overflow (itself a blow-up).
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
-  constexpr std::size_t block = 2048;
-  double fin[block], d2[block];
+  constexpr std::size_t block = 32768;
+  // Each particle's terms of the finiteness sum and squared displacement, per block.
+  const std::size_t span = std::min(block, i1 - i0);
+  double* const fin = pass_scratch(2 * span);
+  double* const d2 = fin + span;
   double worst = 0.0;
   for (std::size_t b0 = i0; b0 < i1; b0 += block) {
     const std::size_t b1 = std::min(i1, b0 + block);
