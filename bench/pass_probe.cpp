@@ -24,16 +24,20 @@
 //   vec3      8 arrays of 3 interleaved doubles (x y z, and so on; the masses as one)
 //   aos       one array of 24 doubles per particle
 //
-// Usage: pass_probe [N ...]   (default 1e4 1e5 1e6); one thread.
-// Output: a whitespace table: per N and layout, the median time per particle of 5
-// timed batches of sweeps (each batch at least 0.1 s), the implied bandwidth and the
-// data's size.
+// Usage: pass_probe [--threads=K] [N ...]   (default 1e4 1e5 1e6; one thread). With K
+// threads each sweep is split into K contiguous equal shares, as cdm's pass is: what
+// the memory system gives K cores for the pass's traffic (issue #7: two threads
+// against one at 1e6).
+// Output: a whitespace table: per N and layout, the median time per particle (wall
+// time of the whole sweep) of 5 timed batches of sweeps (each batch at least 0.1 s),
+// the implied bandwidth and the data's size.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <omp.h>
 #include <string_view>
 #include <vector>
 
@@ -100,7 +104,7 @@ Arena make(const char* kind, std::size_t n) {
 // array's pointer in a local, as real code would hold them.
 constexpr double dt = 1.6e-6, h = 0.5 * dt, g = -9.81e-9;
 
-void sweep_soa(const Layout& l, std::size_t n) {
+void sweep_soa(const Layout& l, std::size_t i0, std::size_t n) {
   double *const x = l.base[0], *const y = l.base[1], *const z = l.base[2];
   double *const hvx = l.base[3], *const hvy = l.base[4], *const hvz = l.base[5];
   double *const fx = l.base[6], *const fy = l.base[7], *const fz = l.base[8];
@@ -109,7 +113,7 @@ void sweep_soa(const Layout& l, std::size_t n) {
   const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
   double *const vx = l.base[18], *const vy = l.base[19], *const vz = l.base[20];
   double *const wx = l.base[21], *const wy = l.base[22], *const wz = l.base[23];
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = i0; i < n; ++i) {
     const double b = h * im[i], c = h * ii[i];
     const double ux = hvx[i] + b * fx[i], uy = hvy[i] + b * fy[i], uz = hvz[i] + b * fz[i];
     hvx[i] = ux; hvy[i] = uy; hvz[i] = uz;
@@ -126,7 +130,7 @@ void sweep_soa(const Layout& l, std::size_t n) {
 /// The soa layout one axis at a time over blocks of particles (cdm's verlet_pass): the
 /// same arithmetic per particle as sweep_soa, in 6 loops of 4 to 6 arrays each.
 template <std::size_t block>
-void sweep_soa_axis(const Layout& l, std::size_t n) {
+void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t n) {
   const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
   auto axis = [&](int q, double gq, std::size_t i0, std::size_t i1) {
     double *const X = l.base[q], *const HV = l.base[3 + q], *const F = l.base[6 + q], *const V = l.base[18 + q];
@@ -149,7 +153,7 @@ void sweep_soa_axis(const Layout& l, std::size_t n) {
       T[i] = 0.0;
     }
   };
-  for (std::size_t i0 = 0; i0 < n; i0 += block) {
+  for (std::size_t i0 = first; i0 < n; i0 += block) {
     const std::size_t i1 = std::min(n, i0 + block);
     axis(0, 0.0, i0, i1); axis(1, 0.0, i0, i1); axis(2, g, i0, i1);
     spin(0, i0, i1); spin(1, i0, i1); spin(2, i0, i1);
@@ -159,10 +163,10 @@ void sweep_soa_axis(const Layout& l, std::size_t n) {
 /// Groups of three quantities (S = 3, one array each) or all 24 in one (S = 24): the
 /// same arithmetic on p[q] + i * S.
 template <std::size_t S>
-void sweep_packed(const Layout& l, std::size_t n) {
+void sweep_packed(const Layout& l, std::size_t i0, std::size_t n) {
   double *const X = l.base[0], *const HV = l.base[3], *const F = l.base[6], *const HW = l.base[9];
   double *const T = l.base[12], *const M = l.base[15], *const V = l.base[18], *const W = l.base[21];
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = i0; i < n; ++i) {
     const std::size_t k = i * S;
     const double b = h * M[k], c = h * M[k + 1];
     const double ux = HV[k] + b * F[k], uy = HV[k + 1] + b * F[k + 1], uz = HV[k + 2] + b * F[k + 2];
@@ -177,15 +181,30 @@ void sweep_packed(const Layout& l, std::size_t n) {
   }
 }
 
-void sweep(const Layout& l, std::size_t n) {
+/// Particles [i0, i1).
+void sweep_range(const Layout& l, std::size_t i0, std::size_t i1) {
   switch (l.stride[0]) {
     case 1:
-      if (std::string_view(l.name) == "soa-axis") sweep_soa_axis<32768>(l, n);
-      else if (std::string_view(l.name) == "soa-axis-2k") sweep_soa_axis<2048>(l, n);
-      else sweep_soa(l, n);
+      if (std::string_view(l.name) == "soa-axis") sweep_soa_axis<32768>(l, i0, i1);
+      else if (std::string_view(l.name) == "soa-axis-2k") sweep_soa_axis<2048>(l, i0, i1);
+      else sweep_soa(l, i0, i1);
       break;
-    case 3: sweep_packed<3>(l, n); break;
-    default: sweep_packed<nq>(l, n); break;
+    case 3: sweep_packed<3>(l, i0, i1); break;
+    default: sweep_packed<nq>(l, i0, i1); break;
+  }
+}
+
+/// All n particles, on @p threads threads, each a contiguous equal share (as cdm's
+/// pass splits them, thread_range).
+void sweep(const Layout& l, std::size_t n, int threads) {
+  if (threads == 1) {
+    sweep_range(l, 0, n);
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+  {
+    const auto t = static_cast<std::size_t>(omp_get_thread_num()), nt = static_cast<std::size_t>(omp_get_num_threads());
+    sweep_range(l, n * t / nt, n * (t + 1) / nt);
   }
 }
 
@@ -193,8 +212,20 @@ void sweep(const Layout& l, std::size_t n) {
 
 int main(int argc, char** argv) {
   std::vector<std::size_t> sizes;
+  int threads = 1;
   for (int k = 1; k < argc; ++k) {
     char* end = nullptr;
+    const std::string_view arg = argv[k];
+    if (arg.starts_with("--threads=")) {
+      const long t = std::strtol(argv[k] + 10, &end, 10);
+      if (end == argv[k] + 10 || *end != '\0' || t < 1 || t > 64) {
+        std::fprintf(stderr, "pass_probe: argument %d: '%s': expected --threads=K with K an integer in [1, 64]\n", k,
+                     argv[k]);
+        return 2;
+      }
+      threads = static_cast<int>(t);
+      continue;
+    }
     const double v = std::strtod(argv[k], &end);
     if (end == argv[k] || *end != '\0' || !(v >= 1.0) || v > 1e8) {
       std::fprintf(stderr, "pass_probe: argument %d: '%s' is not a particle count in [1, 1e8]\n", k, argv[k]);
@@ -204,24 +235,24 @@ int main(int argc, char** argv) {
   }
   if (sizes.empty()) sizes = {10000, 100000, 1000000};
   constexpr double bytes = 15 * 16 + 3 * 8 + 6 * 16;  // read+write, read, write (+ read for ownership)
-  std::printf("# pass_probe: velocity Verlet's pass, %g B per particle-step, one thread\n", bytes);
+  std::printf("# pass_probe: velocity Verlet's pass, %g B per particle-step, %d thread(s)\n", bytes, threads);
   std::printf("# N  layout  time_per_particle[ns]  bandwidth[GB/s]  data[MB]\n");
   using clock = std::chrono::steady_clock;
   for (const std::size_t n : sizes) {
     for (const char* kind : {"soa", "soa-axis", "soa-axis-2k", "soa-page", "vec3", "aos"}) {
       const Arena a = make(kind, n);
-      sweep(a.layout, n);  // caches warm
+      sweep(a.layout, n, threads);  // caches warm
       std::size_t reps = 1;  // sweeps per batch: enough for 0.1 s
       for (;;) {
         const auto t0 = clock::now();
-        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n);
+        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n, threads);
         if (std::chrono::duration<double>(clock::now() - t0).count() >= 0.1) break;
         reps *= 2;
       }
       std::vector<double> t;
       for (int batch = 0; batch < 5; ++batch) {
         const auto t0 = clock::now();
-        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n);
+        for (std::size_t r = 0; r < reps; ++r) sweep(a.layout, n, threads);
         t.push_back(std::chrono::duration<double>(clock::now() - t0).count() / static_cast<double>(reps * n));
       }
       std::sort(t.begin(), t.end());
