@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <numbers>
 #include <sstream>
 #include <utility>
+
+#include <sys/mman.h>
 
 namespace cdm {
 
@@ -363,12 +366,30 @@ template <bool Pending, bool One>
   }
 }
 
-/// The calling thread's scratch for verlet_pass, at least @p n doubles: on the heap (a
-/// block's is 512 KiB, much for a thread's stack), kept between steps.
+/// The calling thread's scratch for verlet_pass, at least @p n doubles, kept between
+/// steps. Not on the stack (a block's is 512 KiB, much for an OpenMP worker's) nor from
+/// malloc: a long-lived block there kept the heap from giving back what the list
+/// rebuilds freed below it (settle1e5's peak RSS 74.6 against 70.6 MB before; mapped on
+/// its own, 71.2 MB).
 double* pass_scratch(std::size_t n) {
-  thread_local std::vector<double> scratch;
-  if (scratch.size() < n) scratch.resize(n);
-  return scratch.data();
+  struct Mapping {
+    void* p = nullptr;
+    std::size_t bytes = 0;
+    ~Mapping() {
+      if (p) munmap(p, bytes);
+    }
+  };
+  thread_local Mapping m;
+  const std::size_t bytes = n * sizeof(double);
+  if (m.bytes < bytes) {
+    if (m.p) munmap(m.p, m.bytes);
+    m = {};
+    void* const p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    m.p = p;
+    m.bytes = bytes;
+  }
+  return static_cast<double*>(m.p);
 }
 
 /// Particles [i0, i1) of the one pass per step without a gas (Simulation::step): the
