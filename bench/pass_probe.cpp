@@ -104,7 +104,7 @@ Arena make(const char* kind, std::size_t n) {
 // array's pointer in a local, as real code would hold them.
 constexpr double dt = 1.6e-6, h = 0.5 * dt, g = -9.81e-9;
 
-void sweep_soa(const Layout& l, std::size_t i0, std::size_t n) {
+void sweep_soa(const Layout& l, std::size_t first, std::size_t end) {
   double *const x = l.base[0], *const y = l.base[1], *const z = l.base[2];
   double *const hvx = l.base[3], *const hvy = l.base[4], *const hvz = l.base[5];
   double *const fx = l.base[6], *const fy = l.base[7], *const fz = l.base[8];
@@ -113,7 +113,7 @@ void sweep_soa(const Layout& l, std::size_t i0, std::size_t n) {
   const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
   double *const vx = l.base[18], *const vy = l.base[19], *const vz = l.base[20];
   double *const wx = l.base[21], *const wy = l.base[22], *const wz = l.base[23];
-  for (std::size_t i = i0; i < n; ++i) {
+  for (std::size_t i = first; i < end; ++i) {
     const double b = h * im[i], c = h * ii[i];
     const double ux = hvx[i] + b * fx[i], uy = hvy[i] + b * fy[i], uz = hvz[i] + b * fz[i];
     hvx[i] = ux; hvy[i] = uy; hvz[i] = uz;
@@ -130,7 +130,7 @@ void sweep_soa(const Layout& l, std::size_t i0, std::size_t n) {
 /// The soa layout one axis at a time over blocks of particles (cdm's verlet_pass): the
 /// same arithmetic per particle as sweep_soa, in 6 loops of 4 to 6 arrays each.
 template <std::size_t block>
-void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t n) {
+void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t end) {
   const double *const im = l.base[15], *const ii = l.base[16], *const m = l.base[17];
   auto axis = [&](int q, double gq, std::size_t i0, std::size_t i1) {
     double *const X = l.base[q], *const HV = l.base[3 + q], *const F = l.base[6 + q], *const V = l.base[18 + q];
@@ -153,8 +153,8 @@ void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t n) {
       T[i] = 0.0;
     }
   };
-  for (std::size_t i0 = first; i0 < n; i0 += block) {
-    const std::size_t i1 = std::min(n, i0 + block);
+  for (std::size_t i0 = first; i0 < end; i0 += block) {
+    const std::size_t i1 = std::min(end, i0 + block);
     axis(0, 0.0, i0, i1); axis(1, 0.0, i0, i1); axis(2, g, i0, i1);
     spin(0, i0, i1); spin(1, i0, i1); spin(2, i0, i1);
   }
@@ -163,10 +163,10 @@ void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t n) {
 /// Groups of three quantities (S = 3, one array each) or all 24 in one (S = 24): the
 /// same arithmetic on p[q] + i * S.
 template <std::size_t S>
-void sweep_packed(const Layout& l, std::size_t i0, std::size_t n) {
+void sweep_packed(const Layout& l, std::size_t first, std::size_t end) {
   double *const X = l.base[0], *const HV = l.base[3], *const F = l.base[6], *const HW = l.base[9];
   double *const T = l.base[12], *const M = l.base[15], *const V = l.base[18], *const W = l.base[21];
-  for (std::size_t i = i0; i < n; ++i) {
+  for (std::size_t i = first; i < end; ++i) {
     const std::size_t k = i * S;
     const double b = h * M[k], c = h * M[k + 1];
     const double ux = HV[k] + b * F[k], uy = HV[k + 1] + b * F[k + 1], uz = HV[k + 2] + b * F[k + 2];
@@ -181,7 +181,7 @@ void sweep_packed(const Layout& l, std::size_t i0, std::size_t n) {
   }
 }
 
-/// Particles [i0, i1).
+/// Particles [i0, i1) (each sweep_* takes its range as [first, end)).
 void sweep_range(const Layout& l, std::size_t i0, std::size_t i1) {
   switch (l.stride[0]) {
     case 1:

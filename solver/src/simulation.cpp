@@ -405,7 +405,7 @@ double* pass_scratch(std::size_t n) {
 /// arrays each (bench/pass_probe, layouts soa and soa-axis). The blocks are long: each
 /// of the six loops per block starts four new streams, and in DRAM (1e5 particles and
 /// up) a stream's first lines cost more than the rest; blocks of 32768 particles instead
-/// of 2048 took 13 % off the pass at 1e6 on one thread (bench/README.md, session 16).
+/// of 2048 took 12 % off settle1e6's step on one thread (bench/README.md, session 16).
 /// The finiteness test sums the state at t axis by axis, (x + v_x) + (y + v_y) + …: a
 /// different order from verlet_state_finite's, finite for the same finite states short
 /// of overflow (itself a blow-up).

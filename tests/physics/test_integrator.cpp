@@ -180,16 +180,11 @@ TEST(VelocityVerlet, PassCoversEveryBlock) {
   // of 32768 (verlet_pass). 70,000 spheres in free fall make three blocks on one thread
   // and two on each of two. Every block must move its particles, check them and report
   // its drift to the Verlet list: a particle in the last block behaves as one in the first.
-  std::string text = box_scene;
-  const auto set = [&](const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-  };
-  set("count = [6, 6, 6]", "count = [50, 50, 28]");
-  set("origin = [0.00055, 0.00055, 0.00055]", "origin = [0.00055, 0.00055, 0.002]");
-  set("point = [0.0066, 0.0, 0.0]", "point = [0.0556, 0.0, 0.0]");
-  const cdm::SceneSpec spec = cdm::load_scene_from_string(text, "blocks.toml", {});
+  const cdm::SceneSpec spec =
+      cdm::load_scene_from_string(box_scene, "box.toml",
+                                  {cdm::parse_override("lattices[0].count=[50, 50, 28]"),
+                                   cdm::parse_override("lattices[0].origin=[0.00055, 0.00055, 0.002]"),
+                                   cdm::parse_override("walls[2].point=[0.0556, 0.0, 0.0]")});
   const std::size_t n = 50 * 50 * 28;
   // Free fall: every particle's vertical velocity follows velocity Verlet's two half
   // kicks with its weight, v + (Δt/2)(1/m)(m g) twice a step, to the bit.
