@@ -1,5 +1,6 @@
 // pass_probe: the memory traffic of velocity Verlet's one pass per step, without cdm,
-// in four memory layouts and two ways of sweeping one of them.
+// in four memory layouts and two ways of sweeping one of them, and three variants of the
+// traffic for a bed of one kind of particle.
 //
 // The pass (solver/src/simulation.cpp, verlet_pass) reads and rewrites 15 doubles per
 // particle (position, half-step velocity, force, half-step spin, torque), reads 3
@@ -24,13 +25,30 @@
 //   vec3      8 arrays of 3 interleaved doubles (x y z, and so on; the masses as one)
 //   aos       one array of 24 doubles per particle
 //
+// and three sweeps of the soa arrays for a bed of one kind of particle (one m, 1/m and
+// 1/I, no mass arrays read), one axis at a time over blocks of 32768 as cdm's pass:
+//
+//   one-now   cdm's pass today: per axis position, half-step velocity and force read and
+//             written, predicted velocity written only (its lines still read for
+//             ownership); per spin axis the same without position. 21 arrays read,
+//             336 B per particle-step
+//   one-lastf the last force kept instead of the half-step velocity (bench/README.md,
+//             session 17): per axis position, predicted velocity and last force read and
+//             written, force read only. 21 arrays read as well, but 6 fewer written
+//             back: 288 B
+//   one-3r    only what cannot be avoided: per axis position and half-step velocity read
+//             and written, force read only; nothing written that is not read. 15 arrays
+//             read, 192 B: the most that accumulators the pass never resets could give
+//             (the step stamp they would need is not counted)
+//
 // Usage: pass_probe [--threads=K] [N ...]   (default 1e4 1e5 1e6; one thread). With K
 // threads each sweep is split into K contiguous equal shares, as cdm's pass is: what
 // the memory system gives K cores for the pass's traffic (issue #7: two threads
 // against one at 1e6).
 // Output: a whitespace table: per N and layout, the median time per particle (wall
 // time of the whole sweep) of 5 timed batches of sweeps (each batch at least 0.1 s),
-// the implied bandwidth and the data's size.
+// the implied bandwidth (for the row's bytes, bytes_of) and the data's size (24 doubles per
+// particle for every row; one-now and one-lastf touch 21 of them, one-3r 15).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -73,7 +91,7 @@ Arena make(const char* kind, std::size_t n) {
   std::memset(m, 0, total);
   Layout& l = a.layout;
   const std::string_view k = kind;
-  if (k == "soa" || k == "soa-axis" || k == "soa-axis-2k" || k == "soa-page") {
+  if (k == "soa" || k.starts_with("soa-axis") || k == "soa-page" || k.starts_with("one-")) {
     const std::size_t skew = k == "soa-page" ? 0 : 16;
     for (int q = 0; q < nq; ++q) {
       l.base[q] = reinterpret_cast<double*>(m + q * array + q * skew);
@@ -160,6 +178,70 @@ void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t end) {
   }
 }
 
+/// The soa arrays of a bed of one kind of particle, one axis at a time over blocks of
+/// 32768 particles, with the traffic of variant @p Kind (one-now, one-lastf, one-3r; see
+/// the top of the file). The arithmetic is the pass's, rearranged per variant; the mass
+/// arrays are not read.
+enum class OneMass { now, lastf, three_reads };
+template <OneMass Kind>
+void sweep_one(const Layout& l, std::size_t first, std::size_t end) {
+  constexpr std::size_t block = 32768;
+  const double b = h / 1.3e-6, c = h / 1.3e-13, m = 1.3e-6;
+  auto axis = [&](int q, double gq, std::size_t i0, std::size_t i1) {
+    // HV is the half-step velocity (now, three_reads) or the last force (lastf).
+    double *const X = l.base[q], *const HV = l.base[3 + q], *const F = l.base[6 + q], *const V = l.base[18 + q];
+    for (std::size_t i = i0; i < i1; ++i) {
+      if constexpr (Kind == OneMass::now) {
+        const double u = HV[i] + b * F[i];
+        HV[i] = u;
+        X[i] += dt * u;
+        V[i] = u + b * F[i];
+        F[i] = m * gq;
+      } else if constexpr (Kind == OneMass::lastf) {
+        const double u = (V[i] - b * HV[i]) + 2.0 * b * F[i];
+        X[i] += dt * u;
+        V[i] = u + b * F[i];
+        HV[i] = m * gq;
+      } else {
+        const double u = HV[i] + 2.0 * b * F[i];
+        HV[i] = u;
+        X[i] += dt * u;
+      }
+    }
+  };
+  auto spin = [&](int q, std::size_t i0, std::size_t i1) {
+    double *const HW = l.base[9 + q], *const T = l.base[12 + q], *const W = l.base[21 + q];
+    for (std::size_t i = i0; i < i1; ++i) {
+      if constexpr (Kind == OneMass::now) {
+        const double s = HW[i] + c * T[i];
+        HW[i] = s;
+        W[i] = s + c * T[i];
+        T[i] = 0.0;
+      } else if constexpr (Kind == OneMass::lastf) {
+        const double s = (W[i] - c * HW[i]) + 2.0 * c * T[i];
+        W[i] = s + c * T[i];
+        HW[i] = 0.0;
+      } else {
+        HW[i] += 2.0 * c * T[i];
+      }
+    }
+  };
+  for (std::size_t i0 = first; i0 < end; i0 += block) {
+    const std::size_t i1 = std::min(end, i0 + block);
+    axis(0, 0.0, i0, i1); axis(1, 0.0, i0, i1); axis(2, g, i0, i1);
+    spin(0, i0, i1); spin(1, i0, i1); spin(2, i0, i1);
+  }
+}
+
+/// Bytes per particle-step of @p kind: a double read and written counts 16, read only
+/// 8, written only 16 (its line is read for ownership).
+double bytes_of(std::string_view kind) {
+  if (kind == "one-now") return 3 * (3 * 16 + 16) + 3 * (2 * 16 + 16);
+  if (kind == "one-lastf") return 3 * (3 * 16 + 8) + 3 * (2 * 16 + 8);
+  if (kind == "one-3r") return 3 * (2 * 16 + 8) + 3 * (16 + 8);
+  return 15 * 16 + 3 * 8 + 6 * 16;
+}
+
 /// Groups of three quantities (S = 3, one array each) or all 24 in one (S = 24): the
 /// same arithmetic on p[q] + i * S.
 template <std::size_t S>
@@ -187,6 +269,9 @@ void sweep_range(const Layout& l, std::size_t i0, std::size_t i1) {
     case 1:
       if (std::string_view(l.name) == "soa-axis") sweep_soa_axis<32768>(l, i0, i1);
       else if (std::string_view(l.name) == "soa-axis-2k") sweep_soa_axis<2048>(l, i0, i1);
+      else if (std::string_view(l.name) == "one-now") sweep_one<OneMass::now>(l, i0, i1);
+      else if (std::string_view(l.name) == "one-lastf") sweep_one<OneMass::lastf>(l, i0, i1);
+      else if (std::string_view(l.name) == "one-3r") sweep_one<OneMass::three_reads>(l, i0, i1);
       else sweep_soa(l, i0, i1);
       break;
     case 3: sweep_packed<3>(l, i0, i1); break;
@@ -234,12 +319,13 @@ int main(int argc, char** argv) {
     sizes.push_back(static_cast<std::size_t>(v));
   }
   if (sizes.empty()) sizes = {10000, 100000, 1000000};
-  constexpr double bytes = 15 * 16 + 3 * 8 + 6 * 16;  // read+write, read, write (+ read for ownership)
-  std::printf("# pass_probe: velocity Verlet's pass, %g B per particle-step, %d thread(s)\n", bytes, threads);
+  std::printf("# pass_probe: velocity Verlet's pass, %g B per particle-step (one-*: %g, %g, %g), %d thread(s)\n",
+              bytes_of("soa"), bytes_of("one-now"), bytes_of("one-lastf"), bytes_of("one-3r"), threads);
   std::printf("# N  layout  time_per_particle[ns]  bandwidth[GB/s]  data[MB]\n");
   using clock = std::chrono::steady_clock;
   for (const std::size_t n : sizes) {
-    for (const char* kind : {"soa", "soa-axis", "soa-axis-2k", "soa-page", "vec3", "aos"}) {
+    for (const char* kind :
+         {"soa", "soa-axis", "soa-axis-2k", "soa-page", "vec3", "aos", "one-now", "one-lastf", "one-3r"}) {
       const Arena a = make(kind, n);
       sweep(a.layout, n, threads);  // caches warm
       std::size_t reps = 1;  // sweeps per batch: enough for 0.1 s
@@ -259,7 +345,8 @@ int main(int argc, char** argv) {
       const double med = t[t.size() / 2];
       volatile double sink = a.layout.base[0][(n / 2) * a.layout.stride[0]];  // the sweeps' results are used
       (void)sink;
-      std::printf("%zu %s %.2f %.1f %.1f\n", n, a.layout.name, med * 1e9, bytes / med * 1e-9, nq * 8.0 * n / 1e6);
+      std::printf("%zu %s %.2f %.1f %.1f\n", n, a.layout.name, med * 1e9, bytes_of(kind) / med * 1e-9,
+                  nq * 8.0 * n / 1e6);
       std::fflush(stdout);
     }
   }

@@ -13,7 +13,8 @@
 # a checkpoint, restarted for each timed run). Contact history starts empty in the
 # peers' timed runs (they read a data file) and is carried over in cdm's (a restart).
 # Then runs bench/pass_probe (the pass's memory traffic in four layouts, cdm's swept
-# two ways, without cdm) and appends its table to the summary.
+# two ways, and three variants for a bed of one kind, without cdm) and appends its table
+# to the summary.
 # Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results),
 # PROBE (default build/release/bench/pass_probe).
 set -euo pipefail
