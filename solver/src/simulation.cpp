@@ -313,17 +313,18 @@ decltype(auto) with_flags(F&& f, bool b, Rest... rest) {
 /// of position @p X, predicted velocity @p V, force @p F and half-step velocity @p HV,
 /// the final kick of the last step if @p Pending, the half kick, drift (wrapped with
 /// @p Wrap), predicted velocity, and the force set to the weight's component m @p g
-/// (with @p Grav) or zeroed. Particle i's terms of the finiteness sum and of the squared
-/// displacement since the build (@p Measure, from @p X0) or of this step's drift go to
-/// @p fin[i - i0] and @p d2[i - i0], set by the first axis (@p First) and added to by
-/// the others, so d2 sums x² + y² + z² in the order a single expression would. With
-/// @p One every particle has VerletArrays' one_inv_mass and one_mass.
+/// (with @p Grav) or zeroed. Particle i's term of the squared displacement since the
+/// build (@p Measure, from @p X0) or of this step's drift goes to @p d2[i - i0], set by
+/// the first axis (@p First) and added to by the others, so d2 sums x² + y² + z² in the
+/// order a single expression would. The same sum carries the finiteness check of the
+/// state at t: each term comes with s − s for s = x + v at t, +0 where s is finite (the
+/// sum unchanged, to the bit) and NaN where it is not. With @p One every particle has
+/// VerletArrays' one_inv_mass and one_mass.
 template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, bool One>
 [[gnu::always_inline]] inline void verlet_axis(const VerletArrays& a, double* __restrict X, double* __restrict V,
                                                double* __restrict F, double* __restrict HV,
                                                const double* __restrict X0, double g, const PeriodicBox& box, double dt,
-                                               std::size_t i0, std::size_t i1, double* __restrict fin,
-                                               double* __restrict d2) {
+                                               std::size_t i0, std::size_t i1, double* __restrict d2) {
   const double h = 0.5 * dt;
   const double* __restrict const IM = a.inv_mass;
   const double* __restrict const M = a.mass;
@@ -340,25 +341,30 @@ template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, b
     V[i] = v + c * f;  // predicted v(t+Δt)
     F[i] = Grav ? 0.0 + (One ? a.one_mass : M[i]) * g : 0.0;
     const double e = Measure ? box.min_image(x - X0[i], A) : dt * v;
-    fin[i - i0] = First ? s : fin[i - i0] + s;
-    d2[i - i0] = First ? e * e : d2[i - i0] + e * e;
+    // A NaN e (a NaN force met this step) is left out: it says nothing of the state at t,
+    // which is what this pass checks. The new state is checked at the next check, where
+    // the step that reached it is named (as before the finiteness had a sum of its own).
+    const double ee = e * e;
+    const double term = (ee >= 0.0 ? ee : 0.0) + (s - s);
+    d2[i - i0] = First ? term : d2[i - i0] + term;
   }
 }
 
 /// One axis of the spin in verlet_pass: the final kick of the last step if @p Pending,
-/// the half kick and the predicted spin, the torque zeroed; the spin at t added to @p fin.
+/// the half kick and the predicted spin, the torque zeroed; w − w for the spin w at t
+/// added to @p d2 (+0, or NaN where w is not finite: verlet_axis).
 /// With @p One every particle has VerletArrays' one_inv_inertia.
 template <bool Pending, bool One>
 [[gnu::always_inline]] inline void verlet_spin_axis(const VerletArrays& a, double* __restrict W, double* __restrict T,
                                                     double* __restrict HW, double dt, std::size_t i0, std::size_t i1,
-                                                    double* __restrict fin) {
+                                                    double* __restrict d2) {
   const double h = 0.5 * dt;
   const double* __restrict const II = a.inv_inertia;
   for (std::size_t i = i0; i < i1; ++i) {
     const double b = h * (One ? a.one_inv_inertia : II[i]);
     const double t = T[i];
     const double w = Pending ? HW[i] + b * t : W[i];  // ω(t)
-    fin[i - i0] += w;
+    d2[i - i0] += w - w;
     const double hw = w + b * t;
     HW[i] = hw;
     W[i] = hw + b * t;
@@ -367,7 +373,7 @@ template <bool Pending, bool One>
 }
 
 /// The calling thread's scratch for verlet_pass, at least @p n doubles, kept between
-/// steps. Not on the stack (a block's is 512 KiB, much for an OpenMP worker's) nor from
+/// steps. Not on the stack (a block's is 256 KiB, much for an OpenMP worker's) nor from
 /// malloc: a long-lived block there kept the heap from giving back what the list
 /// rebuilds freed below it (settle1e5's peak RSS 74.6 against 70.6 MB before; mapped on
 /// its own, 71.2 MB).
@@ -406,29 +412,29 @@ double* pass_scratch(std::size_t n) {
 /// of the six loops per block starts four new streams, and in DRAM (1e5 particles and
 /// up) a stream's first lines cost more than the rest; blocks of 32768 particles instead
 /// of 2048 took 12 % off settle1e6's step on one thread (bench/README.md, session 16).
-/// The finiteness test sums the state at t axis by axis, (x + v_x) + (y + v_y) + …: a
-/// different order from verlet_state_finite's, finite for the same finite states short
-/// of overflow (itself a blow-up).
+/// The finiteness test asks each of x + v_x, y + v_y, z + v_z and the spin's components
+/// at t to be finite (through the squared displacement, verlet_axis), where
+/// verlet_state_finite asks their sum: the same answer short of overflow (itself a
+/// blow-up). One scratch array instead of two (the finiteness terms had one of their
+/// own until session 17).
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 32768;
-  // Each particle's terms of the finiteness sum and squared displacement, per block.
-  const std::size_t span = std::min(block, i1 - i0);
-  double* const fin = pass_scratch(2 * span);
-  double* const d2 = fin + span;
+  // Each particle's squared displacement (NaN if its state is not finite), per block.
+  double* const d2 = pass_scratch(std::min(block, i1 - i0));
   double worst = 0.0;
   for (std::size_t b0 = i0; b0 < i1; b0 += block) {
     const std::size_t b1 = std::min(i1, b0 + block);
-    verlet_axis<0, true, Pending, Wrap, Measure, Grav, One>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, fin, d2);
-    verlet_axis<1, false, Pending, Wrap, Measure, Grav, One>(a, a.y, a.vy, a.fy, a.hvy, a.y0, a.g.y, box, dt, b0, b1, fin, d2);
-    verlet_axis<2, false, Pending, Wrap, Measure, Grav, One>(a, a.z, a.vz, a.fz, a.hvz, a.z0, a.g.z, box, dt, b0, b1, fin, d2);
+    verlet_axis<0, true, Pending, Wrap, Measure, Grav, One>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, d2);
+    verlet_axis<1, false, Pending, Wrap, Measure, Grav, One>(a, a.y, a.vy, a.fy, a.hvy, a.y0, a.g.y, box, dt, b0, b1, d2);
+    verlet_axis<2, false, Pending, Wrap, Measure, Grav, One>(a, a.z, a.vz, a.fz, a.hvz, a.z0, a.g.z, box, dt, b0, b1, d2);
     if constexpr (Rot) {
-      verlet_spin_axis<Pending, One>(a, a.wx, a.tx, a.hwx, dt, b0, b1, fin);
-      verlet_spin_axis<Pending, One>(a, a.wy, a.ty, a.hwy, dt, b0, b1, fin);
-      verlet_spin_axis<Pending, One>(a, a.wz, a.tz, a.hwz, dt, b0, b1, fin);
+      verlet_spin_axis<Pending, One>(a, a.wx, a.tx, a.hwx, dt, b0, b1, d2);
+      verlet_spin_axis<Pending, One>(a, a.wy, a.ty, a.hwy, dt, b0, b1, d2);
+      verlet_spin_axis<Pending, One>(a, a.wz, a.tz, a.hwz, dt, b0, b1, d2);
     }
     for (std::size_t k = 0; k < b1 - b0; ++k)
-      worst = std::max(worst, std::isfinite(fin[k]) ? d2[k] : std::numeric_limits<double>::infinity());
+      worst = std::max(worst, std::isfinite(d2[k]) ? d2[k] : std::numeric_limits<double>::infinity());
   }
   return worst;
 }
