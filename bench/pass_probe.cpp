@@ -180,8 +180,9 @@ void sweep_soa_axis(const Layout& l, std::size_t first, std::size_t end) {
 
 /// The soa arrays of a bed of one kind of particle, one axis at a time over blocks of
 /// 32768 particles, with the traffic of variant @p Kind (one-now, one-lastf, one-3r; see
-/// the top of the file). The arithmetic is the pass's, rearranged per variant; the mass
-/// arrays are not read.
+/// the top of the file). The arithmetic is the pass's where the variant keeps the same
+/// quantities, and stands in for it where not (one-3r writes no predicted velocity); it
+/// is the traffic that is measured. The mass arrays are not read.
 enum class OneMass { now, lastf, three_reads };
 template <OneMass Kind>
 void sweep_one(const Layout& l, std::size_t first, std::size_t end) {
