@@ -342,8 +342,8 @@ template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, b
     F[i] = Grav ? 0.0 + (One ? a.one_mass : M[i]) * g : 0.0;
     const double e = Measure ? box.min_image(x - X0[i], A) : dt * v;
     // A NaN e (a NaN force met this step) is left out: it says nothing of the state at t,
-    // which is what this pass checks. The new state is checked at the next check, where
-    // the step that reached it is named (as before the finiteness had a sum of its own).
+    // which is what this pass checks. The new state is checked at the next check, which
+    // names the step that reached it.
     const double ee = e * e;
     const double term = (ee >= 0.0 ? ee : 0.0) + (s - s);
     d2[i - i0] = First ? term : d2[i - i0] + term;
@@ -415,8 +415,7 @@ double* pass_scratch(std::size_t n) {
 /// The finiteness test asks each of x + v_x, y + v_y, z + v_z and the spin's components
 /// at t to be finite (through the squared displacement, verlet_axis), where
 /// verlet_state_finite asks their sum: the same answer short of overflow (itself a
-/// blow-up). One scratch array instead of two (the finiteness terms had one of their
-/// own until session 17).
+/// blow-up).
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 32768;
