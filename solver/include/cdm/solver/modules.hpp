@@ -131,13 +131,19 @@ class ContactModule final : public ForceModule {
   const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
   /// The largest displacement() over the particles, at the current positions, measured
   /// by the integrator in its own pass: the next evaluation takes it instead of a pass
-  /// of its own. Used once; ignored if negative.
-  void set_displacement(double d2) { displacement_ = d2; }
-  /// Whether the integrator must measure displacement() this step: false while the sum
-  /// of each step's largest drift since the build (add_drift) stays below 0.49 skin,
-  /// where the exact measure could not call for a rebuild either (the margin is far
-  /// beyond rounding), so lists are built at the same steps. Unknown, so true, after
-  /// load_state until the next build.
+  /// of its own. Used once; ignored if negative. The drift bound (displacement_needed)
+  /// restarts from it: no particle is farther than its square root from its build
+  /// position, so later drifts add to that instead of to the bound that called for the
+  /// measure, and the steps after a measure below the margin need not measure again.
+  void set_displacement(double d2) {
+    displacement_ = d2;
+    if (d2 >= 0.0) drift_bound_ = std::sqrt(d2);
+  }
+  /// Whether the integrator must measure displacement() this step: false while the
+  /// last measure (set_displacement) plus each later step's largest drift (add_drift),
+  /// or that sum since the build, stays below 0.49 skin, where the exact measure could
+  /// not call for a rebuild either (the margin is far beyond rounding), so lists are
+  /// built at the same steps. Unknown, so true, after load_state until the next build.
   bool displacement_needed() const { return !(drift_bound_ < drift_limit()); }
   /// For an integrator that did not measure: the largest squared drift [m^2] of any
   /// particle over the step just taken (max_i |Δt v_i|²). Bounds the displacement for
