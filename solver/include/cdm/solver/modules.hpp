@@ -100,6 +100,8 @@ class ContactModule final : public ForceModule {
   /// Contacts carrying tangential history (zero when frictionless).
   std::size_t history_size() const { return friction_ ? n_active_ : 0; }
   std::size_t list_builds() const { return builds_; }
+  /// The Verlet-list margin [m]: the list is rebuilt once a particle has moved half of it.
+  double skin() const { return skin_; }
   std::size_t listed_pairs() const { return pi_.size(); }
   const std::vector<PlaneWall>& walls() const { return walls_; }
   const PairTable& pairs() const { return pairs_; }
