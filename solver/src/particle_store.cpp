@@ -1,6 +1,7 @@
 #include "cdm/solver/particle_store.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <numbers>
@@ -59,6 +60,27 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   }
 }
 
+namespace {
+
+// Every per-particle array of doubles (empty where the scene does not carry it).
+template <class Store>
+auto double_arrays(Store& p) {
+  return std::array{&p.x,  &p.y,  &p.z,  &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.radius, &p.mass, &p.inv_mass,
+                    &p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inv_inertia, &p.drag_k, &p.ugx, &p.ugy, &p.ugz,
+                    &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz};
+}
+
+}  // namespace
+
+std::size_t ParticleStore::bytes() const {
+  std::size_t b = 0;
+  for (const auto* v : double_arrays(*this))
+    b += v->size() * sizeof(double);
+  b += material.size() * sizeof(int);
+  b += (id.size() + slot.size()) * sizeof(std::uint32_t);
+  return b;
+}
+
 void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
   const std::size_t n = size();
   if (id.empty()) {
@@ -66,8 +88,7 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
     for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::uint32_t>(i);
   }
   std::vector<double> tmp;
-  for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &radius, &mass, &inv_mass, &wx, &wy, &wz, &tx, &ty, &tz,
-                  &inv_inertia, &drag_k, &ugx, &ugy, &ugz, &dfx, &dfy, &dfz, &jx, &jy, &jz})
+  for (auto* v : double_arrays(*this))
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
   std::vector<int> mat;
   permute_array(material, from, mat);

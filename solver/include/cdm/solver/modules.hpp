@@ -102,6 +102,19 @@ class ContactModule final : public ForceModule {
   std::size_t list_builds() const { return builds_; }
   /// The Verlet-list margin [m]: the list is rebuilt once a particle has moved half of it.
   double skin() const { return skin_; }
+  /// Whether the pair loop prefetches the positions and radii of the partner 128 pairs
+  /// ahead. Memory order only, never the results. `automatic` (the default) prefetches
+  /// when the particles' arrays (ParticleStore::bytes) exceed the largest cache
+  /// (last_level_cache_bytes): the integrator's sweep over all particles then evicts the
+  /// positions before the pair loop reads them, and the loop, gathering each pair's
+  /// partner while the contacts' own loads and stores come and go, loses the hardware
+  /// prefetcher's streams (bench/README.md, session 19: −22 % on settle1e6's collision
+  /// phase). In cache the prefetches only cost instructions (+4 % at 1e4). `on` and
+  /// `off` force it, for tests and benchmarks.
+  enum class Prefetch { automatic, on, off };
+  void set_prefetch(Prefetch p) { prefetch_ = p; }
+  /// Whether the last evaluation prefetched.
+  bool prefetched() const { return prefetched_; }
   std::size_t listed_pairs() const { return pi_.size(); }
   const std::vector<PlaneWall>& walls() const { return walls_; }
   const PairTable& pairs() const { return pairs_; }
@@ -252,6 +265,8 @@ class ContactModule final : public ForceModule {
   double drift_bound_ = 0.0;            // see displacement_needed [m]
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
   StepVelocities step_;                       // see set_step_velocities
+  Prefetch prefetch_ = Prefetch::automatic;
+  bool prefetched_ = false;
   bool built_ = false;
   std::size_t builds_ = 0;
   OverlapRecord worst_;

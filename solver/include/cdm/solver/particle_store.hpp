@@ -56,6 +56,9 @@ struct ParticleStore {
   /// Reorder every array: slot i takes what slot @p from[i] held (a permutation of
   /// 0..size()-1). Identities move with their particles.
   void permute(const std::vector<std::uint32_t>& from);
+  /// The bytes the arrays hold (size × element size, every array this scene carries):
+  /// what one sweep over all the particles' state touches.
+  std::size_t bytes() const;
   bool has_rotation() const { return rotation_enabled_; }
   bool has_drag_relaxation() const { return drag_relaxation_enabled_; }
   bool has_two_way() const { return two_way_enabled_; }

@@ -49,6 +49,7 @@ class Simulation {
   /// Names of the modules built for this scene, in evaluation order.
   std::vector<std::string> module_names() const;
   const ContactModule* contact() const { return contact_; }
+  ContactModule* contact() { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
