@@ -7,14 +7,13 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <cstring>
 #include <vector>
 
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/platform.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
-#include "box_scene.hpp"
+#include "support.hpp"
 
 namespace {
 
@@ -28,7 +27,7 @@ cdm::SceneSpec bed() {
 }
 
 struct State {
-  std::vector<double> x, y, z, vx, vy, vz, wx, wy, wz;
+  cdm::ParticleStore particles;
   std::size_t contacts = 0, builds = 0;
   bool prefetched = false;
   std::size_t largest_slab = 0;  // listed pairs of the slab with the most
@@ -44,20 +43,14 @@ State run(cdm::ContactModule::Prefetch mode, int threads, int steps) {
     sim.step();
     s.contacts = std::max(s.contacts, sim.contact()->active_contacts());
   }
-  const cdm::ParticleStore& p = sim.particles();
-  s.x = p.x; s.y = p.y; s.z = p.z;
-  s.vx = p.vx; s.vy = p.vy; s.vz = p.vz;
-  s.wx = p.wx; s.wy = p.wy; s.wz = p.wz;
+  s.particles = sim.particles();
   s.builds = sim.contact()->list_builds();
   s.prefetched = sim.contact()->prefetched();
   const std::vector<std::uint32_t>& start = sim.contact()->slab_start();
-  for (std::size_t q = 0; q + 1 < start.size(); ++q) s.largest_slab = std::max<std::size_t>(s.largest_slab, start[q + 1] - start[q]);
+  for (std::size_t q = 0; q + 1 < start.size(); ++q)
+    s.largest_slab = std::max<std::size_t>(s.largest_slab, start[q + 1] - start[q]);
   omp_set_num_threads(before);
   return s;
-}
-
-bool same(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
 }  // namespace
@@ -75,9 +68,7 @@ TEST(ContactPrefetch, ChangesNothingOnOneThreadOrTwo) {
     EXPECT_GT(on.contacts, 300u);
     EXPECT_GE(on.builds, 3u);
     EXPECT_EQ(on.builds, off.builds);
-    EXPECT_TRUE(same(on.x, off.x) && same(on.y, off.y) && same(on.z, off.z)) << threads << " thread(s)";
-    EXPECT_TRUE(same(on.vx, off.vx) && same(on.vy, off.vy) && same(on.vz, off.vz)) << threads << " thread(s)";
-    EXPECT_TRUE(same(on.wx, off.wx) && same(on.wy, off.wy) && same(on.wz, off.wz)) << threads << " thread(s)";
+    EXPECT_TRUE(cdm_test::same_motion(on.particles, off.particles)) << threads << " thread(s)";
   }
 }
 

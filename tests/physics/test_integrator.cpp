@@ -14,20 +14,14 @@
 
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
-#include "box_scene.hpp"
+#include "support.hpp"
 
 namespace {
 
 using cdm_test::box_scene;
+using cdm_test::same;
 
 cdm::SceneSpec scene() { return cdm::load_scene_from_string(box_scene, "box.toml", {}); }
-
-bool same(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::memcmp(&a[i], &b[i], sizeof(double)) != 0) return false;
-  return true;
-}
 
 }  // namespace
 
@@ -47,10 +41,7 @@ TEST(VelocityVerlet, ReadingTheStateBetweenStepsChangesNothing) {
   ASSERT_GT(most_contacts, 50u) << "the test should cover contacts";
   const cdm::ParticleStore& a = read_each.particles();
   const cdm::ParticleStore& b = read_last.particles();
-  for (auto m : {&cdm::ParticleStore::x, &cdm::ParticleStore::y, &cdm::ParticleStore::z, &cdm::ParticleStore::vx,
-                 &cdm::ParticleStore::vy, &cdm::ParticleStore::vz, &cdm::ParticleStore::wx, &cdm::ParticleStore::wy,
-                 &cdm::ParticleStore::wz})
-    EXPECT_TRUE(same(a.*m, b.*m));
+  EXPECT_TRUE(cdm_test::same_motion(a, b));
 }
 
 TEST(VelocityVerlet, StateReadIsTheStateAtItsTime) {

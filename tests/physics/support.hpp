@@ -1,5 +1,10 @@
 #pragma once
-// A scene shared by the physics tests: frictional spheres thrown about a walled box.
+// What the physics tests share: a scene, and comparisons to the bit.
+#include <cstring>
+#include <vector>
+
+#include "cdm/solver/particle_store.hpp"
+
 namespace cdm_test {
 
 // 6 x 6 x 6 frictional spheres thrown about a walled box: contacts, walls, spins.
@@ -54,5 +59,20 @@ scheme = "velocity_verlet"
 dt = "auto"
 end_time = 0.05
 )";
+
+/// The two arrays hold the same doubles, bit for bit (-0 differs from +0, a NaN equals
+/// only the same NaN).
+inline bool same(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
+
+/// Positions, velocities and angular velocities are the same, bit for bit.
+inline bool same_motion(const cdm::ParticleStore& a, const cdm::ParticleStore& b) {
+  for (auto m : {&cdm::ParticleStore::x, &cdm::ParticleStore::y, &cdm::ParticleStore::z, &cdm::ParticleStore::vx,
+                 &cdm::ParticleStore::vy, &cdm::ParticleStore::vz, &cdm::ParticleStore::wx, &cdm::ParticleStore::wy,
+                 &cdm::ParticleStore::wz})
+    if (!same(a.*m, b.*m)) return false;
+  return true;
+}
 
 }  // namespace cdm_test
