@@ -22,6 +22,7 @@ here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
 cdm="${CDM:-$root/build/release/app/cdm}"
 probe="${PROBE:-$root/build/release/bench/pass_probe}"
+cache_probe="${CACHE_PROBE:-$root/build/release/bench/cache_probe}"
 reps="${REPS:-3}"
 out="${OUT:-$here/results}"
 problems=("$@")
@@ -177,4 +178,19 @@ if [ -x "$probe" ]; then
   } | tee -a "$out/summary.md"
 else
   echo "no $probe: build it (cmake --build build/release --target pass_probe) for the pass's memory table"
+fi
+
+# How much of the last-level cache one core gets here, against what the kernel reports.
+if [ -x "$cache_probe" ]; then
+  {
+    echo
+    echo "bench/cache_probe (ns per dependent load by working set; the kernel reports a last-level cache of" \
+      "$(cat /sys/devices/system/cpu/cpu0/cache/index3/size 2>/dev/null || echo '?')):"
+    echo
+    echo '```'
+    "$cache_probe"
+    echo '```'
+  } | tee -a "$out/summary.md"
+else
+  echo "no $cache_probe: build it (cmake --build build/release --target cache_probe) for the cache table"
 fi
