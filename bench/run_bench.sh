@@ -166,31 +166,28 @@ for prob in multi:
         print(f"| {'cdm' if code == 'cdm2' else code} | {2 if code == 'cdm2' else 1} | " + " | ".join(cells) + " |")
 PY
 
-# What the memory system gives one core for the pass's traffic, on this machine, now.
-if [ -x "$probe" ]; then
+# probe_table BINARY TARGET TITLE [ARGS...]: a probe's table under TITLE, appended to the
+# summary; or, where the probe is not built, how to build it.
+probe_table() {
+  local bin="$1" target="$2" title="$3"
+  shift 3
+  if [ ! -x "$bin" ]; then
+    echo "no $bin: build it (cmake --build build/release --target $target) for its table"
+    return
+  fi
   {
     echo
-    echo "bench/pass_probe (velocity Verlet's pass without cdm, one thread; bench/README.md):"
+    echo "$title:"
     echo
     echo '```'
-    "$probe" 1e4 1e5 1e6
+    "$bin" "$@"
     echo '```'
   } | tee -a "$out/summary.md"
-else
-  echo "no $probe: build it (cmake --build build/release --target pass_probe) for the pass's memory table"
-fi
+}
 
+# What the memory system gives one core for the pass's traffic, on this machine, now.
+probe_table "$probe" pass_probe "bench/pass_probe (velocity Verlet's pass without cdm, one thread; bench/README.md)" \
+  1e4 1e5 1e6
 # How much of the last-level cache one core gets here, against what the kernel reports.
-if [ -x "$cache_probe" ]; then
-  {
-    echo
-    echo "bench/cache_probe (ns per dependent load by working set; the kernel reports a last-level cache of" \
-      "$(cat /sys/devices/system/cpu/cpu0/cache/index3/size 2>/dev/null || echo '?')):"
-    echo
-    echo '```'
-    "$cache_probe"
-    echo '```'
-  } | tee -a "$out/summary.md"
-else
-  echo "no $cache_probe: build it (cmake --build build/release --target cache_probe) for the cache table"
-fi
+probe_table "$cache_probe" cache_probe "bench/cache_probe (ns per dependent load by working set; the kernel reports a \
+last-level cache of $(cat /sys/devices/system/cpu/cpu0/cache/index3/size 2>/dev/null || echo '?'))"
