@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
 # Side-by-side throughput of cdm, LAMMPS and LIGGGHTS on the settle and chute problems of
 # ../../shared/bench-peers (decks copied to bench/peers/, cdm's scene in bench/scenes/).
-# Runs alternate between codes (cdm on 1 thread, LAMMPS, LIGGGHTS, cdm on 2 threads),
-# REPS repetitions each; prints per code and problem:
-# particles, steps, loop wall time (median), particle-steps/s per core, peak RSS per
-# particle, and the ratio cdm/peer. Installs the peers (Debian lammps, liggghts) if missing, without
+# Runs alternate between codes (cdm on 1 thread, LAMMPS, LIGGGHTS, then each on two cores:
+# cdm on 2 threads, the peers on 2 MPI ranks), REPS repetitions each; bench/summarise.py
+# prints per code and problem: particles, steps, loop wall time (median and each run),
+# particle-steps/s per core, peak RSS per particle, cdm's speed against the code on as
+# many cores, two cores against one, and each code's cost per particle-step at 1e6
+# against its own at 1e4. Installs the peers (Debian lammps, liggghts) if missing, without
 # their recommendations (those pull python3-paraview, which removes python3-vtk9 that the tests need).
-#   bench/run_bench.sh [PROBLEM ...]     PROBLEM in settle1e4 settle1e5 settle1e6 chute32k (default: all)
+#   bench/run_bench.sh [PROBLEM ...]     PROBLEM in settle1e4early settle1e4 settle1e5 settle1e6 chute32k
+#                                        (default: all)
+# settle1e4early is settle1e4's first 1000 steps: the window settle1e6 is timed on, so the
+# two compare the same physics at 1e4 and 1e6 (settle1e4's first 10,000-step segment runs
+# on into collisions that settle1e6's 1000 steps do not reach).
 # chute32k times 10,000 steps from a flowing state prepared once per code, as the peers'
 # reference runs: 0.25 s of flow from the lattice (LAMMPS: in.chute_prep.lammps at
 # dt = t_c/25, its data file read by both peers; cdm: its own scene at dt = t_c/50 up to
@@ -16,7 +22,9 @@
 # two ways, and three variants for a bed of one kind, without cdm) and appends its table
 # to the summary.
 # Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results),
-# PROBE (default build/release/bench/pass_probe).
+# PROBE (default build/release/bench/pass_probe), CODES (default "cdm lammps liggghts cdm2
+# lammps2 liggghts2": the runs of each repetition, in this order). The peers' peak memory on
+# two ranks is not reported: /usr/bin/time sees only the largest rank.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
@@ -26,7 +34,14 @@ cache_probe="${CACHE_PROBE:-$root/build/release/bench/cache_probe}"
 reps="${REPS:-3}"
 out="${OUT:-$here/results}"
 problems=("$@")
-[ ${#problems[@]} -gt 0 ] || problems=(settle1e4 settle1e5 settle1e6 chute32k)
+[ ${#problems[@]} -gt 0 ] || problems=(settle1e4early settle1e4 settle1e5 settle1e6 chute32k)
+read -r -a codes <<< "${CODES:-cdm lammps liggghts cdm2 lammps2 liggghts2}"
+for code in "${codes[@]}"; do
+  case $code in
+    cdm|cdm2|lammps|lammps2|liggghts|liggghts2) ;;
+    *) echo "CODES: unknown code '$code' (expected cdm, cdm2, lammps, lammps2, liggghts, liggghts2)" >&2; exit 2 ;;
+  esac
+done
 
 if ! command -v lmp > /dev/null || ! command -v liggghts > /dev/null; then
   sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -39,12 +54,31 @@ export OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
 # problem -> nx ny steps (25 layers, segments as the peers' reference runs)
 geometry() {
   case $1 in
+    settle1e4early) echo "20 20 1000 1 1000" ;;
     settle1e4) echo "20 20 40000 4 10000" ;;
     settle1e5) echo "50 80 10000 1 10000" ;;
     settle1e6) echo "200 200 1000 1 1000" ;;
     chute32k) echo "40 20 10000 1 10000" ;;
     *) echo "unknown problem $1" >&2; exit 2 ;;
   esac
+}
+
+# peer CODE DIR DECK [-var NAME VALUE ...]: LAMMPS or LIGGGHTS (CODE lammps or liggghts, on
+# one process; with a 2 appended, on two MPI ranks) on bench/peers/DECK, logging to DIR.
+peer() {
+  local code=$1 dir=$2 deck=$3 exe=lmp launch=()
+  shift 3
+  [ "${code%2}" = liggghts ] && exe=liggghts
+  [ "$code" != "${code%2}" ] && launch=(mpirun -np 2)
+  (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "${launch[@]}" "$exe" -in "$deck" -log "$dir/log.txt" \
+    -screen none "$@" -var thevery 2000 > "$dir/stdout.txt" 2>&1)
+}
+
+# peak_rss DIR...: the largest peak RSS in kB of the runs timed in DIR... (their time.txt)
+peak_rss() {
+  local d
+  for d in "$@"; do cat "$d/time.txt"; done |
+    awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); if ($2 > m) m = $2} END {print m + 0}'
 }
 
 run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" to $out/runs.txt
@@ -62,14 +96,13 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
           --set integrator.end_time=1.0 --restart "$out/prep/cdm/checkpoint.cdmck" --max-steps "$steps" > "$dir/log.txt"
         rm -f "$dir/checkpoint.cdmck"
         loop=$(awk '/^loop time/ {print $3}' "$dir/log.txt") ;;
-      lammps|liggghts)
-        local exe=lmp; [ "$code" = liggghts ] && exe=liggghts
-        (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "$exe" -in "in.chute.$code" -log "$dir/log.txt" \
-          -screen none -var nsteps "$steps" -var data "$out/prep/chute32k.data" -var thevery 2000 > "$dir/stdout.txt" 2>&1)
+      *)
+        peer "$code" "$dir" "in.chute.${code%2}" -var nsteps "$steps" -var data "$out/prep/chute32k.data"
         loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
     esac
     local rss
-    rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt")
+    rss=$(peak_rss "$dir")
+    [ "$code" = "${code%2}" ] || [ "$code" = cdm2 ] || rss=0  # two ranks: not measured
     echo "$code $prob $n $steps $loop $rss $loop" | tee -a "$out/runs.txt"
     return
   fi
@@ -94,15 +127,14 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" 
       rm -f "$dir/seg$nseg/checkpoint.cdmck"
       segs=$(cat "$dir"/seg*/log.txt | awk '/^loop time/ {printf "%s%s", sep, $3; sep = ","}')
       loop=$(echo "$segs" | tr ',' '\n' | awk '{s += $1} END {print s}')
-      rss=$(cat "$dir"/seg*/time.txt | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); if ($2 > m) m = $2} END {print m}') ;;
-    lammps|liggghts)
-      local exe=lmp; [ "$code" = liggghts ] && exe=liggghts
-      (cd "$here/peers" && /usr/bin/time -v -o "$dir/time.txt" "$exe" -in "in.settle.$code" -log "$dir/log.txt" \
-        -screen none -var nx "$nx" -var ny "$ny" -var nz 25 -var nseg "$nseg" -var segsteps "$seg" -var thevery 2000 \
-        > "$dir/stdout.txt" 2>&1)
+      rss=$(peak_rss "$dir"/seg*) ;;
+    *)
+      peer "$code" "$dir" "in.settle.${code%2}" -var nx "$nx" -var ny "$ny" -var nz 25 -var nseg "$nseg" \
+        -var segsteps "$seg"
       segs=$(awk '/^Loop time/ {printf "%s%s", sep, $4; sep = ","}' "$dir/log.txt")
       loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt")
-      rss=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt") ;;
+      rss=$(peak_rss "$dir")
+      [ "$code" = "${code%2}" ] || rss=0 ;;  # two ranks: not measured
   esac
   echo "$code $prob $n $steps $loop $rss $segs" | tee -a "$out/runs.txt"
 }
@@ -118,53 +150,17 @@ prepare_chute() {  # the flowing states the timed chute runs start from (once pe
       --max-steps 155440 > "$out/prep/cdm/log.txt"
   fi
 }
+for prob in "${problems[@]}"; do geometry "$prob" > /dev/null; done  # an unknown problem stops here, before any run
 for prob in "${problems[@]}"; do [ "$prob" = chute32k ] && prepare_chute; done
 
 : > "$out/runs.txt"
 for prob in "${problems[@]}"; do
   for rep in $(seq 1 "$reps"); do
-    for code in cdm lammps liggghts cdm2; do run_one "$code" "$prob" "$rep"; done
+    for code in "${codes[@]}"; do run_one "$code" "$prob" "$rep"; done
   done
 done
 
-/usr/bin/python3 - "$out/runs.txt" <<'PY' | tee "$out/summary.md"
-import statistics, sys
-from collections import defaultdict
-runs = defaultdict(list)
-segs = defaultdict(list)
-for line in open(sys.argv[1]):
-    code, prob, n, steps, loop, rss, seg = line.split()
-    runs[(prob, code)].append((float(loop), int(rss), int(n), int(steps)))
-    segs[(prob, code)].append([float(x) for x in seg.split(",")])
-print("| problem | code | threads | N | steps | loop wall s (median of %d) | particle-steps/s per core | peak RSS bytes/particle | 1-thread cdm speed / code |" % max(len(v) for v in runs.values()))
-print("|---|---|---|---|---|---|---|---|---|")
-for prob in sorted({p for p, _ in runs}):
-    med = {c: statistics.median(r[0] for r in runs[(prob, c)]) for (p, c) in runs if p == prob}
-    for code in ("cdm", "cdm2", "lammps", "liggghts"):
-        if (prob, code) not in runs: continue
-        r = runs[(prob, code)]
-        n, steps = r[0][2], r[0][3]
-        threads = 2 if code == "cdm2" else 1
-        rss = statistics.median(x[1] for x in r) * 1024 / n
-        ratio = "-" if code == "cdm" else "%.2f" % (med[code] / med["cdm"])
-        name = "cdm" if code == "cdm2" else code
-        print(f"| {prob} | {name} | {threads} | {n} | {steps} | {med[code]:.2f} | {n*steps/med[code]/threads:.3g} | {rss:.0f} | {ratio} |")
-# Per segment (settle1e4: four windows of 10,000 steps, from the falling lattice to the
-# packed bed; the last is the dense phase): median loop time and the 1-thread cdm ratio.
-multi = sorted({p for (p, c), v in segs.items() if len(v[0]) > 1})
-for prob in multi:
-    nseg = len(segs[(prob, "cdm")][0])
-    print()
-    print(f"{prob}, per segment of {runs[(prob, 'cdm')][0][3] // nseg} steps: loop wall s, median (1-thread cdm speed / code)")
-    print()
-    print("| code | threads | " + " | ".join(f"segment {k + 1}" for k in range(nseg)) + " |")
-    print("|---|---|" + "---|" * nseg)
-    med = {c: [statistics.median(r[k] for r in segs[(prob, c)]) for k in range(nseg)] for (p, c) in segs if p == prob}
-    for code in ("cdm", "cdm2", "lammps", "liggghts"):
-        if code not in med: continue
-        cells = [f"{med[code][k]:.2f}" + ("" if code == "cdm" else f" ({med[code][k] / med['cdm'][k]:.2f})") for k in range(nseg)]
-        print(f"| {'cdm' if code == 'cdm2' else code} | {2 if code == 'cdm2' else 1} | " + " | ".join(cells) + " |")
-PY
+/usr/bin/python3 "$here/summarise.py" "$out/runs.txt" | tee "$out/summary.md"
 
 # probe_table BINARY TARGET TITLE [ARGS...]: a probe's table under TITLE, appended to the
 # summary; or, where the probe is not built, how to build it.
