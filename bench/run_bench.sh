@@ -43,12 +43,7 @@ for code in "${codes[@]}"; do
   esac
 done
 
-if ! command -v lmp > /dev/null || ! command -v liggghts > /dev/null; then
-  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps liggghts openmpi-bin
-fi
 [ -x "$cdm" ] || { echo "build cdm first (scripts/build.sh release)"; exit 1; }
-mkdir -p "$out"
 export OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 # problem -> nx ny steps (25 layers, segments as the peers' reference runs)
@@ -150,7 +145,14 @@ prepare_chute() {  # the flowing states the timed chute runs start from (once pe
       --max-steps 155440 > "$out/prep/cdm/log.txt"
   fi
 }
-for prob in "${problems[@]}"; do geometry "$prob" > /dev/null; done  # an unknown problem stops here, before any run
+
+# An unknown problem stops here, before anything is installed, written or run.
+for prob in "${problems[@]}"; do geometry "$prob" > /dev/null; done
+if ! command -v lmp > /dev/null || ! command -v liggghts > /dev/null; then
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps liggghts openmpi-bin
+fi
+mkdir -p "$out"
 for prob in "${problems[@]}"; do [ "$prob" = chute32k ] && prepare_chute; done
 
 : > "$out/runs.txt"
