@@ -76,61 +76,54 @@ peak_rss() {
     awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); if ($2 > m) m = $2} END {print m + 0}'
 }
 
-run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb" to $out/runs.txt
+run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb segments_s" to $out/runs.txt
   local code=$1 prob=$2 rep=$3 nx ny steps nseg seg
   read -r nx ny steps nseg seg < <(geometry "$prob")
   local dir="$out/raw/${code}_${prob}_r${rep}"
   rm -rf "$dir"; mkdir -p "$dir"
-  local n=$((nx * ny * 25)) loop
-  if [ "$prob" = chute32k ]; then
-    n=32000
-    case $code in
-      cdm|cdm2)
-        local threads=1; [ "$code" = cdm2 ] && threads=2
+  local n=$((nx * ny * 25)) rss segs
+  [ "$prob" = chute32k ] && n=32000
+  case $code in
+    cdm|cdm2)
+      local threads=1; [ "$code" = cdm2 ] && threads=2
+      if [ "$prob" = chute32k ]; then
         OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/chute32k.toml" -o "$dir" -q \
           --set integrator.end_time=1.0 --restart "$out/prep/cdm/checkpoint.cdmck" --max-steps "$steps" > "$dir/log.txt"
         rm -f "$dir/checkpoint.cdmck"
-        loop=$(awk '/^loop time/ {print $3}' "$dir/log.txt") ;;
-      *)
-        peer "$code" "$dir" "in.chute.${code%2}" -var nsteps "$steps" -var data "$out/prep/chute32k.data"
-        loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt") ;;
-    esac
-    local rss
-    rss=$(peak_rss "$dir")
-    [ "$code" = "${code%2}" ] || [ "$code" = cdm2 ] || rss=0  # two ranks: not measured
-    echo "$code $prob $n $steps $loop $rss $loop" | tee -a "$out/runs.txt"
-    return
-  fi
-  local rss segs
-  case $code in
-    cdm|cdm2)
-      # One process per segment, each restarting from the previous one's checkpoint
-      # (restarts are bit-identical), so each segment has its own loop time as the
-      # peers' 'run' commands do; the loop time is their sum, the peak RSS their maximum.
-      local threads=1; [ "$code" = cdm2 ] && threads=2
-      local lx ly k restart=()
-      lx=$(awk -v n="$nx" 'BEGIN{printf "%.6g", n*1.1e-3}'); ly=$(awk -v n="$ny" 'BEGIN{printf "%.6g", n*1.1e-3}')
-      for k in $(seq 1 "$nseg"); do
-        mkdir -p "$dir/seg$k"
-        OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/seg$k/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" \
-          -o "$dir/seg$k" -q --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" \
-          --set "walls[4].point=[0.0,$ly,0.0]" --set output.particles=false --set integrator.end_time=1.0 \
-          "${restart[@]}" --max-steps "$seg" > "$dir/seg$k/log.txt"
-        [ "$k" -gt 1 ] && rm -f "$dir/seg$((k - 1))/checkpoint.cdmck"
-        restart=(--restart "$dir/seg$k/checkpoint.cdmck")
-      done
-      rm -f "$dir/seg$nseg/checkpoint.cdmck"
-      segs=$(cat "$dir"/seg*/log.txt | awk '/^loop time/ {printf "%s%s", sep, $3; sep = ","}')
-      loop=$(echo "$segs" | tr ',' '\n' | awk '{s += $1} END {print s}')
-      rss=$(peak_rss "$dir"/seg*) ;;
+        segs=$(awk '/^loop time/ {print $3}' "$dir/log.txt")
+        rss=$(peak_rss "$dir")
+      else
+        # One process per segment, each restarting from the previous one's checkpoint
+        # (restarts are bit-identical), so each segment has its own loop time as the
+        # peers' 'run' commands do; the loop time is their sum, the peak RSS their maximum.
+        local lx ly k restart=()
+        lx=$(awk -v n="$nx" 'BEGIN{printf "%.6g", n*1.1e-3}'); ly=$(awk -v n="$ny" 'BEGIN{printf "%.6g", n*1.1e-3}')
+        for k in $(seq 1 "$nseg"); do
+          mkdir -p "$dir/seg$k"
+          OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/seg$k/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" \
+            -o "$dir/seg$k" -q --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" \
+            --set "walls[4].point=[0.0,$ly,0.0]" --set output.particles=false --set integrator.end_time=1.0 \
+            "${restart[@]}" --max-steps "$seg" > "$dir/seg$k/log.txt"
+          [ "$k" -gt 1 ] && rm -f "$dir/seg$((k - 1))/checkpoint.cdmck"
+          restart=(--restart "$dir/seg$k/checkpoint.cdmck")
+        done
+        rm -f "$dir/seg$nseg/checkpoint.cdmck"
+        segs=$(cat "$dir"/seg*/log.txt | awk '/^loop time/ {printf "%s%s", sep, $3; sep = ","}')
+        rss=$(peak_rss "$dir"/seg*)
+      fi ;;
     *)
-      peer "$code" "$dir" "in.settle.${code%2}" -var nx "$nx" -var ny "$ny" -var nz 25 -var nseg "$nseg" \
-        -var segsteps "$seg"
+      if [ "$prob" = chute32k ]; then
+        peer "$code" "$dir" "in.chute.${code%2}" -var nsteps "$steps" -var data "$out/prep/chute32k.data"
+      else
+        peer "$code" "$dir" "in.settle.${code%2}" -var nx "$nx" -var ny "$ny" -var nz 25 -var nseg "$nseg" \
+          -var segsteps "$seg"
+      fi
       segs=$(awk '/^Loop time/ {printf "%s%s", sep, $4; sep = ","}' "$dir/log.txt")
-      loop=$(awk '/^Loop time/ {s += $4} END {print s}' "$dir/log.txt")
       rss=$(peak_rss "$dir")
-      [ "$code" = "${code%2}" ] || rss=0 ;;  # two ranks: not measured
+      [ "$code" = "${code%2}" ] || rss=0 ;;  # two ranks: not measured (time sees only the largest)
   esac
+  local loop
+  loop=$(echo "$segs" | tr ',' '\n' | awk '{s += $1} END {print s}')
   echo "$code $prob $n $steps $loop $rss $segs" | tee -a "$out/runs.txt"
 }
 

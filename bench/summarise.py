@@ -33,6 +33,13 @@ def cores(code):
     return 2 if code.endswith("2") else 1
 
 
+def cdm_beside(code):
+    """The cdm run a peer's run is compared with (on as many cores), or None for cdm's own."""
+    if one_core(code) == "cdm":
+        return None
+    return "cdm2" if cores(code) == 2 else "cdm"
+
+
 def read(path):
     runs = defaultdict(list)  # (problem, code) -> [(loop, rss_kb, n, steps, [segments])]
     with open(path) as f:
@@ -85,8 +92,8 @@ def main():
             m = med[(prob, code)]
             rss = [r[1] for r in rows if r[1] > 0]
             rss_s = f"{statistics.median(rss) * 1024 / n:.0f}" if rss else "-"
-            cdm = "cdm2" if c == 2 else "cdm"
-            vs = fmt_ratio(m / med[(prob, cdm)]) if one_core(code) != "cdm" and (prob, cdm) in med else "-"
+            cdm = cdm_beside(code)
+            vs = fmt_ratio(m / med[(prob, cdm)]) if (prob, cdm) in med else "-"
             scale = fmt_ratio(med[(prob, one_core(code))] / m) if c == 2 and (prob, one_core(code)) in med else "-"
             each = ", ".join(fmt_s(r[0]) for r in rows)
             out.append(f"| {prob} | {one_core(code)} | {c} | {n} | {steps} | {fmt_s(m)} | {each} | "
@@ -94,12 +101,12 @@ def main():
 
     # Per segment, where a problem was timed in several.
     for prob in problems:
-        nseg = {len(r[4]) for (p, _), rows in runs.items() if p == prob for r in rows}
-        if max(nseg) < 2:
+        counts = {len(r[4]) for (p, _), rows in runs.items() if p == prob for r in rows}
+        if max(counts) < 2:
             continue
-        if len(nseg) != 1:
-            sys.exit(f"{sys.argv[1]}: {prob}'s runs have different numbers of segments: {sorted(nseg)}")
-        nseg = nseg.pop()
+        if len(counts) != 1:
+            sys.exit(f"{sys.argv[1]}: {prob}'s runs have different numbers of segments: {sorted(counts)}")
+        nseg = counts.pop()
         steps = next(rows[0][3] for (p, _), rows in runs.items() if p == prob)
         seg = {c: [statistics.median(r[4][k] for r in runs[(prob, c)]) for k in range(nseg)]
                for c in CODES if (prob, c) in runs}
@@ -110,8 +117,8 @@ def main():
         out.append("| code | cores | " + " | ".join(f"segment {k + 1}" for k in range(nseg)) + " |")
         out.append("|---|---|" + "---|" * nseg)
         for code, s in seg.items():
-            cdm = "cdm2" if cores(code) == 2 else "cdm"
-            cells = [fmt_s(s[k]) + (f" ({s[k] / seg[cdm][k]:.2f})" if one_core(code) != "cdm" and cdm in seg else "")
+            cdm = cdm_beside(code)
+            cells = [fmt_s(s[k]) + (f" ({s[k] / seg[cdm][k]:.2f})" if cdm in seg else "")
                      for k in range(nseg)]
             out.append(f"| {one_core(code)} | {cores(code)} | " + " | ".join(cells) + " |")
 
