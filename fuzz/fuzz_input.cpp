@@ -1,6 +1,8 @@
 /// @file fuzz_input.cpp
 /// @brief libFuzzer target for everything a user can hand cdm: scene files and
-/// checkpoints. The first byte picks which; the rest is the file. Every input must
+/// checkpoints. The first byte picks which (or CDM_FUZZ_ONLY does: 0 scenes only, 1
+/// checkpoints only, so that each reader gets a campaign of its own); the rest is the
+/// file. Every input must
 /// either load or be refused with SceneError/CheckpointError (what `cdm run` turns into
 /// exit status 2); anything else — a crash, another exception, a hang, unbounded
 /// allocation — is a finding.
@@ -15,7 +17,11 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
+#ifdef CDM_FUZZ_ONLY
+  const bool checkpoint = CDM_FUZZ_ONLY == 1;
+#else
   const bool checkpoint = data[0] & 1;
+#endif
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   if (!checkpoint) {
     try {
