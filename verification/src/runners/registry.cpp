@@ -5,7 +5,7 @@
 
 namespace cdm::verification {
 
-#define CDM_CASE_KINDS(KIND)    \
+#define CDM_CASE_KINDS(KIND)      \
   KIND(free_fall)                 \
   KIND(stacked)                   \
   KIND(slipping_ball)             \
