@@ -34,7 +34,7 @@ struct Variant {
 struct CaseDef {
   std::string name;       // folder name
   std::string dir;        // folder path
-  std::string kind;       // which runner (free_fall, stacked, slipping_ball)
+  std::string kind;       // which runner (free_fall, stacked, slipping_ball, ...)
   std::string scene;      // scene file path
   std::string title;
   std::vector<std::string> integrators;
@@ -73,7 +73,7 @@ struct RunOutput {
 
 using CaseRunner = std::function<RunOutput(const CaseDef&, const Variant&, const RunConfig&)>;
 
-/// Runner per case kind (registry in one place: cases.cpp).
+/// Runner per case kind (registry in one place: src/runners/registry.cpp).
 const std::map<std::string, CaseRunner>& case_runners();
 
 /// A tolerance from the case's tolerances.toml: first matching entry wins.
