@@ -22,8 +22,7 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
   static const toml::table empty;
   const toml::table& c = ct ? *ct : empty;
   rd.check_keys(c, "coupling", "coupling");
-  static constexpr Keywords<bool, 2> modes{{{"one_way", false}, {"two_way", true}}};  // value: two_way
-  spec.two_way = rd.keyword(c, "mode", "coupling", modes, false);
+  spec.two_way = rd.keyword(c, "mode", "coupling", coupling_mode_keywords, false);
   spec.coupling_method =
       rd.keyword(c, "method", "coupling", coupling::coupling_method_keywords, coupling::CouplingMethod::interpolate);
   if (spec.coupling_method == coupling::CouplingMethod::cell_average) {

@@ -67,8 +67,7 @@ void read_gas(const Reader& rd, SceneSpec& spec) {
   const char* face_names[6] = {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"};
   // A face is named by a keyword, or (solved gas) is an open face given by a table.
   using fluid::BoundaryKind;
-  const auto open = [](BoundaryKind k) { return k == BoundaryKind::velocity_inlet || k == BoundaryKind::pressure_outlet; };
-  const auto closed = [&open](BoundaryKind k) { return !open(k); };
+  const auto closed = [](BoundaryKind k) { return !is_open_face(k); };
   for (int f = 0; f < 6; ++f) {
     const std::string key = face_names[f];
     if (dim == 2 && f >= 4) {
@@ -92,8 +91,8 @@ void read_gas(const Reader& rd, SceneSpec& spec) {
     } else if (bn->is_table() && solved) {
       bopt = bn->as_table();
       rd.check_keys(*bopt, "gas.boundaries.*", bpath);
-      if (!bopt->get("type")) rd.fail_missing(bpath + ".type", keyword_list(fluid::boundary_keywords, open));
-      kind = rd.keyword(*bopt, "type", bpath, fluid::boundary_keywords, kind, open);
+      if (!bopt->get("type")) rd.fail_missing(bpath + ".type", keyword_list(fluid::boundary_keywords, is_open_face));
+      kind = rd.keyword(*bopt, "type", bpath, fluid::boundary_keywords, kind, is_open_face);
     } else {
       rd.fail_value(bpath, *bn, kinds);
     }

@@ -41,6 +41,50 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   return s;
 }
 
+namespace {
+
+template <class E, std::size_t N, class Keep>
+std::vector<std::string> names(const Keywords<E, N>& table, Keep keep, const char* first = nullptr) {
+  std::vector<std::string> v;
+  if (first) v.emplace_back(first);
+  for (const auto& k : table)
+    if (keep(k.value)) v.emplace_back(k.name);
+  return v;
+}
+
+template <class E, std::size_t N>
+std::vector<std::string> names(const Keywords<E, N>& table, const char* first = nullptr) {
+  return names(table, [](E) { return true; }, first);
+}
+
+}  // namespace
+
+const std::map<std::string, std::vector<std::string>>& keyword_schema() {
+  static const std::map<std::string, std::vector<std::string>> s = {
+      {"units", names(units_keywords)},
+      {"modules.normal_contact", names(contact_law_keywords, "none")},
+      {"modules.tangential", names(tangential_keywords)},
+      {"modules.rolling_resistance", names(rolling_keywords)},
+      {"modules.gas", names(gas_model_keywords)},
+      {"modules.drag", names(coupling::drag_law_keywords, "none")},
+      {"contacts[].model", names(contact_law_keywords)},
+      {"contacts[].damping", names(hertz_damping_keywords)},
+      {"drag.update", names(coupling::drag_update_keywords)},
+      {"gas.interpolation", names(fluid::interpolation_keywords)},
+      {"gas.advection",
+       names(fluid::advection_keywords, [](fluid::AdvectionScheme a) { return a != fluid::AdvectionScheme::none; })},
+      {"gas.boundaries.x_lower", names(fluid::boundary_keywords, [](fluid::BoundaryKind k) { return !is_open_face(k); })},
+      {"gas.boundaries.*.type", names(fluid::boundary_keywords, is_open_face)},
+      {"gas.field.type", names(fluid::field_type_keywords)},
+      {"coupling.mode", names(coupling_mode_keywords)},
+      {"coupling.method", names(coupling::coupling_method_keywords)},
+      {"coupling.kernel", names(coupling::kernel_keywords)},
+      {"coupling.gas_velocity", names(coupling::slip_velocity_keywords)},
+      {"integrator.scheme", names(integrator_keywords)},
+  };
+  return s;
+}
+
 std::string show(const toml::node& n) {
   std::ostringstream os;
   if (n.is_table()) os << "{table}";

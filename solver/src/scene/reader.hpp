@@ -28,6 +28,17 @@ constexpr std::size_t max_particles = 50'000'000;  // refuse scenes that would a
 /// entries of an array of tables). Keys not listed are errors.
 const std::map<std::string, std::vector<std::string>>& schema();
 
+/// The choices that are no enum: the file's units (value: cgs) and the coupling mode
+/// (value: two-way).
+inline constexpr Keywords<bool, 2> units_keywords{{{"SI", false}, {"cgs", true}}};
+inline constexpr Keywords<bool, 2> coupling_mode_keywords{{{"one_way", false}, {"two_way", true}}};
+/// A gas face given by a table (solved gas) rather than a keyword.
+inline bool is_open_face(fluid::BoundaryKind k) {
+  return k == fluid::BoundaryKind::velocity_inlet || k == fluid::BoundaryKind::pressure_outlet;
+}
+/// The keywords each key that takes one accepts (scene_schema_keywords()).
+const std::map<std::string, std::vector<std::string>>& keyword_schema();
+
 /// A value as the file wrote it, shortened for messages.
 std::string show(const toml::node& n);
 inline std::string join(const std::string& a, const std::string& b) { return a.empty() ? b : a + "." + b; }

@@ -148,4 +148,9 @@ std::vector<std::string> scene_schema_keys() {
   return keys;
 }
 
+std::vector<std::pair<std::string, std::vector<std::string>>> scene_schema_keywords() {
+  const auto& s = scene::keyword_schema();
+  return {s.begin(), s.end()};
+}
+
 }  // namespace cdm

@@ -5,13 +5,12 @@
 namespace cdm::scene {
 
 void read_units(Reader& rd, SceneSpec& spec) {
-  static constexpr Keywords<bool, 2> units{{{"SI", false}, {"cgs", true}}};  // value: cgs
   const toml::node* n = rd.root().get("units");
-  if (!n) rd.fail_missing("units", keyword_list(units));
-  if (!n->is_string()) rd.fail_value("units", *n, keyword_list(units));
+  if (!n) rd.fail_missing("units", keyword_list(units_keywords));
+  if (!n->is_string()) rd.fail_value("units", *n, keyword_list(units_keywords));
   const std::string u = n->as_string()->get();
-  const auto cgs = keyword_value(units, u);
-  if (!cgs) rd.fail_value("units", *n, keyword_list(units));
+  const auto cgs = keyword_value(units_keywords, u);
+  if (!cgs) rd.fail_value("units", *n, keyword_list(units_keywords));
   rd.set_cgs(*cgs);
   spec.units = u;
 }
