@@ -29,13 +29,10 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     modules_.push_back(std::make_unique<GravityModule>(spec_.g));
     gravity_ = modules_.back().get();
   }
-  if (spec_.normal_contact != NormalContactModel::none) {
-    // Verlet-list skin: a tenth of the largest diameter (as the peers' benchmarks use).
-    double d_max = 0.0;
-    for (const auto& ps : spec_.particles) d_max = std::max(d_max, 2.0 * ps.radius);
+  if (spec_.normal_contact) {
     const bool rolling = spec_.rolling == RollingModel::constant_torque;
     auto c = std::make_unique<ContactModule>(spec_.pairs, spec_.walls,
-                                             spec_.tangential == TangentialModel::spring_coulomb, 0.1 * d_max, rolling);
+                                             spec_.tangential == TangentialModel::spring_coulomb, spec_.verlet_skin, rolling);
     contact_ = c.get();
     contact_->set_periodic_box(spec_.periodic);
     // Velocity Verlet moves positions with its half-step velocities (hv, hw below).

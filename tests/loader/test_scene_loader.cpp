@@ -287,3 +287,18 @@ TEST(SceneLoader, NeighbourListSortInterval) {
   const std::string fall = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/terminal_velocity/scene.toml");
   expect_refused(fall + "\n[neighbour_list]\nsort_interval = 10\n", {"neighbour_list.sort_interval", "not used", "no contacts"});
 }
+
+namespace {
+
+// The Verlet skin is a tenth of the largest diameter; contacts reach 2 r_max + skin, and a
+// periodic axis must be more than twice that long.
+TEST(SceneLoader, VerletSkinSetsThePeriodicReach) {
+  const cdm::SceneSpec spec = cdm::load_scene_from_string(base, "base.toml");
+  EXPECT_DOUBLE_EQ(spec.verlet_skin, 0.1 * 2.0 * 0.1);  // radius 10 cm
+  const std::string periodic = base + "\n[periodic]\nx = [-50.0, 50.0]\n";
+  EXPECT_NO_THROW(cdm::load_scene_from_string(replace(periodic, "[-50.0, 50.0]", "[-22.5, 22.5]"), "ok.toml"));
+  expect_refused(replace(periodic, "[-50.0, 50.0]", "[-21.5, 21.5]"),
+                 {"the period along x (periodic.x)", "4.4 times the largest radius", "Verlet skin"});
+}
+
+}  // namespace

@@ -5,21 +5,6 @@
 
 namespace cdm::coupling {
 
-const char* to_string(Kernel k) {
-  switch (k) {
-    case Kernel::cell: return "cell";
-    case Kernel::trilinear: return "trilinear";
-    case Kernel::gaussian: return "gaussian";
-  }
-  return "?";
-}
-
-const char* to_string(SlipVelocity s) { return s == SlipVelocity::interstitial ? "interstitial" : "superficial"; }
-
-const char* to_string(CouplingMethod m) {
-  return m == CouplingMethod::cell_average ? "cell_average" : "interpolate";
-}
-
 Deposition::Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double width)
     : grid_(&grid), kernel_(kernel), sigma_(width) {}
 

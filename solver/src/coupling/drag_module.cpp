@@ -9,26 +9,6 @@
 
 namespace cdm::coupling {
 
-const char* to_string(DragLaw law) {
-  switch (law) {
-    case DragLaw::schiller_naumann: return "schiller_naumann";
-    case DragLaw::wen_yu: return "wen_yu";
-    case DragLaw::gidaspow: return "gidaspow";
-    case DragLaw::di_felice: return "di_felice";
-    case DragLaw::beetstra: return "beetstra";
-  }
-  return "?";
-}
-
-const char* to_string(DragUpdate u) {
-  switch (u) {
-    case DragUpdate::explicit_force: return "explicit";
-    case DragUpdate::implicit: return "implicit";
-    case DragUpdate::exponential: return "exponential";
-  }
-  return "?";
-}
-
 std::string DragModule::name() const { return std::string("drag_") + to_string(law_) + "_" + to_string(update_); }
 
 double DragModule::void_fraction_at(Vec3 x) const {

@@ -8,15 +8,6 @@
 
 namespace cdm::fluid {
 
-const char* to_string(AdvectionScheme a) {
-  switch (a) {
-    case AdvectionScheme::central: return "central";
-    case AdvectionScheme::upwind: return "upwind";
-    case AdvectionScheme::none: return "none";
-  }
-  return "?";
-}
-
 struct GasSolver::PressureSystem {
   Eigen::SparseMatrix<double> A;  // −∇·(ε_f ∇·) over Δ, symmetric positive (semi)definite
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;

@@ -4,15 +4,6 @@
 
 namespace cdm::fluid {
 
-const char* to_string(InterpolationScheme s) {
-  switch (s) {
-    case InterpolationScheme::trilinear: return "trilinear";
-    case InterpolationScheme::paper_lagrange2: return "paper_lagrange2";
-    case InterpolationScheme::analytic: return "analytic";
-  }
-  return "?";
-}
-
 void VectorInterpolator::update(const std::vector<double>& u, const std::vector<double>& v,
                                 const std::vector<double>& w) {
   u_ = &u;

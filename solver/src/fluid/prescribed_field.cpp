@@ -5,16 +5,6 @@
 
 namespace cdm::fluid {
 
-const char* to_string(FieldType f) {
-  switch (f) {
-    case FieldType::single_vortex: return "single_vortex";
-    case FieldType::leveque_deformation: return "leveque_deformation";
-    case FieldType::taylor_green: return "taylor_green";
-    case FieldType::uniform: return "uniform";
-  }
-  return "?";
-}
-
 Vec3 PrescribedField::shape(Vec3 x) const {
   constexpr double pi = std::numbers::pi;
   const double U = s_.amplitude;

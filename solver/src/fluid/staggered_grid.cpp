@@ -5,17 +5,6 @@
 
 namespace cdm::fluid {
 
-const char* to_string(BoundaryKind k) {
-  switch (k) {
-    case BoundaryKind::periodic: return "periodic";
-    case BoundaryKind::no_slip: return "no_slip";
-    case BoundaryKind::free_slip: return "free_slip";
-    case BoundaryKind::velocity_inlet: return "velocity_inlet";
-    case BoundaryKind::pressure_outlet: return "pressure_outlet";
-  }
-  return "?";
-}
-
 StaggeredGrid::StaggeredGrid(const GridSpec& spec) : spec_(spec) {
   const double lo[3] = {spec.lo.x, spec.lo.y, spec.lo.z}, hi[3] = {spec.hi.x, spec.hi.y, spec.hi.z};
   for (int a = 0; a < 3; ++a) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cdm/solver/contact/hertz_mindlin.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm {
 
@@ -29,8 +30,14 @@ struct Material {
 
 /// The force law of a pair of materials.
 enum class ContactLaw : std::uint8_t { linear_spring_dashpot, hertz_mindlin };
+inline constexpr Keywords<ContactLaw, 2> contact_law_keywords{
+    {{"linear_spring_dashpot", ContactLaw::linear_spring_dashpot}, {"hertz_mindlin", ContactLaw::hertz_mindlin}}};
+inline const char* to_string(ContactLaw law) { return keyword_of(contact_law_keywords, law); }
 /// How a Hertz–Mindlin pair's dashpot follows from its restitution coefficient.
 enum class HertzDamping : std::uint8_t { exact_restitution, tsuji };
+inline constexpr Keywords<HertzDamping, 2> hertz_damping_keywords{
+    {{"exact_restitution", HertzDamping::exact_restitution}, {"tsuji", HertzDamping::tsuji}}};
+inline const char* to_string(HertzDamping d) { return keyword_of(hertz_damping_keywords, d); }
 
 /// Contact parameters for one unordered pair of materials.
 struct PairParams {

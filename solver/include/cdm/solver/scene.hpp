@@ -12,6 +12,7 @@
 #include "cdm/solver/coupling/drag_laws.hpp"
 #include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
+#include "cdm/solver/keywords.hpp"
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
@@ -19,14 +20,22 @@
 
 namespace cdm {
 
-/// The scene's default normal contact law (a [[contacts]] entry may name another).
-enum class NormalContactModel { none, linear_spring_dashpot, hertz_mindlin };
 enum class TangentialModel { none, spring_coulomb };
+inline constexpr Keywords<TangentialModel, 2> tangential_keywords{
+    {{"none", TangentialModel::none}, {"spring_coulomb", TangentialModel::spring_coulomb}}};
 enum class RollingModel { none, constant_torque };
+inline constexpr Keywords<RollingModel, 2> rolling_keywords{
+    {{"none", RollingModel::none}, {"constant_torque", RollingModel::constant_torque}}};
 enum class IntegratorScheme { paper_euler, velocity_verlet, rk2, rk4, exponential_midpoint };
+inline constexpr Keywords<IntegratorScheme, 5> integrator_keywords{{{"paper_euler", IntegratorScheme::paper_euler},
+                                                                    {"velocity_verlet", IntegratorScheme::velocity_verlet},
+                                                                    {"rk2", IntegratorScheme::rk2},
+                                                                    {"rk4", IntegratorScheme::rk4},
+                                                                    {"exponential_midpoint", IntegratorScheme::exponential_midpoint}}};
+inline const char* to_string(IntegratorScheme s) { return keyword_of(integrator_keywords, s); }
 enum class GasModel { none, prescribed, solved };
-
-const char* to_string(IntegratorScheme s);
+inline constexpr Keywords<GasModel, 3> gas_model_keywords{
+    {{"none", GasModel::none}, {"prescribed", GasModel::prescribed}, {"solved", GasModel::solved}}};
 
 struct ParticleSpec {
   Vec3 position;          // [m]
@@ -56,7 +65,9 @@ struct SceneSpec {
   // Modules: only what is named here is built.
   bool gravity = false;
   Vec3 g;                                          // [m/s^2]
-  NormalContactModel normal_contact = NormalContactModel::none;
+  /// The normal contact law of pairs whose [[contacts]] entry names none; no value when
+  /// the scene has no contacts at all.
+  std::optional<ContactLaw> normal_contact;
   TangentialModel tangential = TangentialModel::none;
   RollingModel rolling = RollingModel::none;
   /// Gas phase: none (a DEM-only scene builds no grid) or a prescribed field.
@@ -86,6 +97,9 @@ struct SceneSpec {
   PeriodicBox periodic;
   std::vector<ParticleSpec> particles;
   std::vector<ParticleGroup> groups;  // covers particles in order
+  /// Verlet-list margin [m]: a tenth of the largest particle diameter. Contacts reach
+  /// 2 r_max + verlet_skin.
+  double verlet_skin = 0.0;
 
   IntegratorScheme integrator = IntegratorScheme::paper_euler;
   bool dt_auto = true;

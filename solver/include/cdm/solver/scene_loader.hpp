@@ -39,4 +39,9 @@ SceneSpec load_scene_from_string(const std::string& toml_text, const std::string
 /// (e.g. "materials[].density").
 std::vector<std::string> scene_schema_keys();
 
+/// The keywords accepted by each key whose value is a keyword, e.g. {"modules.gas",
+/// {"none", "prescribed", "solved"}}. The loader parses, prints and lists these keywords
+/// from one table per choice (keywords.hpp).
+std::vector<std::pair<std::string, std::vector<std::string>>> scene_schema_keywords();
+
 }  // namespace cdm

@@ -16,25 +16,29 @@
 #include <vector>
 
 #include "cdm/solver/fluid/staggered_grid.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm::coupling {
 
 enum class Kernel { cell, trilinear, gaussian };
-const char* to_string(Kernel k);
+inline constexpr Keywords<Kernel, 3> kernel_keywords{{{"cell", Kernel::cell}, {"trilinear", Kernel::trilinear}, {"gaussian", Kernel::gaussian}}};
+inline const char* to_string(Kernel k) { return keyword_of(kernel_keywords, k); }
 
 /// The gas velocity a particle's drag sees (the "interpolate" method).
 enum class SlipVelocity {
   interstitial,  // the face velocities u_f interpolated to the particle (Garg et al. eq 32)
   superficial    // the face fluxes ε_f u_f interpolated, divided by the particle's ε_g
 };
-const char* to_string(SlipVelocity s);
+inline constexpr Keywords<SlipVelocity, 2> slip_velocity_keywords{{{"interstitial", SlipVelocity::interstitial}, {"superficial", SlipVelocity::superficial}}};
+inline const char* to_string(SlipVelocity s) { return keyword_of(slip_velocity_keywords, s); }
 
 /// How drag couples particles and a solved gas (Garg et al. 2012 §2.2.3).
 enum class CouplingMethod {
   cell_average,  // eqs 33–35: cell-centred gas velocity, cell-averaged solids velocity
   interpolate    // eqs 32, 36: gas velocity at each particle, forces deposited by a kernel
 };
-const char* to_string(CouplingMethod m);
+inline constexpr Keywords<CouplingMethod, 2> coupling_method_keywords{{{"interpolate", CouplingMethod::interpolate}, {"cell_average", CouplingMethod::cell_average}}};
+inline const char* to_string(CouplingMethod m) { return keyword_of(coupling_method_keywords, m); }
 
 class Deposition {
  public:

@@ -45,13 +45,17 @@
 #include <cmath>
 #include <numbers>
 
+#include "cdm/solver/keywords.hpp"
+
 namespace cdm::coupling {
 
 enum class DragLaw { schiller_naumann, wen_yu, gidaspow, di_felice, beetstra };
-const char* to_string(DragLaw law);
+inline constexpr Keywords<DragLaw, 5> drag_law_keywords{{{"schiller_naumann", DragLaw::schiller_naumann}, {"wen_yu", DragLaw::wen_yu}, {"gidaspow", DragLaw::gidaspow}, {"di_felice", DragLaw::di_felice}, {"beetstra", DragLaw::beetstra}}};
+inline const char* to_string(DragLaw law) { return keyword_of(drag_law_keywords, law); }
 /// How the drag enters the velocity update (drag_module.hpp).
 enum class DragUpdate { explicit_force, implicit, exponential };
-const char* to_string(DragUpdate u);
+inline constexpr Keywords<DragUpdate, 3> drag_update_keywords{{{"explicit", DragUpdate::explicit_force}, {"implicit", DragUpdate::implicit}, {"exponential", DragUpdate::exponential}}};
+inline const char* to_string(DragUpdate u) { return keyword_of(drag_update_keywords, u); }
 
 namespace drag {
 

@@ -35,11 +35,13 @@
 #include <vector>
 
 #include "cdm/solver/fluid/gas_field.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm::fluid {
 
 enum class AdvectionScheme { central, upwind, none };
-const char* to_string(AdvectionScheme a);
+inline constexpr Keywords<AdvectionScheme, 3> advection_keywords{{{"upwind", AdvectionScheme::upwind}, {"central", AdvectionScheme::central}, {"none", AdvectionScheme::none}}};
+inline const char* to_string(AdvectionScheme a) { return keyword_of(advection_keywords, a); }
 
 struct GasSolverSpec {
   AdvectionScheme advection = AdvectionScheme::central;

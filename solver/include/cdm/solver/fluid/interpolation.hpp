@@ -19,13 +19,15 @@
 #include <vector>
 
 #include "cdm/solver/fluid/staggered_grid.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm::fluid {
 
 /// `analytic` (prescribed fields only) bypasses the grid: the closed form is evaluated at
 /// the particle, which isolates time-integration error in verification studies.
 enum class InterpolationScheme { trilinear, paper_lagrange2, analytic };
-const char* to_string(InterpolationScheme s);
+inline constexpr Keywords<InterpolationScheme, 3> interpolation_keywords{{{"paper_lagrange2", InterpolationScheme::paper_lagrange2}, {"trilinear", InterpolationScheme::trilinear}, {"analytic", InterpolationScheme::analytic}}};
+inline const char* to_string(InterpolationScheme s) { return keyword_of(interpolation_keywords, s); }
 
 class VectorInterpolator {
  public:

@@ -21,11 +21,13 @@
 #include <string>
 
 #include "cdm/solver/vec3.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm::fluid {
 
 enum class FieldType { single_vortex, leveque_deformation, taylor_green, uniform };
-const char* to_string(FieldType f);
+inline constexpr Keywords<FieldType, 4> field_type_keywords{{{"single_vortex", FieldType::single_vortex}, {"leveque_deformation", FieldType::leveque_deformation}, {"taylor_green", FieldType::taylor_green}, {"uniform", FieldType::uniform}}};
+inline const char* to_string(FieldType f) { return keyword_of(field_type_keywords, f); }
 
 struct PrescribedFieldSpec {
   FieldType type = FieldType::uniform;

@@ -30,11 +30,13 @@
 #include <vector>
 
 #include "cdm/solver/vec3.hpp"
+#include "cdm/solver/keywords.hpp"
 
 namespace cdm::fluid {
 
 enum class BoundaryKind { periodic, no_slip, free_slip, velocity_inlet, pressure_outlet };
-const char* to_string(BoundaryKind k);
+inline constexpr Keywords<BoundaryKind, 5> boundary_keywords{{{"periodic", BoundaryKind::periodic}, {"no_slip", BoundaryKind::no_slip}, {"free_slip", BoundaryKind::free_slip}, {"velocity_inlet", BoundaryKind::velocity_inlet}, {"pressure_outlet", BoundaryKind::pressure_outlet}}};
+inline const char* to_string(BoundaryKind k) { return keyword_of(boundary_keywords, k); }
 
 struct Boundary {
   BoundaryKind kind = BoundaryKind::no_slip;

@@ -1,0 +1,156 @@
+/// @file scene_loader.cpp
+/// @brief TOML scene → validated SceneSpec in SI units: the public entry points, the
+/// overrides and the order in which the sections (sections.hpp) are read. The scene
+/// loader is the only place in solver/ that reads TOML or converts units.
+#include "cdm/solver/scene_loader.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "sections.hpp"
+
+namespace cdm {
+
+std::string particle_source(const SceneSpec& spec, std::size_t i) {
+  for (const auto& g : spec.groups)
+    if (i >= g.first && i < g.first + g.count) {
+      if (g.nx == 0) return g.key;
+      const auto k = static_cast<long long>(i - g.first);
+      return g.key + " (lattice site " + std::to_string(k % g.nx) + "," + std::to_string((k / g.nx) % g.ny) + "," +
+             std::to_string(k / (g.nx * g.ny)) + ")";
+    }
+  return "particle " + std::to_string(i);
+}
+
+namespace {
+
+SceneSpec load(const std::string& file, const toml::table& root) {
+  using namespace scene;
+  SceneSpec spec;
+  spec.file = file;
+  Reader rd(file, root);
+  rd.check_keys(root, "", "");
+  read_units(rd, spec);
+  read_modules(rd, spec);
+  read_materials(rd, spec);
+  read_contacts(rd, spec);
+  check_elastic_constants_used(rd, spec);
+  read_walls(rd, spec);
+  read_gas(rd, spec);
+  read_periodic(rd, spec);
+  read_particles(rd, spec);
+  read_integrator(rd, spec);
+  read_output_and_checks(rd, spec);
+  resolve_dt(rd, root.get("integrator")->as_table(), spec);
+  check_initial_state(rd, spec);
+  return spec;
+}
+
+// Walk "a.b[2].c" inside a table and set the final key to value.
+void apply_override(toml::table& root, const SceneOverride& o, const std::string& file) {
+  auto bad = [&](const std::string& why) {
+    throw SceneError(file + ": override '" + o.path + "=" + o.value + "': " + why);
+  };
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + o.value);
+  } catch (const toml::parse_error& e) {
+    bad("the value is not TOML (" + std::string(e.description()) + "); strings need quotes");
+  }
+  toml::node* value = parsed.get("v");
+  std::vector<std::pair<std::string, long>> segs;  // key, index (-1 for none)
+  std::string rest = o.path;
+  while (!rest.empty()) {
+    const auto dot = rest.find('.');
+    std::string seg = rest.substr(0, dot);
+    rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
+    long idx = -1;
+    if (auto b = seg.find('['); b != std::string::npos) {
+      const auto e = seg.find(']', b);
+      if (e == std::string::npos) bad("unbalanced [ in the path");
+      try { idx = std::stol(seg.substr(b + 1, e - b - 1)); } catch (...) { bad("array index is not a number"); }
+      if (idx < 0) bad("negative array index");
+      seg = seg.substr(0, b);
+    }
+    if (seg.empty()) bad("empty key in the path");
+    segs.emplace_back(seg, idx);
+  }
+  if (segs.empty()) bad("empty path");
+  toml::table* cur = &root;
+  for (std::size_t s = 0; s < segs.size(); ++s) {
+    const bool last = s + 1 == segs.size();
+    const auto& [key, idx] = segs[s];
+    if (last && idx < 0) { cur->insert_or_assign(key, *value); return; }
+    toml::node* n = cur->get(key);
+    if (!n) {
+      if (idx >= 0) bad("no array '" + key + "' in the scene");
+      cur->insert_or_assign(key, toml::table{});
+      n = cur->get(key);
+    }
+    if (idx >= 0) {
+      toml::array* a = n->as_array();
+      if (!a || static_cast<std::size_t>(idx) >= a->size()) bad("no element " + std::to_string(idx) + " in '" + key + "'");
+      if (last) { a->replace(a->begin() + idx, *value); return; }
+      n = a->get(static_cast<std::size_t>(idx));
+    }
+    cur = n->as_table();
+    if (!cur) bad("'" + key + "' is not a table");
+  }
+}
+
+SceneSpec load_table(toml::table root, const std::string& name, const std::vector<SceneOverride>& overrides) {
+  for (const auto& o : overrides) apply_override(root, o, name);
+  return load(name, root);
+}
+
+}  // namespace
+
+SceneOverride parse_override(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError("override '" + text + "': expected path=value, e.g. contacts[0].kn=1e7");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+SceneSpec load_scene_from_string(const std::string& text, const std::string& name,
+                                 const std::vector<SceneOverride>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << name << ":" << e.source().begin.line << ":" << e.source().begin.column
+       << ": does not parse as TOML: " << e.description();
+    throw SceneError(os.str());
+  }
+  return load_table(std::move(root), name, overrides);
+}
+
+SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return load_scene_from_string(ss.str(), path, overrides);
+}
+
+std::vector<std::string> scene_schema_keys() {
+  std::vector<std::string> keys;
+  for (const auto& [table, ks] : scene::schema())
+    for (const auto& k : ks) {
+      // Sub-tables are listed by their own entries; list only leaf keys.
+      const std::string full = table.empty() ? k : table + "." + k;
+      const bool is_table = scene::schema().count(full) || scene::schema().count(full + "[]");
+      if (!is_table) keys.push_back(full);
+    }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> scene_schema_keywords() {
+  const auto& s = scene::keyword_schema();
+  return {s.begin(), s.end()};
+}
+
+}  // namespace cdm

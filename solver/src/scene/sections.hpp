@@ -1,0 +1,46 @@
+#pragma once
+/// @file sections.hpp
+/// @brief The sections of a scene file, each read into SceneSpec by its own function, in
+/// the order load() calls them (a section may rely on those read before it).
+#include <cstddef>
+#include <random>
+#include <string>
+#include <toml++/toml.h>
+
+#include "reader.hpp"
+
+namespace cdm::scene {
+
+// units_modules.cpp
+void read_units(Reader& rd, SceneSpec& spec);
+void read_modules(const Reader& rd, SceneSpec& spec);
+// materials_contacts.cpp
+void read_materials(const Reader& rd, SceneSpec& spec);
+void read_contacts(const Reader& rd, SceneSpec& spec);
+void check_elastic_constants_used(const Reader& rd, const SceneSpec& spec);
+// walls_periodic.cpp
+void read_walls(const Reader& rd, SceneSpec& spec);
+void read_periodic(const Reader& rd, SceneSpec& spec);
+// gas.cpp, prescribed_field.cpp, coupling.cpp
+void read_gas(const Reader& rd, SceneSpec& spec);
+void read_prescribed_field(const Reader& rd, const toml::table& gt, SceneSpec& spec);
+void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec);
+// particles.cpp, random_particles.cpp
+void read_particles(const Reader& rd, SceneSpec& spec);
+/// The material of a placed particle: one with a density (tracers excepted).
+int particle_material(const Reader& rd, const SceneSpec& spec, const toml::table& t, const std::string& path);
+/// The count of particles an entry places: an integer >= 1 within max_particles in all.
+std::size_t particle_count(const Reader& rd, const SceneSpec& spec, const toml::table& t, const std::string& path);
+/// Uniform in [0, 1) from a 64-bit Mersenne twister with a fixed mapping to doubles, so a
+/// scene gives the same particles on every platform.
+inline double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& spec);
+// integrator.cpp
+void read_integrator(const Reader& rd, SceneSpec& spec);
+void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec);
+// output_checks.cpp
+void read_output_and_checks(const Reader& rd, SceneSpec& spec);
+// initial_state.cpp
+void check_initial_state(const Reader& rd, const SceneSpec& spec);
+
+}  // namespace cdm::scene
