@@ -1,5 +1,7 @@
 #include "cdm/solver/simulation.hpp"
 
+#include "cdm/solver/contact/rolling_resistance_module.hpp"
+#include "cdm/solver/gravity_module.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/scene_loader.hpp"
 

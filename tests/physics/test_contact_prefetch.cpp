@@ -44,9 +44,9 @@ State run(cdm::ContactModule::Prefetch mode, int threads, int steps) {
     s.contacts = std::max(s.contacts, sim.contact()->active_contacts());
   }
   s.particles = sim.particles();
-  s.builds = sim.contact()->list_builds();
+  s.builds = sim.contact()->list().builds();
   s.prefetched = sim.contact()->prefetched();
-  const std::vector<std::uint32_t>& start = sim.contact()->slab_start();
+  const std::vector<std::uint32_t>& start = sim.contact()->list().slab_start();
   for (std::size_t q = 0; q + 1 < start.size(); ++q)
     s.largest_slab = std::max<std::size_t>(s.largest_slab, start[q + 1] - start[q]);
   omp_set_num_threads(before);

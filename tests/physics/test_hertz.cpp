@@ -1,4 +1,4 @@
-// Hertz–Mindlin and rolling resistance: the pure force laws against hand-computed
+// Hertz–Mindlin and rolling resistance: the force laws (and the kernel the solver calls) against hand-computed
 // values and the published equations (the oracles, for what needs an ODE), and
 // physical laws of whole runs: restitution from the velocity ratio, conservation of
 // momentum, energy and angular momentum. And: the linear model's results do not depend
@@ -34,6 +34,32 @@ TEST(HertzLaw, EffectiveModuliAndForces) {
   EXPECT_NEAR(contact::mindlin_stiffness(8.0e9, 4.0e-3, 1.0e-6), 8.0 * 8.0e9 * std::sqrt(4.0e-9), 1e-3);
   // Dashpot eta_n = alpha sqrt(m* K) d^(1/4).
   EXPECT_NEAR(contact::hertz_normal_damping(0.5, 2.0e-3, k, 1.0e-8), 0.5 * std::sqrt(2.0e-3 * k) * 1.0e-2, 1e-12);
+}
+
+TEST(HertzLaw, KernelAssemblesTheLaw) {
+  // The kernel the contact module calls per contact, from the functions above:
+  // F_n = -K d^(3/2) eta - eta_n V_n, k_t = 8 G* sqrt(R* d), eta_t = etat_factor eta_n.
+  namespace hm = contact::hertz_mindlin;
+  const hm::Params pp{3.0e10, 8.0e9, 0.5, 0.8, 0.4};
+  const double m = 2.0e-3, r = 4.0e-3, d = 1.0e-8, dt = 1e-8;
+  const contact::ContactGeometry g{d, {0.0, 0.0, 1.0}, {0.0, 0.01, 0.2}, {0.0, 0.01, 0.2}};
+  const double k = contact::hertz_constant(pp.e_star, r);
+  const double eta_n = contact::hertz_normal_damping(pp.alpha, m, k, d);
+  const double fn = contact::hertz_elastic_force(k, d) + eta_n * 0.2;
+  const contact::ContactForce n = hm::force<false>(pp, m, r, g, dt, {});
+  EXPECT_DOUBLE_EQ(n.total.z, -fn);
+  EXPECT_EQ(n.total.y, 0.0);
+  EXPECT_DOUBLE_EQ(n.normal_magnitude, fn);
+  // A new contact sticking: delta_t = V_t min(d/V_n, dt) = 0.01 dt along y.
+  Vec3 hist{};
+  std::uint8_t touching = 0;
+  const contact::ContactForce f = hm::force<true>(pp, m, r, g, dt, {&hist, &touching});
+  const double kt = contact::mindlin_stiffness(pp.g_star, r, d);
+  EXPECT_EQ(touching, 1);
+  EXPECT_DOUBLE_EQ(hist.y, 0.01 * dt);
+  EXPECT_DOUBLE_EQ(f.tangential.y, -kt * 0.01 * dt - pp.etat_factor * eta_n * 0.01);
+  EXPECT_LT(std::abs(f.tangential.y), pp.mu * fn);
+  EXPECT_DOUBLE_EQ(f.total.z, n.total.z);
 }
 
 TEST(HertzLaw, DampingFormsAndRestitution) {

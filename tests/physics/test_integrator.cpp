@@ -149,7 +149,7 @@ TEST(VelocityVerlet, ListsAreRebuiltAtTheStepADisplacementPassesHalfTheSkin) {
       const double dx = x[q] - built[q], dy = x[q + 1] - built[q + 1], dz = x[q + 2] - built[q + 2];
       worst = std::max(worst, dx * dx + dy * dy + dz * dz);
     }
-    const std::size_t b = sim.contact()->list_builds();
+    const std::size_t b = sim.contact()->list().builds();
     if (k == 1) {
       ASSERT_EQ(b, 1u) << "the test expects no rebuild at the first step";
     }
@@ -203,7 +203,7 @@ TEST(VelocityVerlet, PassCoversEveryBlock) {
     sim.particles().vy[fast] = 10.0;
     for (int k = 1; k <= 20; ++k) {
       sim.step();
-      if (sim.contact()->list_builds() > 1) return k;
+      if (sim.contact()->list().builds() > 1) return k;
     }
     return -1;
   };

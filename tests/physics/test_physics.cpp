@@ -110,4 +110,29 @@ TEST(ContactLaw, TangentialDisplacementStaysInTangentPlane) {
   EXPECT_DOUBLE_EQ(s.x, 0.5e-6);
 }
 
+TEST(ContactLaw, LinearKernelAssemblesEq10And11) {
+  // The kernel the contact module calls per contact. Normal along +x, approaching at
+  // 0.1 m/s with 0.3 m/s of sliding along y; kn = 1000 N/m, eta_n = 2 kg/s, delta = 1 um.
+  namespace lsd = cdm::contact::linear_spring_dashpot;
+  const lsd::Params pp{1000.0, 0.4, 0.5, 0.3};
+  const cdm::contact::ContactGeometry g{1e-6, {1.0, 0.0, 0.0}, {0.1, 0.3, 0.0}, {0.1, 0.3, 0.0}};
+  // Frictionless: F_n = -(kn delta + eta_n V.eta) eta = -(1e-3 + 0.2) x.
+  const cdm::contact::ContactForce n = lsd::force<false>(pp, 2.0, g, 2e-5, {});
+  EXPECT_DOUBLE_EQ(n.total.x, -(1e-3 + 0.2));
+  EXPECT_EQ(n.total.y, 0.0);
+  EXPECT_DOUBLE_EQ(n.normal_magnitude, 1e-3 + 0.2);
+  EXPECT_EQ(norm(n.tangential), 0.0);
+  // With friction, a new contact: delta_t = V_t min(delta/V_n, dt) = 0.3 * 1e-5 along y (dt = 2e-5),
+  // F_t = -kt delta_t - eta_t V_t = -(400 * 3e-6 + 1 * 0.3) = -0.3012 > mu |F_n| = 0.0603:
+  // sliding, F_t = -mu |F_n| along V_t.
+  cdm::Vec3 hist{};
+  std::uint8_t touching = 0;
+  const cdm::contact::ContactForce f = lsd::force<true>(pp, 2.0, g, 2e-5, {&hist, &touching});
+  EXPECT_EQ(touching, 1);
+  EXPECT_DOUBLE_EQ(hist.y, 0.3 * 1e-5);
+  EXPECT_DOUBLE_EQ(f.tangential.y, -0.3 * (1e-3 + 0.2));
+  EXPECT_DOUBLE_EQ(f.total.x, n.total.x);
+  EXPECT_DOUBLE_EQ(f.total.y, f.tangential.y);
+}
+
 }  // namespace

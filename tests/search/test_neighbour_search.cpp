@@ -11,7 +11,7 @@
 
 #include <omp.h>
 
-#include "cdm/solver/modules.hpp"
+#include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 #include "cdm/solver/parallel.hpp"
 
@@ -245,7 +245,7 @@ TEST(PeriodicContacts, FixedParticlesActAsInfiniteMass) {
   p.add({0.0019, 0.0, 0.0}, {}, 1e-3, 2500.0, 0, true);  // overlaps the first: not a contact
   cdm::ContactModule c(linear_table(), {}, false);
   c.add_forces(p, 1e-6);
-  EXPECT_EQ(c.listed_pairs(), 1u);
+  EXPECT_EQ(c.list().size(), 1u);
   cdm::ParticleStore w;
   w.add({0.0, 0.0019, 0.0}, {0.0, -0.1, 0.0}, 1e-3, 2500.0, 0);
   cdm::ContactModule cw(linear_table(), {{"floor", {0.0, 0.001, 0.0}, {0.0, 1.0, 0.0}, 0}}, false);
@@ -303,7 +303,7 @@ TEST(PeriodicContacts, CommonMassDampingEqualsPerContactDamping) {
 }  // namespace
 
 // Spatial sorting: ParticleStore::permute moves every field with its particle and keeps
-// identities; ContactModule::spatial_order is a permutation that puts the particles of
+// identities; VerletList::spatial_order is a permutation that puts the particles of
 // one cell next to each other, slab axis slowest; and forces evaluated on the permuted
 // store (module state permuted alike) are the unsorted ones, particle by particle.
 TEST(SpatialSort, PermuteMovesEveryFieldWithItsParticle) {

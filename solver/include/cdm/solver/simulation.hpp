@@ -13,7 +13,7 @@
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/coupling/drag_module.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
-#include "cdm/solver/modules.hpp"
+#include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/scene.hpp"
 

@@ -1,6 +1,7 @@
 #pragma once
 /// @file hertz_mindlin.hpp
-/// @brief Hertz–Mindlin contact laws as small pure functions.
+/// @brief The Hertz–Mindlin contact law: small pure functions and the kernel the
+/// contact module calls per contact (hertz_mindlin::force).
 ///
 /// Normal force (Hertz 1882; Johnson, Contact Mechanics, 1985, §4.2) with a dashpot
 /// of the Tsuji, Tanaka & Ishida (1992, Powder Technol. 71, 239) form:
@@ -27,13 +28,14 @@
 ///   F_t = −k_t δ_t − η_t V_t,   η_t = η_n √(S_t/S_n) = 2 η_n √(G*/E*),
 /// (S_t = 8G*√(R*δ): LIGGGHTS' γ_t = 2√(5/6) β √(S_t m*) has this ratio to γ_n). δ_t is
 /// updated and projected onto the tangent plane exactly as the linear model's
-/// (linear_spring_dashpot.hpp, eqs 14–16). Coulomb limit as LIGGGHTS' `tangential
+/// (contact_geometry.hpp, eqs 14–16). Coulomb limit as LIGGGHTS' `tangential
 /// history`: if the spring force |k_t δ_t| exceeds μ|F_n| the contact slides, the
 /// history is rescaled so that |k_t δ_t| = μ|F_n| and F_t = −k_t δ_t (no dashpot);
 /// otherwise F_t = −k_t δ_t − η_t V_t.
 #include <cmath>
 #include <numbers>
 
+#include "cdm/solver/contact/contact_geometry.hpp"
 #include "cdm/solver/vec3.hpp"
 
 namespace cdm::contact {
@@ -54,8 +56,8 @@ inline double effective_shear_modulus(double e_i, double nu_i, double e_j, doubl
 /// Hertz constant K = (4/3) E* √R* [N/m^{3/2}]; the elastic force is K δ^{3/2}.
 inline double hertz_constant(double e_star, double r_star) { return 4.0 / 3.0 * e_star * std::sqrt(r_star); }
 
-/// Elastic Hertz force magnitude K δ^{3/2} [N].
-inline double hertz_elastic_force(double k_hertz, double overlap) { return k_hertz * overlap * std::sqrt(overlap); }
+/// Elastic Hertz force magnitude K δ^{3/2} = (K √δ) δ [N].
+inline double hertz_elastic_force(double k_hertz, double overlap) { return k_hertz * std::sqrt(overlap) * overlap; }
 
 /// Normal dashpot coefficient η_n = α √(m* K) δ^{1/4} [kg/s] (Tsuji et al. 1992).
 inline double hertz_normal_damping(double alpha, double m_eff, double k_hertz, double overlap) {
@@ -75,9 +77,10 @@ inline double hertz_alpha_tsuji(double en) {
   return std::numbers::sqrt2 * poly;
 }
 
-/// Mindlin tangential stiffness k_t = 8 G* √(R* δ) [N/m].
+/// Mindlin tangential stiffness k_t = 8 G* √R* √δ [N/m] (the square roots those of
+/// hertz_constant and hertz_elastic_force, taken once in a kernel that calls all three).
 inline double mindlin_stiffness(double g_star, double r_star, double overlap) {
-  return 8.0 * g_star * std::sqrt(r_star * overlap);
+  return 8.0 * g_star * std::sqrt(r_star) * std::sqrt(overlap);
 }
 
 /// Tangential force on i [N] with LIGGGHTS' Coulomb rule: when the spring force
@@ -111,4 +114,42 @@ inline double rayleigh_time(double radius, double density, double e, double nu) 
   return std::numbers::pi * radius * std::sqrt(density / shear_modulus(e, nu)) / (0.1631 * nu + 0.8766);
 }
 
+namespace hertz_mindlin {
+
+/// A pair of materials' parameters for this law (PairTable derives α and η_t/η_n).
+struct Params {
+  double e_star;       // effective Young's modulus E* [Pa]
+  double g_star;       // effective shear modulus G* [Pa]
+  double alpha;        // α in η_n = α √(m* K) δ^{1/4} [-]
+  double etat_factor;  // η_t / η_n = 2 √(G*/E*) [-]
+  double mu;           // Coulomb friction coefficient [-]
+};
+
+/// The force on i of one contact of effective mass @p m_eff [kg] and radius @p r_star
+/// [m]; with @p Friction the Mindlin spring, whose history @p slot advances by @p dt
+/// (and is rescaled onto the Coulomb limit when the contact slides).
+template <bool Friction>
+[[gnu::always_inline]] inline ContactForce force(const Params& pp, double m_eff, double r_star, const ContactGeometry& g,
+                                                 [[maybe_unused]] double dt,
+                                                 [[maybe_unused]] TangentialSlot slot) {
+  const double k_hertz = hertz_constant(pp.e_star, r_star);
+  const double eta_n = hertz_normal_damping(pp.alpha, m_eff, k_hertz, g.overlap);
+  const double vn_mag = dot(g.vrel, g.eta);
+  const Vec3 vn = vn_mag * g.eta;
+  ContactForce out{-hertz_elastic_force(k_hertz, g.overlap) * g.eta - eta_n * vn, Vec3{}, 0.0};
+  out.normal_magnitude = norm(out.total);
+  if constexpr (Friction) {
+    const Vec3 vt = g.vrel - vn;
+    Vec3 h = advanced_history(g, slot, dt);
+    const double kt = mindlin_stiffness(pp.g_star, r_star, g.overlap);
+    const double eta_t = pp.etat_factor * eta_n;
+    out.tangential = mindlin_tangential_force(kt, eta_t, pp.mu, out.normal_magnitude, h, vt);
+    *slot.delta_t = h;  // after the force, which may rescale the history
+    *slot.touching = 1;
+    out.total += out.tangential;
+  }
+  return out;
+}
+
+}  // namespace hertz_mindlin
 }  // namespace cdm::contact

@@ -25,7 +25,7 @@
 #include "cdm/solver/coupling/deposition.hpp"
 #include "cdm/solver/coupling/drag_laws.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
-#include "cdm/solver/modules.hpp"
+#include "cdm/solver/force_module.hpp"
 
 namespace cdm::coupling {
 

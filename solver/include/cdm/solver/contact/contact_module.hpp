@@ -1,0 +1,133 @@
+#pragma once
+/// @file contact_module.hpp
+/// @brief Contacts between particles and with walls: the pair and wall loops over a
+/// Verlet list (verlet_list.hpp), each contact resolved by its pair's force law.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/contact/verlet_list.hpp"
+#include "cdm/solver/force_module.hpp"
+#include "cdm/solver/materials.hpp"
+#include "cdm/solver/walls.hpp"
+
+namespace cdm {
+
+/// Largest overlap relative to a radius seen in the last force evaluation.
+struct OverlapRecord {
+  double ratio = 0.0;         // overlap / radius of the smaller partner [-]
+  std::uint32_t particle = 0; // particle whose radius that is
+  long partner = -1;          // other particle, or -1 - wall index for a wall
+};
+
+/// Normal contact between particles and with walls, each pair of materials with its own
+/// force law (PairParams::law): the linear spring–dashpot (contact/
+/// linear_spring_dashpot.hpp) or Hertz–Mindlin (contact/hertz_mindlin.hpp). With
+/// @p with_friction each law adds its tangential spring with history and Coulomb limit
+/// (only then is tangential history kept).
+///
+/// The loops are compiled once per combination of friction on/off and the laws present
+/// (linear only, Hertz only, both), each law's kernel inlined: a scene with one law has
+/// no per-pair dispatch, and in a mixed scene one well-predicted branch picks the law
+/// per contact. The linear arithmetic is the same in every variant, so linear results
+/// do not depend on which other laws a scene defines.
+///
+/// Pairs are visited slab by slab (VerletList), even slabs in parallel, then odd ones,
+/// so every particle receives its contributions in the same order whatever the number
+/// of threads. Wall contacts are split among threads as the integrator's pass is.
+///
+/// With @p record_normal_forces the module also keeps, for the current evaluation, each
+/// contact's normal force magnitude, for modules that act through the same contacts
+/// (rolling resistance).
+class ContactModule final : public ForceModule {
+ public:
+  /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
+  ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0,
+                bool record_normal_forces = false);
+  std::string name() const override;
+  void add_forces(ParticleStore& p, double dt) override;
+
+  const VerletList& list() const { return list_; }
+  const OverlapRecord& worst_overlap() const { return worst_; }
+  std::size_t active_contacts() const { return n_active_; }
+  /// Contacts carrying tangential history (zero when frictionless).
+  std::size_t history_size() const { return friction_ ? n_active_ : 0; }
+  /// Whether the pair loop prefetches the positions and radii of the partner 128 pairs
+  /// ahead. Memory order only, never the results. `automatic` (the default) prefetches
+  /// when the particles' arrays (ParticleStore::bytes) exceed the largest cache
+  /// (last_level_cache_bytes): the integrator's sweep over all particles then evicts the
+  /// positions before the pair loop reads them, and the loop, gathering each pair's
+  /// partner, loses the hardware prefetcher's streams; in cache the prefetches only cost
+  /// instructions (bench/README.md has the measures). `on` and `off` force it.
+  enum class Prefetch { automatic, on, off };
+  void set_prefetch(Prefetch p) { prefetch_ = p; }
+  /// Whether the last evaluation prefetched.
+  bool prefetched() const { return prefetched_; }
+  const std::vector<PlaneWall>& walls() const { return list_.walls(); }
+  const PairTable& pairs() const { return pairs_; }
+  void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
+  void save_state(OutArchive& a) const override;
+  void load_state(InArchive& a) override;
+  void permute(const std::vector<std::uint32_t>& from) override { list_.permute(from); }
+
+  // The list's, for Simulation (see VerletList).
+  double skin() const { return list_.skin(); }
+  bool rebuild_due(const ParticleStore& p) const { return list_.rebuild_due(p); }
+  bool listed(std::size_t n) const { return list_.listed(n); }
+  const double* build_positions(int axis) const { return list_.build_positions(axis); }
+  void set_displacement(double d2) { list_.set_displacement(d2); }
+  bool displacement_needed() const { return list_.displacement_needed(); }
+  void add_drift(double d2) { list_.add_drift(d2); }
+  std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const { return list_.spatial_order(p); }
+
+  /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
+  const std::vector<double>& pair_normal_force() const { return fn_pair_; }
+  /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
+  const std::vector<double>& wall_normal_force() const { return fn_wall_; }
+
+  /// Velocities [m/s] and angular velocities [rad/s] with which the integrator moved the
+  /// particles over the last step, when they differ from the velocities forces are
+  /// evaluated at (velocity Verlet: x(t+Δt) = x(t) + Δt v(t+Δt/2), forces at the
+  /// predicted v(t) + Δt a(t)). Hertz–Mindlin's tangential history is incremented with
+  /// these, so that it follows the contact points' actual displacement; incrementing
+  /// with the predicted velocity is an O(Δt) error per step in the spring, which makes a
+  /// sticking contact first order. The arrays are read at each evaluation; they are
+  /// ignored until they hold one value per particle (before the first step). The linear
+  /// law keeps the paper's rule (the velocity of the evaluation).
+  struct StepVelocities {
+    const std::vector<double>*vx = nullptr, *vy = nullptr, *vz = nullptr;
+    const std::vector<double>*wx = nullptr, *wy = nullptr, *wz = nullptr;
+  };
+  void set_step_velocities(StepVelocities s) { step_ = s; }
+  const StepVelocities& step_velocities() const { return step_; }
+
+ private:
+  /// The force laws the pair table uses: each set has its own compiled loops.
+  enum class LawsPresent { linear, hertz, both };
+  template <bool Record>
+  void dispatch(ParticleStore& p, double dt);
+  template <bool Friction, LawsPresent L, bool Record>
+  void add_forces_impl(ParticleStore& p, double dt);
+  /// Fills eta_n_common_ when every free particle has the same mass, else empties it.
+  void tabulate_damping(const ParticleStore& p);
+
+  PairTable pairs_;
+  bool friction_;
+  bool record_;
+  LawsPresent laws_;
+  VerletList list_;
+  // When every free particle has one mass m (a monodisperse bed), m* takes two values,
+  // m/2 and m (partner fixed), so the linear law's η_n one per material pair and kind
+  // of partner: [2 (a n_materials + b) + partner fixed]. Empty otherwise; η_n is then
+  // taken per contact. Tabulated at each build and after load_state.
+  std::vector<double> eta_n_common_;
+  bool damping_stale_ = true;
+  std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
+  StepVelocities step_;                       // see set_step_velocities
+  Prefetch prefetch_ = Prefetch::automatic;
+  bool prefetched_ = false;
+  OverlapRecord worst_;
+  std::size_t n_active_ = 0;
+};
+
+}  // namespace cdm

@@ -1,0 +1,189 @@
+#pragma once
+/// @file verlet_list.hpp
+/// @brief The Verlet list of possible contacts, apart from the forces they carry.
+///
+/// The cell-list search collects every pair closer than r_i + r_j + skin, and the list
+/// is rebuilt only once some particle has moved more than skin/2 since the last build:
+/// until then no pair outside the list can touch. Walls likewise: only particles within
+/// r + skin of a wall at the build are tested against the walls until the next build.
+/// Each listed pair (and each particle and wall) has a tangential-history slot beside
+/// it, carried across rebuilds and reorderings, so the force loop does no hashing.
+///
+/// Slabs: at each build the particles' bounding box is cut into slabs along its longest
+/// side, at least one interaction range wide, and each pair belongs to the lower of its
+/// particles' slabs, so it touches only particles of that slab and the next. Even slabs
+/// may run in parallel, then odd ones, each slab one thread's, in a fixed order: every
+/// particle receives its contributions in the same order whatever the number of
+/// threads. Each thread takes one contiguous run of slabs with about an equal share of
+/// their estimated cost (listed pairs, those in contact at the last evaluation counted
+/// kTouchCost times more): after the spatial sort its slabs' particles are about its
+/// share of the integrator's pass (thread_range), so a thread finds in its own cache
+/// the forces and positions it works on.
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/neighbour_search.hpp"
+#include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/periodic_box.hpp"
+#include "cdm/solver/walls.hpp"
+
+namespace cdm {
+
+class VerletList {
+ public:
+  /// @p skin [m]: the list's margin; 0 rebuilds at every update. With @p with_history
+  /// each listed pair, and each particle and wall, keeps a tangential-history slot.
+  VerletList(std::vector<PlaneWall> walls, bool with_history, double skin);
+
+  /// What update() did.
+  struct Update {
+    bool rebuilt = false;       // the list was built anew
+    bool walls_listed = false;  // the wall candidates were listed anew
+  };
+  /// Make the list valid for the particles' current positions: rebuild it when due,
+  /// list the wall candidates again when stale. Uses a measured displacement
+  /// (set_displacement) once.
+  Update update(const ParticleStore& p);
+
+  double skin() const { return skin_; }
+  const std::vector<PlaneWall>& walls() const { return walls_; }
+  /// Particles interact through their nearest images along the box's periodic axes.
+  void set_periodic_box(const PeriodicBox& box) { box_ = box; }
+  const PeriodicBox& periodic_box() const { return box_; }
+  std::size_t builds() const { return builds_; }
+  bool built() const { return built_; }
+
+  /// True when the next update rebuilds the list (the moment to sort).
+  bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
+  /// Whether a list has been built for @p n particles, so that displacement() applies.
+  bool listed(std::size_t n) const { return x0_.size() == n; }
+  /// Particle i's squared displacement [m^2] since the last build; along a periodic axis
+  /// a particle may have wrapped since, so it is the nearest image of the jump. For an
+  /// integrator that measures as it moves the particles (set_displacement); the list
+  /// measures the same way when nobody did.
+  double displacement(const ParticleStore& p, std::size_t i) const {
+    return displacement(box_, {p.x[i] - x0_[i], p.y[i] - y0_[i], p.z[i] - z0_[i]});
+  }
+  /// displacement() of a particle that moved by @p jump [m] since the build, in @p box.
+  [[gnu::always_inline]] static double displacement(const PeriodicBox& box, Vec3 jump) {
+    const double dx = box.min_image(jump.x, 0), dy = box.min_image(jump.y, 1), dz = box.min_image(jump.z, 2);
+    return dx * dx + dy * dy + dz * dz;
+  }
+  /// The positions [m] at the last build, per axis (listed(n) particles), for an
+  /// integrator that measures displacement() in a loop of its own.
+  const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
+  /// The largest displacement() over the particles, at the current positions, measured
+  /// by the integrator in its own pass: the next update takes it instead of a pass of
+  /// its own. Used once; ignored if negative. The drift bound (displacement_needed)
+  /// restarts from it: no particle is farther than its square root from its build
+  /// position, so later drifts add to that instead of to the bound that called for the
+  /// measure, and the steps after a measure below the margin need not measure again.
+  void set_displacement(double d2) {
+    displacement_ = d2;
+    if (d2 >= 0.0) drift_bound_ = std::sqrt(d2);
+  }
+  /// Whether the integrator must measure displacement() this step: false while the
+  /// last measure (set_displacement) plus each later step's largest drift (add_drift),
+  /// or that sum since the build, stays below 0.49 skin, where the exact measure could
+  /// not call for a rebuild either (the margin is far beyond rounding), so lists are
+  /// built at the same steps. Unknown, so true, after load_state until the next build.
+  bool displacement_needed() const { return !(drift_bound_ < drift_limit()); }
+  /// For an integrator that did not measure: the largest squared drift [m^2] of any
+  /// particle over the step just taken (max_i |Δt v_i|²). Bounds the displacement for
+  /// the next update, as set_displacement would, while below the margin.
+  void add_drift(double d2) {
+    drift_bound_ += std::sqrt(d2);
+    if (drift_bound_ < drift_limit()) displacement_ = drift_bound_ * drift_bound_;
+  }
+  /// A spatial order of the particles (for ParticleStore::permute): by cells one
+  /// interaction range wide, the slab axis slowest, so that each slab's particles, and
+  /// the partners of a particle, sit close together in memory. Deterministic: ties keep
+  /// the current order.
+  std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const;
+  /// The particles were reordered (ForceModule::permute).
+  void permute(const std::vector<std::uint32_t>& from);
+
+  // Listed pairs (i < j) in processing order, slab by slab.
+  std::size_t size() const { return pi_.size(); }
+  const std::vector<std::uint32_t>& pair_i() const { return pi_; }
+  const std::vector<std::uint32_t>& pair_j() const { return pj_; }
+  /// Listed pairs of slab s are [slab_start()[s], slab_start()[s+1]).
+  const std::vector<std::uint32_t>& slab_start() const { return slab_start_; }
+  std::size_t slab_count() const { return slab_start_.empty() ? 0 : slab_start_.size() - 1; }
+  // Tangential history (with_history only): displacement [m] and whether in contact at
+  // the previous evaluation, per listed pair and per particle and wall (i * walls + w).
+  Vec3* pair_history() { return hist_.data(); }
+  std::uint8_t* pair_touch() { return touch_.data(); }
+  Vec3* wall_history() { return wall_hist_.data(); }
+  std::uint8_t* wall_touch() { return wall_touch_.data(); }
+  // Particles that may touch a wall before the next build (in index order); candidate c
+  // may touch walls wall_ids()[wall_begin()[c] .. wall_begin()[c+1]), in wall order.
+  const std::vector<std::uint32_t>& wall_candidates() const { return wall_candidates_; }
+  const std::vector<std::uint32_t>& wall_begin() const { return wall_begin_; }
+  const std::vector<std::uint32_t>& wall_ids() const { return wall_ids_; }
+
+  // The thread split of the slabs (never the results).
+  /// Before a threaded pass: each slab's estimated cost from its listed pairs and its
+  /// contacts at the last threaded pass (set_slab_contacts).
+  void weigh_slabs();
+  /// Below the threshold nothing is split: the contacts per slab are not kept.
+  void forget_slab_contacts() { slab_active_.clear(); }
+  void set_slab_contacts(std::size_t s, std::size_t contacts) { slab_active_[s] = static_cast<std::uint32_t>(contacts); }
+  /// The calling thread's slabs [s0, s1): contiguous, with about equal shares of the
+  /// cost (inside a parallel region; all outside one).
+  std::pair<std::size_t, std::size_t> thread_slabs() const;
+
+  /// The list and its history, for checkpoints. The build flag and count are put by the
+  /// caller, ahead of its own counters (the checkpoint's layout), and given back to
+  /// load_state.
+  void save_state(OutArchive& a) const;
+  void load_state(InArchive& a, bool built, std::uint64_t builds);
+
+ private:
+  bool needs_rebuild(const ParticleStore& p) const;
+  double drift_limit() const { return 0.49 * skin_; }
+  /// How the particles' bounding box is cut into slabs (see the file comment).
+  struct Slabs {
+    int axis = 0;          // the cut axis (0 when nothing is cut)
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // bounding box of the centres [m]
+    double range = 0.0;    // interaction range 2 r_max + skin [m]
+    std::size_t count = 1; // slabs
+    double width = 1.0;    // slab width along axis [m]
+  };
+  Slabs slabs(const ParticleStore& p) const;
+  /// Thread t's first slab of nt in thread_slabs.
+  std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
+  void rebuild(const ParticleStore& p);
+  void list_wall_candidates(const ParticleStore& p);
+
+  std::vector<PlaneWall> walls_;
+  bool history_;
+  double skin_;
+  CellListSearch search_;
+  PeriodicBox box_;
+  // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
+  // [slab_start_[s], slab_start_[s+1]).
+  std::vector<std::uint32_t> pi_, pj_, slab_start_;
+  // For splitting the slabs among threads only: each slab's pairs in contact at the
+  // last threaded evaluation, and the running sum of the slabs' estimated cost (listed
+  // pairs + kTouchCost × those in contact: a contact's geometry and force law).
+  static constexpr std::uint64_t kTouchCost = 3;
+  std::vector<std::uint32_t> slab_active_;
+  std::vector<std::uint64_t> slab_cost_;
+  std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
+  std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
+  std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
+  std::vector<std::uint8_t> wall_touch_;
+  std::vector<std::uint32_t> wall_candidates_, wall_begin_, wall_ids_;
+  bool wall_candidates_stale_ = true;  // after load_state or permute: list again from x0_, y0_, z0_
+  std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  double displacement_ = -1.0;          // see set_displacement; < 0: measure
+  double drift_bound_ = 0.0;            // see displacement_needed [m]
+  bool built_ = false;
+  std::size_t builds_ = 0;
+};
+
+}  // namespace cdm

@@ -1,0 +1,30 @@
+#pragma once
+/// @file force_module.hpp
+/// @brief The interface of a physics module. A scene builds only the modules it names;
+/// each adds its contribution to the particles' forces (and torques) once per force
+/// evaluation.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/particle_store.hpp"
+
+namespace cdm {
+
+class ForceModule {
+ public:
+  virtual ~ForceModule() = default;
+  virtual std::string name() const = 0;
+  /// Add this module's forces for the particles' current positions and velocities.
+  /// @p dt is the step the contact history advances by.
+  virtual void add_forces(ParticleStore& p, double dt) = 0;
+  /// State carried from step to step (contact history...), for checkpoints.
+  virtual void save_state(OutArchive&) const {}
+  virtual void load_state(InArchive&) {}
+  /// The particles were reordered (ParticleStore::permute): slot i now holds what slot
+  /// @p from[i] held. Modules that keep per-particle state reorder it alike.
+  virtual void permute(const std::vector<std::uint32_t>& /*from*/) {}
+};
+
+}  // namespace cdm

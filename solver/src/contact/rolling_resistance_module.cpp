@@ -1,0 +1,77 @@
+#include "cdm/solver/contact/rolling_resistance_module.hpp"
+
+#include "cdm/solver/contact/rolling_resistance.hpp"
+#include "cdm/solver/parallel.hpp"
+
+namespace cdm {
+
+void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
+  const PairTable& pairs = c_.pairs();
+  const VerletList& list = c_.list();
+  const std::vector<std::uint32_t>& pi = list.pair_i();
+  const std::vector<std::uint32_t>& pj = list.pair_j();
+  const std::vector<std::uint32_t>& slab_start = list.slab_start();
+  const std::vector<double>& fn_pair = c_.pair_normal_force();
+  const std::vector<double>& fn_wall = c_.wall_normal_force();
+  const std::vector<PlaneWall>& walls = c_.walls();
+  const std::size_t n = p.size(), nw = walls.size();
+  const bool threads = n > parallel_threshold;
+  // The spin the integrator's next kick starts from: ω itself for the first-order
+  // scheme, the half-step spin for velocity Verlet (ContactModule::set_step_velocities).
+  const ContactModule::StepVelocities& sv = c_.step_velocities();
+  const bool half = sv.wx && sv.wx->size() == n;
+  // ω_i after the next kick with the torques accumulated so far (the contact module's,
+  // and the rolling torques of contacts visited before this one).
+  auto free_spin = [&](std::uint32_t i) {
+    const Vec3 w0 = half ? Vec3{(*sv.wx)[i], (*sv.wy)[i], (*sv.wz)[i]} : p.angular_velocity(i);
+    return w0 + (dt * p.inv_inertia[i]) * Vec3{p.tx[i], p.ty[i], p.tz[i]};
+  };
+
+  auto pair_range = [&](std::uint32_t k0, std::uint32_t k1) {
+    for (std::uint32_t k = k0; k < k1; ++k) {
+      if (fn_pair[k] < 0.0) continue;  // not in contact
+      const std::uint32_t i = pi[k], j = pj[k];
+      const PairParams& pp = pairs.get(p.material[i], p.material[j]);
+      if (pp.rolling_mu == 0.0) continue;
+      const Vec3 d = list.periodic_box().min_image(p.position(j) - p.position(i));
+      const Vec3 eta = (1.0 / norm(d)) * d;
+      const double ri = p.radius[i], rj = p.radius[j];
+      const double inertia_eff = 1.0 / (p.inv_inertia[i] + p.inv_inertia[j]);
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, ri * rj / (ri + rj), fn_pair[k],
+                                             free_spin(i) - free_spin(j), eta, inertia_eff, dt);
+      p.add_torque(i, t);
+      p.add_torque(j, -t);
+    }
+  };
+  // The contact module's slab order: even slabs, then odd slabs (see VerletList), so
+  // the contacts of a particle are visited in the same order for any thread count.
+  const std::size_t nslab = slab_start.empty() ? 0 : slab_start.size() - 1;
+  for (std::size_t pass = 0; pass < 2; ++pass) {
+    if (!threads) {
+      for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start[s], slab_start[s + 1]);
+      continue;
+    }
+    const long jobs = static_cast<long>((nslab + 1 - pass) / 2);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long t = 0; t < jobs; ++t) {
+      const std::size_t s = pass + 2 * static_cast<std::size_t>(t);
+      pair_range(slab_start[s], slab_start[s + 1]);
+    }
+  }
+  if (!nw) return;
+  parallel_for(n, [&](std::size_t ii) {
+    const auto i = static_cast<std::uint32_t>(ii);
+    for (std::size_t w = 0; w < nw; ++w) {
+      const double fn = fn_wall[ii * nw + w];
+      if (fn < 0.0) continue;
+      const PairParams& pp = pairs.get(p.material[i], walls[w].material);
+      if (pp.rolling_mu == 0.0) continue;
+      // Against a wall: ω_rel = ω_i, R* = R_i, I* = I_i.
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i), -walls[w].normal,
+                                             1.0 / p.inv_inertia[i], dt);
+      p.add_torque(i, t);
+    }
+  });
+}
+
+}  // namespace cdm

@@ -1,0 +1,322 @@
+#include "cdm/solver/contact/verlet_list.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "cdm/solver/parallel.hpp"
+
+namespace cdm {
+
+VerletList::VerletList(std::vector<PlaneWall> walls, bool with_history, double skin)
+    : walls_(std::move(walls)), history_(with_history), skin_(skin) {}
+
+VerletList::Update VerletList::update(const ParticleStore& p) {
+  Update u;
+  if (!built_ || needs_rebuild(p)) {
+    rebuild(p);
+    u.rebuilt = u.walls_listed = true;
+  } else if (wall_candidates_stale_) {
+    list_wall_candidates(p);
+    u.walls_listed = true;
+  }
+  displacement_ = -1.0;  // measured for these positions only
+  return u;
+}
+
+void VerletList::save_state(OutArchive& a) const {
+  a.put(pi_); a.put(pj_); a.put(slab_start_); a.put(hist_); a.put(touch_);
+  a.put(wall_hist_); a.put(wall_touch_);
+  a.put(x0_); a.put(y0_); a.put(z0_);
+}
+
+void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
+  a.get(pi_); a.get(pj_); a.get(slab_start_); a.get(hist_); a.get(touch_);
+  a.get(wall_hist_); a.get(wall_touch_);
+  a.get(x0_); a.get(y0_); a.get(z0_);
+  const std::size_t n = x0_.size();
+  bool ok = pi_.size() == pj_.size() && y0_.size() == n && z0_.size() == n;
+  ok = ok && (slab_start_.empty() ? pi_.empty() : slab_start_.front() == 0 && slab_start_.back() == pi_.size());
+  for (std::size_t s = 1; ok && s < slab_start_.size(); ++s) ok = slab_start_[s - 1] <= slab_start_[s];
+  for (std::size_t k = 0; ok && k < pi_.size(); ++k) ok = pi_[k] < pj_[k] && pj_[k] < n;
+  if (history_) ok = ok && hist_.size() == pi_.size() && touch_.size() == pi_.size() &&
+                      wall_hist_.size() == wall_touch_.size() && wall_hist_.size() == n * walls_.size();
+  if (!ok) throw ArchiveError("the contact list is inconsistent");
+  built_ = built;
+  builds_ = builds;
+  displacement_ = -1.0;
+  drift_bound_ = std::numeric_limits<double>::infinity();  // the moves since the build are unknown
+  wall_candidates_stale_ = true;  // listed from the build's positions at the next update
+}
+
+void VerletList::list_wall_candidates(const ParticleStore& p) {
+  // From the positions at the last build (x0_), so a restart lists exactly what the
+  // build did. A particle moves less than skin/2 before the next build, so one farther
+  // than r + skin from a wall cannot reach it: each particle is listed with the walls it
+  // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
+  // jump, so then every particle is listed with every wall.
+  const std::size_t n = x0_.size(), nw = walls_.size();
+  wall_candidates_.clear();
+  wall_begin_.assign(1, 0);
+  wall_ids_.clear();
+  wall_candidates_stale_ = false;
+  bool filter = skin_ >= 0.0;
+  for (const PlaneWall& w : walls_) {
+    const double nrm[3] = {w.normal.x, w.normal.y, w.normal.z};
+    for (int a = 0; a < 3; ++a)
+      if (box_.on[a] && nrm[a] != 0.0) filter = false;
+  }
+  if (!nw) return;
+  const bool history = wall_touch_.size() == n * nw;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t before = wall_ids_.size();
+    for (std::size_t w = 0; w < nw; ++w) {
+      if (!filter || walls_[w].distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
+        wall_ids_.push_back(static_cast<std::uint32_t>(w));
+      } else {  // not listed: not in contact with that wall
+        if (history) wall_touch_[i * nw + w] = 0;
+      }
+    }
+    if (wall_ids_.size() != before) {
+      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+      wall_begin_.push_back(static_cast<std::uint32_t>(wall_ids_.size()));
+    }
+  }
+}
+
+bool VerletList::needs_rebuild(const ParticleStore& p) const {
+  if (skin_ <= 0.0 || p.size() != x0_.size()) return true;
+  const double lim2 = 0.25 * skin_ * skin_;
+  const std::size_t n = p.size();
+  if (displacement_ >= 0.0) return displacement_ > lim2;  // the integrator measured it
+  return parallel_max(n, [&](std::size_t i) { return displacement(p, i); }) > lim2;
+}
+
+VerletList::Slabs VerletList::slabs(const ParticleStore& p) const {
+  // Slabs along the longest side of the particles' bounding box, each at least one
+  // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
+  // neighbouring slab. The slab count depends on the geometry only, never on threads.
+  // A periodic axis is never cut (partners across its faces would sit in the first and
+  // the last slab); with all three periodic, one slab.
+  const std::size_t n = p.size();
+  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
+  Slabs g;
+  double rmax = 0.0;
+  if (n) {
+    for (int a = 0; a < 3; ++a) g.lo[a] = g.hi[a] = (*axis_data[a])[0];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        g.lo[a] = std::min(g.lo[a], (*axis_data[a])[i]);
+        g.hi[a] = std::max(g.hi[a], (*axis_data[a])[i]);
+      }
+      rmax = std::max(rmax, p.radius[i]);
+    }
+  }
+  int axis = -1;
+  for (int a = 0; a < 3; ++a)
+    if (!box_.on[a] && (axis < 0 || g.hi[a] - g.lo[a] > g.hi[axis] - g.lo[axis])) axis = a;
+  const bool cut = axis >= 0;
+  g.axis = cut ? axis : 0;
+  g.range = 2.0 * rmax + skin_;
+  const double extent = cut ? g.hi[g.axis] - g.lo[g.axis] : 0.0;
+  g.count = g.range > 0.0
+                ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / g.range)))
+                : 1;
+  g.width = g.count > 1 ? extent / static_cast<double>(g.count) : 1.0;
+  return g;
+}
+
+std::size_t VerletList::thread_first_slab(std::size_t t, std::size_t nt) const {
+  const std::size_t nslab = slab_cost_.empty() ? 0 : slab_cost_.size() - 1;
+  if (t >= nt) return nslab;
+  // The first slab that starts at or after thread t's share of the estimated cost.
+  const std::uint64_t at = slab_cost_.empty() ? 0 : slab_cost_.back() * t / nt;
+  return static_cast<std::size_t>(std::lower_bound(slab_cost_.begin(), slab_cost_.begin() + nslab, at) -
+                                  slab_cost_.begin());
+}
+
+std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
+  const auto [t, nt] = thread_id();
+  return {thread_first_slab(t, nt), thread_first_slab(t + 1, nt)};
+}
+
+std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) const {
+  const std::size_t n = p.size();
+  const Slabs g = slabs(p);
+  // Cell coordinates (edge = one interaction range, 21 bits per axis: a wider box only
+  // coarsens the order), the slab axis most significant, then the other two.
+  const std::vector<double>* data[3] = {&p.x, &p.y, &p.z};
+  const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
+  const double h = g.range > 0.0 ? g.range : 1.0;
+  constexpr double cmax = double((1 << 21) - 1);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
+  parallel_for(n, [&](std::size_t i) {
+    std::uint64_t k = 0;
+    for (int a : ax) {
+      const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
+      k = (k << 21) | static_cast<std::uint64_t>(c);
+    }
+    key[i] = {k, static_cast<std::uint32_t>(i)};
+  });
+  std::sort(key.begin(), key.end());
+  std::vector<std::uint32_t> from(n);
+  for (std::size_t i = 0; i < n; ++i) from[i] = key[i].second;
+  return from;
+}
+
+void VerletList::permute(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = from.size();
+  if (x0_.size() != n) return;  // nothing listed yet: the next evaluation builds
+  std::vector<std::uint32_t> to(n);
+  for (std::size_t i = 0; i < n; ++i) to[from[i]] = static_cast<std::uint32_t>(i);
+  // Pairs keep i < j: a pair whose order flips has its history seen from the other
+  // particle, the tangential displacement of j relative to i (the negative).
+  for (std::size_t k = 0; k < pi_.size(); ++k) {
+    std::uint32_t i = to[pi_[k]], j = to[pj_[k]];
+    if (i > j) {
+      std::swap(i, j);
+      if (history_) hist_[k] = -hist_[k];
+    }
+    pi_[k] = i;
+    pj_[k] = j;
+  }
+  auto rows = [&](auto& v) {
+    const std::size_t w = walls_.size();
+    if (!w || v.size() != n * w) return;
+    auto out = v;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < w; ++c) out[i * w + c] = v[from[i] * w + c];
+    v.swap(out);
+  };
+  rows(wall_hist_);
+  rows(wall_touch_);
+  std::vector<double> tmp;
+  for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
+  wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
+}
+
+void VerletList::rebuild(const ParticleStore& p) {
+  const std::size_t n = p.size();
+  // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
+  // small. First the history to carry over: only the pairs in contact have any (a pair
+  // not in contact starts afresh), so their partner and history are set apart, by
+  // particle i (a counting sort, stable: row i is [carry_first[i], carry_first[i+1])),
+  // and the old list is released before the new one is built.
+  std::vector<std::uint32_t> carry_first, carry_j;
+  std::vector<Vec3> carry_hist;
+  if (history_ && built_ && !pi_.empty()) {
+    const std::size_t rows = std::max(n, x0_.size());
+    carry_first.assign(rows + 1, 0);
+    for (std::size_t k = 0; k < pi_.size(); ++k)
+      if (touch_[k]) ++carry_first[pi_[k] + 1];
+    for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
+    carry_j.resize(carry_first[rows]);
+    carry_hist.resize(carry_first[rows]);
+    std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
+    for (std::size_t k = 0; k < pi_.size(); ++k)
+      if (touch_[k]) {
+        const std::uint32_t at = fill[pi_[k]]++;
+        carry_j[at] = pj_[k];
+        carry_hist[at] = hist_[k];
+      }
+  }
+  const std::size_t last_size = pi_.size();
+  std::vector<std::uint32_t>().swap(pi_);
+  std::vector<std::uint32_t>().swap(pj_);
+  std::vector<Vec3>().swap(hist_);
+  std::vector<std::uint8_t>().swap(touch_);
+  // The candidates live only while the list is built, and are released before the
+  // history is carried over. Reserved at the last list's size plus a margin, so that
+  // they rarely grow by doubling. One chunk per thread (each lists its own particles'
+  // pairs), in (i, j) order chunk after chunk.
+  std::vector<std::vector<ContactPair>> candidates;
+  search_.find_contacts(p, skin_, candidates, box_, last_size + last_size / 8 + 64);
+  // Two fixed particles never move: their contact does nothing, so it is not listed.
+  std::size_t listed = 0;
+  for (auto& chunk : candidates) {
+    chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
+                               [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
+                chunk.end());
+    listed += chunk.size();
+  }
+
+  const Slabs g = slabs(p);
+  const std::size_t nslab = g.count;
+  const double width = g.width;
+  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
+  const std::vector<double>& c = *axis_data[g.axis];
+  const double lo_axis = g.lo[g.axis];
+  auto slab_of = [&](std::uint32_t i) {
+    if (nslab == 1) return std::size_t{0};
+    return std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo_axis) / width));
+  };
+
+  // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.
+  std::vector<std::uint32_t> start(nslab + 1, 0), owner(listed);
+  {
+    std::size_t k = 0;
+    for (const auto& chunk : candidates)
+      for (const ContactPair& cp : chunk) {
+        owner[k] = static_cast<std::uint32_t>(std::min(slab_of(cp.i), slab_of(cp.j)));
+        ++start[owner[k++] + 1];
+      }
+  }
+  for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
+  std::vector<std::uint32_t> pi(listed), pj(listed);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    std::size_t k = 0;
+    for (auto& chunk : candidates) {
+      for (const ContactPair& cp : chunk) {
+        const std::uint32_t at = fill[owner[k++]]++;
+        pi[at] = cp.i;
+        pj[at] = cp.j;
+      }
+      std::vector<ContactPair>().swap(chunk);
+    }
+  }
+  std::vector<std::vector<ContactPair>>().swap(candidates);
+  std::vector<std::uint32_t>().swap(owner);
+  if (history_) {
+    // Carry the history of every pair in contact at the last evaluation (each is in
+    // both lists): a new pair looks for its j among the few carried pairs of its i.
+    std::vector<Vec3> hist(pi.size());
+    std::vector<std::uint8_t> touch(pi.size(), 0);
+    if (!carry_j.empty()) {
+      for (std::size_t k = 0; k < pi.size(); ++k) {
+        const std::uint32_t i = pi[k], j = pj[k];
+        for (std::uint32_t q = carry_first[i]; q < carry_first[i + 1]; ++q) {
+          if (carry_j[q] != j) continue;
+          hist[k] = carry_hist[q];
+          touch[k] = 1;
+          break;
+        }
+      }
+    }
+    hist_.swap(hist);
+    touch_.swap(touch);
+    if (wall_hist_.size() != n * walls_.size()) {
+      wall_hist_.assign(n * walls_.size(), Vec3{});
+      wall_touch_.assign(n * walls_.size(), 0);
+    }
+  }
+  pi_.swap(pi);
+  pj_.swap(pj);
+  slab_start_.swap(start);
+  slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
+  x0_ = p.x; y0_ = p.y; z0_ = p.z;
+  built_ = true;
+  ++builds_;
+  drift_bound_ = 0.0;
+  list_wall_candidates(p);
+}
+
+void VerletList::weigh_slabs() {
+  const std::size_t nslab = slab_count();
+  if (slab_active_.size() != nslab) slab_active_.assign(nslab, 0);
+  slab_cost_.resize(nslab + 1);
+  slab_cost_[0] = 0;
+  for (std::size_t s = 0; s < nslab; ++s)
+    slab_cost_[s + 1] = slab_cost_[s] + (slab_start_[s + 1] - slab_start_[s]) + kTouchCost * slab_active_[s];
+}
+
+}  // namespace cdm
