@@ -15,6 +15,7 @@
 #include <tuple>
 #include <toml++/toml.h>
 
+#include "cdm/solver/coupling/substeps.hpp"
 #include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 
@@ -1178,14 +1179,14 @@ void Loader::resolve_dt(const toml::table* t) {
     // Particles sub-step inside each gas step: a whole number of particle steps.
     const double ratio = spec_.gas_dt / spec_.dt;
     if (spec_.dt_auto) {
-      spec_.dt = spec_.gas_dt / std::ceil(ratio - 1e-9);  // t_col/divisor rounded down to divide gas.dt
+      spec_.dt = spec_.gas_dt / coupling::gas_substeps(spec_.gas_dt, spec_.dt, true);  // rounded down to divide gas.dt
     } else if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio) {
       std::ostringstream os;
       os << "a particle step that divides gas.dt = " << spec_.gas_dt << " s a whole number of times (particles take "
          << "whole sub-steps inside each gas step); gas.dt/dt = " << ratio;
       fail_value("integrator.dt", *dtn, os.str());
     } else {
-      spec_.dt = spec_.gas_dt / std::round(ratio);
+      spec_.dt = spec_.gas_dt / coupling::gas_substeps(spec_.gas_dt, spec_.dt);
     }
   }
   if (spec_.dt > spec_.end_time) fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");
