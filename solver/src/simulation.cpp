@@ -38,8 +38,9 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   }
   if (spec_.drag) {
     if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();
+    const coupling::Deposition* deposition = exchange_ ? exchange_->deposition() : nullptr;
     auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction,
-                                                    spec_.coupling_method, exchange_ ? exchange_->deposition() : nullptr, spec_.two_way,
+                                                    spec_.coupling_method, deposition, spec_.two_way,
                                                     spec_.gas_velocity);
     if (spec_.gas_velocity == coupling::SlipVelocity::superficial) gas_->enable_superficial_velocity();
     drag_ = d.get();
@@ -94,8 +95,10 @@ void Simulation::compute_forces(integrators::ForceStart start) {
   forces_valid_ = true;
 }
 
+RunGuards Simulation::guards() const { return {spec_, particles_, gas_.get(), contact_, drag_}; }
+
 void Simulation::check_state(double nonfinite) const {
-  RunGuards(spec_, particles_, gas_.get(), contact_, drag_).check(time_, steps_, nonfinite);
+  guards().check(time_, steps_, nonfinite);
 }
 
 void Simulation::complete_step() const {
@@ -165,7 +168,7 @@ void Simulation::gas_step() {
     eps_work_ = gas_->eps_g;
   }
   gs.step(dtg, eps_work_);
-  RunGuards(spec_, particles_, gas_.get(), contact_, drag_).check_gas(gs, dtg, time_);
+  guards().check_gas(gs, dtg, time_);
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& observer, const std::function<bool()>& stop) {

@@ -98,6 +98,7 @@ class Simulation : private integrators::StepHost {
   /// Reorder every per-particle array, the particles', the integrator's and the
   /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);
+  RunGuards guards() const;
   /// The run guards on the state at time() (run_guards.hpp); @p nonfinite: the
   /// integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
