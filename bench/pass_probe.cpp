@@ -2,8 +2,8 @@
 // in four memory layouts and two ways of sweeping one of them, and three variants of the
 // traffic for a bed of one kind of particle.
 //
-// The pass (solver/src/simulation.cpp, verlet_pass) reads and rewrites 15 doubles per
-// particle (position, half-step velocity, force, half-step spin, torque), reads 3
+// The pass (verlet_pass, solver/src/integrators/verlet_kernels.hpp) reads and rewrites
+// 15 doubles per particle (position, half-step velocity, force, half-step spin, torque), reads 3
 // (mass, inverse mass, inverse inertia) and writes 6 it does not read (predicted
 // velocity and spin, whose lines the processor still reads for ownership): 360 bytes
 // per particle-step between the core and wherever the data lives. This program sweeps

@@ -2,6 +2,8 @@
 /// @brief The integrator and the time-step rule: dt from the shortest collision time, the Rayleigh time and the gas step.
 #include "sections.hpp"
 
+#include "cdm/solver/coupling/substeps.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -168,14 +170,14 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
     // Particles sub-step inside each gas step: a whole number of particle steps.
     const double ratio = spec.gas_dt / spec.dt;
     if (spec.dt_auto) {
-      spec.dt = spec.gas_dt / std::ceil(ratio - 1e-9);  // t_col/divisor rounded down to divide gas.dt
+      spec.dt = spec.gas_dt / coupling::gas_substeps(spec.gas_dt, spec.dt, true);  // rounded down to divide gas.dt
     } else if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio) {
       std::ostringstream os;
       os << "a particle step that divides gas.dt = " << spec.gas_dt << " s a whole number of times (particles take "
          << "whole sub-steps inside each gas step); gas.dt/dt = " << ratio;
       rd.fail_value("integrator.dt", *dtn, os.str());
     } else {
-      spec.dt = spec.gas_dt / std::round(ratio);
+      spec.dt = spec.gas_dt / coupling::gas_substeps(spec.gas_dt, spec.dt);
     }
   }
   if (spec.dt > spec.end_time) rd.fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");

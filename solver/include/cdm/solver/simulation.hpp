@@ -2,34 +2,35 @@
 /// @file simulation.hpp
 /// @brief A Simulation holds the particles and the modules a scene named, and advances
 /// them with the scene's integrator. Data flow per step: forces (each module adds its
-/// part) → integrator update → guards (finite state, overlap bound) → observers.
+/// part) → integrator update → guards (finite state, overlap bound) → observers, and
+/// with a solved gas, the gas step after every substeps() particle steps.
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/coupling/drag_module.hpp"
+#include "cdm/solver/coupling/two_way_exchange.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/integrators/integrator.hpp"
 #include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/run_guards.hpp"
 #include "cdm/solver/scene.hpp"
 
 namespace cdm {
 
-/// A run that went unstable: names the particle(s), the time and the likely cause.
-class SimulationError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-class Simulation {
+class Simulation : private integrators::StepHost {
  public:
   /// Builds the scene's modules and particles; the per-particle list of @p spec is
   /// dropped once the particles are in the store (pass an rvalue to avoid a copy).
   explicit Simulation(SceneSpec spec);
+  // The modules and the integrator hold the particles and the scene by reference.
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  ~Simulation();
 
   const SceneSpec& spec() const { return spec_; }
   /// The particles at time(). Reading them completes the last step where its final
@@ -37,7 +38,7 @@ class Simulation {
   /// reported here then (SimulationError).
   ParticleStore& particles() {
     complete_step();
-    one_mass_ = -1;  // the caller may change masses
+    integrator_->masses_changed();  // the caller may change them
     return particles_;
   }
   const ParticleStore& particles() const { complete_step(); return particles_; }
@@ -61,8 +62,8 @@ class Simulation {
   std::uint64_t substeps() const { return substeps_; }
   /// Momentum exchanged through drag over the last gas step [N s]: what the particles
   /// received and what the gas received (on the unknown faces of the grid).
-  struct CouplingBalance { Vec3 particles, gas_cells, gas_faces; };
-  const CouplingBalance& coupling_balance() const { return balance_; }
+  using CouplingBalance = coupling::CouplingBalance;
+  const CouplingBalance& coupling_balance() const;
   const coupling::DragModule* drag() const { return drag_; }
 
   /// Advance one time step (throws SimulationError if the state goes bad). With
@@ -84,71 +85,45 @@ class Simulation {
   bool restarted() const { return restarted_; }
 
  private:
-  void compute_forces();
+  // StepHost: what the integrator asks of the simulation.
+  void compute_forces(integrators::ForceStart start = integrators::ForceStart::stale) override;
+  void ensure_forces() override {
+    if (!forces_valid_) compute_forces();
+  }
+  void fail_not_finite() const override { check_state(1.0); }
+
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
   void sort_if_due();
-  /// Reorder every per-particle array, the particles' and the modules' (slot i takes
-  /// what slot @p from[i] held).
+  /// Reorder every per-particle array, the particles', the integrator's and the
+  /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);
-  /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or -1 to check here.
+  RunGuards guards() const;
+  /// The run guards on the state at time() (run_guards.hpp); @p nonfinite: the
+  /// integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
-  void step_tracers();
-  /// The final half kick for every particle, into the store; 1 if the state is then
-  /// not finite, else 0.
-  double final_kick() const;
-  /// kick() as a callable (i, τ, vx, vy, vz, impulse), for the per-particle Verlet steps.
-  auto kick_fn() const;
-  /// Do the pending final kick, if any, and check the state it gives.
+  /// Finish the step the integrator left pending, if any, and check the state it gives.
   void complete_step() const;
-  /// Kick particle i's velocity by the forces over @p tau, with the drag relaxation
-  /// solved implicitly or exactly when the scene asks for it (drag_module.hpp).
-  /// With @p impulse the drag impulse of the kick is added to the particle's two-way
-  /// accumulator (not for the velocity predictor of velocity Verlet).
-  void kick(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse = true) const;
-  /// kick() for particles whose drag is relaxed implicitly or exactly.
-  void kick_relaxed(std::size_t i, double tau, double& vx, double& vy, double& vz, bool impulse) const;
-  void wrap_positions();
   void build_gas();
-  /// ε_g on the cells from the particles' volumes (deposition kernel); stops the run if
-  /// a cell is packed beyond what the gas equations can take.
-  void deposit_void_fraction(std::vector<double>& eps) const;
-  /// Move the particles' drag impulses onto the grid (as the reaction on the gas).
-  void deposit_impulses();
   void gas_step();
 
   SceneSpec spec_;
-  // Mutable: the final kick a step leaves pending is done when the particles are read.
-  mutable ParticleStore particles_;
+  ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   ContactModule* contact_ = nullptr;
   const ForceModule* gravity_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;
   std::unique_ptr<fluid::GasSolver> solver_;
-  std::unique_ptr<coupling::Deposition> deposition_;
+  std::unique_ptr<coupling::TwoWayExchange> exchange_;  // with a solved gas
+  std::unique_ptr<integrators::Integrator> integrator_;
   std::uint64_t substeps_ = 1, substep_ = 0;
-  std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
-  std::vector<double> eps_work_;
-  Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
-  CouplingBalance balance_;
+  std::vector<double> eps_work_;  // ε_g handed to the gas step
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;
   std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
-  bool forces_zeroed_ = false;  // the integrator zeroed forces and torques as it read them
-  bool forces_hold_gravity_ = false;  // velocity Verlet's one pass applied gravity: gravity_ is skipped once
-  bool deferred_kick_ = false;  // velocity Verlet without gas: the final kick waits (step())
-  mutable bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
-  // Whether every particle has the same m, 1/m and 1/I (ParticleStore::same_mass): 1 yes,
-  // 0 no, -1 not known (found at the next step).
-  int one_mass_ = -1;
   bool restarted_ = false;
-  // Velocity Verlet keeps v(t+Δt/2) between the half kicks (mutable: with the pending
-  // kick, part of the state that the const complete_step() completes).
-  mutable std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
-  // Tracer Runge–Kutta stages (rk2, rk4).
-  std::vector<double> x0_, y0_, z0_, kx_, ky_, kz_;
 };
 
 }  // namespace cdm

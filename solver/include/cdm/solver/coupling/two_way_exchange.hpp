@@ -1,0 +1,61 @@
+#pragma once
+/// @file two_way_exchange.hpp
+/// @brief What the particles give the solved gas: the volume they take from it (the gas
+/// fraction ε_g on the cells) and the reaction to the drag on them, gathered over the
+/// particle sub-steps of a gas step and handed to the gas as a force on its faces, with
+/// the balance of the momentum exchanged.
+#include <memory>
+#include <vector>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/coupling/deposition.hpp"
+#include "cdm/solver/fluid/gas_solver.hpp"
+#include "cdm/solver/fluid/staggered_grid.hpp"
+#include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/vec3.hpp"
+
+namespace cdm::coupling {
+
+/// Momentum exchanged through drag over a gas step [N s]: what the particles received
+/// and what the gas received (on the cells, then on the unknown faces of the grid).
+struct CouplingBalance {
+  Vec3 particles, gas_cells, gas_faces;
+};
+
+/// Built for every solved gas; with @c two_way false it holds nothing and gives nothing
+/// (the gas keeps its own ε_g).
+class TwoWayExchange {
+ public:
+  /// @p kernel and @p width: how a particle spreads over the cells (deposition.hpp).
+  TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, Kernel kernel, double width);
+
+  bool two_way() const { return deposition_ != nullptr; }
+  /// The deposition kernel (nullptr without two-way coupling).
+  const Deposition* deposition() const { return deposition_.get(); }
+
+  /// ε_g on the cells from the particles' volumes; throws SimulationError, naming the
+  /// cell and @p time, if a cell is packed beyond what the gas equations can take.
+  void deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const;
+  /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
+  /// the reaction on the gas.
+  void deposit_impulses(ParticleStore& p);
+  /// The reaction gathered since the last gas step, as a force per unit volume over
+  /// @p dtg on the faces of @p solver (added to what it holds); records the balance and
+  /// starts gathering anew.
+  void apply_reaction(fluid::GasSolver& solver, double dtg);
+  /// The balance of the last gas step (zero without two-way coupling).
+  const CouplingBalance& balance() const { return balance_; }
+
+  /// The reaction gathered so far in the present gas step.
+  void save_state(OutArchive& a) const;
+  void load_state(InArchive& a);
+
+ private:
+  const fluid::StaggeredGrid& grid_;
+  std::unique_ptr<Deposition> deposition_;
+  std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
+  Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
+  CouplingBalance balance_;
+};
+
+}  // namespace cdm::coupling

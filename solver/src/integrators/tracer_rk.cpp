@@ -1,0 +1,54 @@
+#include "cdm/solver/integrators/tracer_rk.hpp"
+
+#include "cdm/solver/parallel.hpp"
+
+namespace cdm::integrators {
+
+TracerRungeKutta::TracerRungeKutta(const IntegratorParts& parts, bool fourth_order)
+    : p_(parts.particles), gas_(parts.gas), dt_(parts.spec.dt), box_(parts.spec.periodic),
+      fourth_order_(fourth_order) {}
+
+double TracerRungeKutta::step(StepHost& /*host*/, StepTimes times) {
+  ParticleStore& p = p_;
+  const std::size_t n = p.size();
+  const double h = dt_, t = times.t;
+  x0_ = p.x; y0_ = p.y; z0_ = p.z;
+  kx_.assign(n, 0.0); ky_.assign(n, 0.0); kz_.assign(n, 0.0);
+  // Velocity at time ts of the point X0 + c·k_prev; adds weight·k to the sum.
+  auto stage = [&](double ts, double c, double weight) {
+    gas_->set_time(ts);
+    parallel_for(n, [&](std::size_t i) {
+      const Vec3 x = gas_->wrap({x0_[i] + c * p.vx[i], y0_[i] + c * p.vy[i], z0_[i] + c * p.vz[i]});
+      const Vec3 k = gas_->velocity_at(x);
+      p.vx[i] = k.x; p.vy[i] = k.y; p.vz[i] = k.z;  // the stage slope, kept for the next stage
+      kx_[i] += weight * k.x; ky_[i] += weight * k.y; kz_[i] += weight * k.z;
+    });
+  };
+  // p.v holds the previous stage's slope; the first stage evaluates at X0 (c = 0).
+  if (!fourth_order_) {
+    stage(t, 0.0, 0.0);
+    stage(t + 0.5 * h, 0.5 * h, 1.0);
+  } else {
+    stage(t, 0.0, 1.0 / 6.0);
+    stage(t + 0.5 * h, 0.5 * h, 2.0 / 6.0);
+    stage(t + 0.5 * h, 0.5 * h, 2.0 / 6.0);
+    stage(t + h, h, 1.0 / 6.0);
+  }
+  parallel_for(n, [&](std::size_t i) {
+    p.x[i] = x0_[i] + h * kx_[i]; p.y[i] = y0_[i] + h * ky_[i]; p.z[i] = z0_[i] + h * kz_[i];
+  });
+  wrap_positions(p, box_);
+  // The tracers' velocity is the gas velocity where they are now.
+  gas_->set_time(t + h);
+  parallel_for(n, [&](std::size_t i) {
+    const Vec3 u = gas_->velocity_at(p.position(i));
+    p.vx[i] = u.x; p.vy[i] = u.y; p.vz[i] = u.z;
+  });
+  return -1.0;
+}
+
+void TracerRungeKutta::permute(const std::vector<std::uint32_t>& from) {
+  permute_arrays({&x0_, &y0_, &z0_, &kx_, &ky_, &kz_}, p_.size(), from);
+}
+
+}  // namespace cdm::integrators

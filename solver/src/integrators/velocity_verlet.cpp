@@ -1,0 +1,122 @@
+#include "cdm/solver/integrators/velocity_verlet.hpp"
+
+#include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/parallel.hpp"
+#include "verlet_kernels.hpp"
+
+namespace cdm::integrators {
+
+using verlet::VerletArrays;
+
+VelocityVerlet::VelocityVerlet(const IntegratorParts& parts)
+    : p_(parts.particles), gas_(parts.gas), contact_(parts.contact), dt_(parts.spec.dt),
+      box_(parts.spec.periodic), g_(parts.spec.g), gravity_(parts.gravity),
+      // Without a gas nothing reads the particles' velocities between a step's force
+      // evaluation and its final kick, so that kick can wait for the next step.
+      deferred_(parts.gas == nullptr), kick_(parts.particles, parts.spec.drag_update) {
+  // The contacts move positions with the half-step velocities.
+  if (contact_) contact_->set_step_velocities({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
+}
+
+double VelocityVerlet::final_kick() {
+  ParticleStore& p = p_;
+  const bool rot = p.has_rotation();
+  const double h = 0.5 * dt_;
+  const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
+  const Kick& kick = kick_;
+  return parallel_max(p.size(), [&](std::size_t i) {
+    Vec3 v, w;
+    verlet::verlet_final_velocity(a, rot, i, h, kick, v, w);
+    p.vx[i] = v.x; p.vy[i] = v.y; p.vz[i] = v.z;
+    if (rot) { p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z; }
+    return verlet::verlet_state_finite(a, rot, i, v, w) ? 0.0 : 1.0;
+  });
+}
+
+double VelocityVerlet::complete() {
+  if (!kick_pending_) return 0.0;
+  kick_pending_ = false;
+  return final_kick();
+}
+
+double VelocityVerlet::step(StepHost& host, StepTimes times) {
+  ParticleStore& p = p_;
+  const std::size_t n = p.size();
+  const double dt = dt_;
+  const bool rot = p.has_rotation();
+  host.ensure_forces();
+  hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
+  if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
+  if (deferred_) return step_deferred(host);
+  const PeriodicBox box = box_;
+  const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
+  const Kick& kick = kick_;
+  parallel_for(n, [&](std::size_t i) {
+    verlet::verlet_first_half(a, rot, false, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
+  });
+  wrap_positions(p, box_);
+  if (gas_) gas_->set_time(times.t_new);
+  host.compute_forces(ForceStart::zeroed);
+  return final_kick();
+}
+
+double VelocityVerlet::step_deferred(StepHost& host) {
+  ParticleStore& p = p_;
+  const std::size_t n = p.size();
+  const double dt = dt_;
+  const bool rot = p.has_rotation();
+  const bool pending = kick_pending_;
+  const PeriodicBox box = box_;  // a local copy: the stores below cannot alias it
+  const bool wrap = box.any();
+  VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
+  // The state at t, completed where the last step's final kick is pending, is checked
+  // here (as complete() lets the simulation check it) before this step moves on from
+  // it. The same pass measures how far the particles have moved since the contact list
+  // was built (as ContactModule would in a pass of its own). One reduction carries
+  // both: the squared displacement, or +inf for a state that is not finite. Without a
+  // gas there is no drag: the kick is the plain one (verlet_pass).
+  // The displacement is measured exactly (reading the build positions) only when the
+  // module's bound on it nears half the skin; otherwise the pass returns this step's
+  // largest drift, which the module adds to that bound.
+  constexpr double not_finite = std::numeric_limits<double>::infinity();
+  const bool listed = contact_ && contact_->listed(n);
+  const bool measure = listed && contact_->displacement_needed();
+  if (measure) {
+    a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
+  }
+  // With gravity the pass sets the forces to the weight instead of zeroing them,
+  // sparing the gravity module a pass over masses and forces.
+  const bool grav = gravity_;
+  if (grav) {
+    a.mass = p.mass.data();
+    a.g = g_;
+  }
+  // A bed of one kind of particle: its mass, 1/m and 1/I once, not per particle.
+  if (one_mass_ < 0) one_mass_ = p.same_mass() ? 1 : 0;
+  const bool one = one_mass_ == 1 && n > 0;
+  if (one) {
+    a.one_inv_mass = p.inv_mass[0];
+    a.one_mass = p.mass[0];
+    a.one_inv_inertia = rot ? p.inv_inertia[0] : 0.0;
+  }
+  // One contiguous range per thread, about the particles whose forces the same
+  // thread's part of the pair loop wrote (ContactModule's thread_slabs).
+  const double worst = parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+    return verlet::with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>() {
+      return verlet::verlet_pass<Pending, Rot, Wrap, Measure, Grav, One>(a, box, dt, i0, i1);
+    }, pending, rot, wrap, measure, grav, one);
+  });
+  kick_pending_ = false;
+  if (worst == not_finite) host.fail_not_finite();  // names the state at t (the clock is still at t)
+  if (measure) contact_->set_displacement(worst);
+  else if (listed) contact_->add_drift(worst);
+  host.compute_forces(grav ? ForceStart::weight : ForceStart::zeroed);
+  kick_pending_ = true;
+  return 0.0;  // checked when the step is completed (complete(), or the next step)
+}
+
+void VelocityVerlet::permute(const std::vector<std::uint32_t>& from) {
+  permute_arrays({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_}, p_.size(), from);
+}
+
+}  // namespace cdm::integrators

@@ -1,0 +1,111 @@
+#include "cdm/solver/run_guards.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "cdm/solver/coupling/drag_module.hpp"
+#include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/parallel.hpp"
+
+namespace cdm {
+
+double explicit_drag_step_limit(IntegratorScheme s) {
+  return s == IntegratorScheme::velocity_verlet ? 1.0 : 2.0;
+}
+
+void RunGuards::check(double time, std::uint64_t step, double nonfinite) const {
+  const ParticleStore& p = p_;
+  const std::size_t n = p.size();
+  // |sum| is finite exactly when every value is (barring overflow near 1e308).
+  const bool rot = p.has_rotation();
+  const double s = nonfinite >= 0.0 ? nonfinite : parallel_max(n, [&](std::size_t i) {
+    const double v = p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i] +
+                     (rot ? p.wx[i] + p.wy[i] + p.wz[i] : 0.0);
+    return std::isfinite(v) ? 0.0 : 1.0;
+  });
+  const double t_col = spec_.t_col_min;
+  auto cause = [&](std::ostringstream& os) {
+    os << "; dt = " << spec_.dt << " s";
+    if (t_col > 0.0) os << ", shortest collision time t_col = " << t_col << " s (dt/t_col = " << spec_.dt / t_col << ")";
+    if (drag_) {
+      const double tp = drag_->relaxation_time_at_rest(p);
+      const double limit = explicit_drag_step_limit(spec_.integrator);
+      os << ", shortest particle relaxation time at zero slip tau_p = m/K = " << tp << " s (tau_p/dt = " << tp / spec_.dt
+         << "; drag update '" << coupling::to_string(spec_.drag_update) << "'";
+      if (spec_.drag_update == coupling::DragUpdate::explicit_force && tp < spec_.dt / limit)
+        os << ": an explicit drag update is unstable for dt > " << (limit == 1.0 ? "" : "2 ") << "tau_p with "
+           << to_string(spec_.integrator) << ", use drag.update = \"exponential\" or \"implicit\"";
+      os << ")";
+    }
+  };
+  if (s != 0.0) {
+    std::ostringstream os;
+    os << "state is no longer finite at t = " << time << " s (step " << step << "), particle(s):";
+    int listed = 0;
+    for (std::size_t i = 0; i < n && listed < 5; ++i) {
+      const bool bad = !is_finite(p.position(i)) || !is_finite(p.velocity(i)) ||
+                       (p.has_rotation() && !is_finite(p.angular_velocity(i)));
+      if (bad) { os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ')'; ++listed; }
+    }
+    os << ". Likely cause: a time step too large for the stiffest force";
+    cause(os);
+    throw SimulationError(os.str());
+  }
+  if (gas_) {
+    // A particle must stay in the gas domain along every axis that is not periodic.
+    const double out = parallel_max(n, [&](std::size_t i) { return gas_->contains(p.position(i)) ? 0.0 : 1.0; });
+    if (out != 0.0) {
+      std::ostringstream os;
+      os << "particle(s) left the gas domain at t = " << time << " s (step " << step << "):";
+      int listed = 0;
+      for (std::size_t i = 0; i < n && listed < 5; ++i)
+        if (!gas_->contains(p.position(i))) {
+          const Vec3 x = p.position(i);
+          os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ") at [" << x.x << ", " << x.y << ", " << x.z << "] m";
+          ++listed;
+        }
+      os << ". Likely cause: the gas domain is too small for this run (make it larger, periodic, or bounded by "
+            "walls), or the step is too large";
+      cause(os);
+      throw SimulationError(os.str());
+    }
+  }
+  if (contact_ && contact_->worst_overlap().ratio >= spec_.max_overlap_fraction) {
+    const OverlapRecord& w = contact_->worst_overlap();
+    std::ostringstream os;
+    os << "overlap reached " << w.ratio << " of the radius (limit checks.max_overlap_fraction = "
+       << spec_.max_overlap_fraction << ") at t = " << time << " s (step " << step << "): particle "
+       << p.id_of(w.particle) << " (" << particle_source(spec_, p.id_of(w.particle)) << ") against ";
+    if (w.partner >= 0) {
+      const std::size_t k = p.id_of(static_cast<std::size_t>(w.partner));
+      os << "particle " << k << " (" << particle_source(spec_, k) << ")";
+    }
+    else os << "wall '" << contact_->walls()[static_cast<std::size_t>(-1 - w.partner)].name << "'";
+    os << ". Likely cause: the normal spring is too soft to stop the particle within its radius at this impact "
+          "speed (raise kn), or the time step is too large";
+    cause(os);
+    throw SimulationError(os.str());
+  }
+}
+
+void RunGuards::check_gas(const fluid::GasSolver& gs, double dtg, double time) const {
+  const double cfl = gs.max_cfl(dtg);
+  bool finite = true;
+  for (double x : gas_->u) finite = finite && std::isfinite(x);
+  for (double x : gas_->v) finite = finite && std::isfinite(x);
+  for (double x : gas_->w) finite = finite && std::isfinite(x);
+  if (finite && cfl <= 1.0) return;
+  std::ostringstream os;
+  os << "the gas " << (finite ? "velocity exceeds one cell per gas step" : "state is no longer finite") << " at t = "
+     << time << " s (Courant number " << cfl << ", diffusion number " << gs.diffusion_number(dtg)
+     << "). Likely cause: gas.dt = " << dtg << " s too large for the flow (keep |u| dt/h below 1 and "
+     << "mu dt/(rho h^2) summed over the axes below 1/2"
+     << (p_.has_two_way() ? "; with two-way coupling the drag on the gas is explicit, so gas.dt must also "
+                            "stay below 2 eps_g rho_g / beta, the time the gas takes to relax to the particles' "
+                            "velocity, which dense or fine-particle regions make short"
+                          : "")
+     << ")";
+  throw SimulationError(os.str());
+}
+
+}  // namespace cdm
