@@ -15,6 +15,7 @@
 #include <tuple>
 #include <toml++/toml.h>
 
+#include "cdm/solver/contact/dashpot_limit.hpp"
 #include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 
@@ -1061,6 +1062,8 @@ void Loader::resolve_dt(const toml::table* t) {
   // ones; and the smallest Rayleigh time of the particles in Hertz–Mindlin contacts.
   double t_col = std::numeric_limits<double>::infinity(), t_ray = std::numeric_limits<double>::infinity();
   std::string t_col_pair, t_ray_material;
+  double t_dash = std::numeric_limits<double>::infinity();
+  std::string t_dash_pair;
   bool hertz_meets = false;
   if (spec_.normal_contact != NormalContactModel::none) {
     const std::size_t nm = spec_.materials.size();
@@ -1094,6 +1097,10 @@ void Loader::resolve_dt(const toml::table* t) {
           tc = contact::hertz_collision_time(m_eff, r_star, pp.e_star, spec_.impact_velocity);
       }
       if (tc < t_col) { t_col = tc; t_col_pair = what; }
+      // The explicit dashpot's own step limit (contact/dashpot_limit.hpp), below t_col/10 for small en.
+      const double td = contact::dashpot_dt_limit(pp, m_eff, r_star, spec_.impact_velocity,
+                                                  spec_.integrator == IntegratorScheme::velocity_verlet);
+      if (td < t_dash) { t_dash = td; t_dash_pair = what; }
     };
     for (std::size_t a = 0; a < nm; ++a) {
       if (!count[a]) continue;
@@ -1143,7 +1150,7 @@ void Loader::resolve_dt(const toml::table* t) {
       spec_.dt_divisor = number_in(*t, "dt_divisor", "integrator", Dim::none, false, 50.0, 10.0, false,
                                    std::numeric_limits<double>::infinity(), false,
                                    ">= 10 (dt = t_col/dt_divisor; fewer than 10 steps per collision is not resolved)");
-      spec_.dt = t_col / spec_.dt_divisor;
+      spec_.dt = std::min(t_col / spec_.dt_divisor, t_dash);
     } else {
       reject_unused(*t, "dt_divisor", "integrator",
                     "no collision time is known (no linear pair meets, and integrator.impact_velocity is not given)");
@@ -1163,6 +1170,15 @@ void Loader::resolve_dt(const toml::table* t) {
       os << ", and with fewer than 10 steps per collision the contact force is not resolved (overlaps and "
          << "restitution come out wrong, or the run blows up); use dt = \"auto\" (t_col/50, as Garg et al. 2012) or "
          << "a smaller dt";
+      fail_value("integrator.dt", *dtn, os.str());
+    }
+    if (spec_.dt > t_dash) {
+      std::ostringstream os;
+      os << "a time step <= " << t_dash << " s: the normal dashpot of pair " << t_dash_pair << " makes "
+         << to_string(spec_.integrator) << " unstable above " << t_dash / contact::dashpot_safety_factor
+         << " s, and above " << contact::dashpot_safety_factor << " of that an impact can leave faster than it "
+         << "arrived (the limit is of order m_eff/eta_n however long the collision lasts: small en); use a smaller "
+         << "dt or dt = \"auto\"";
       fail_value("integrator.dt", *dtn, os.str());
     }
     if (hertz_meets && spec_.dt > t_ray) {
