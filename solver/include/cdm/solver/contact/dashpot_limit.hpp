@@ -24,8 +24,8 @@
 /// |a₀| < 1 (q < 2); 1 − a₀² > |a₀a₂ − a₁| (q² + q + pq/2 < 2). The second,
 /// Ω² + 8ζΩ < 4, gives
 ///   Ω < 2(√(1 + 4ζ²) − 2ζ)   (2 for ζ = 0; 1/(2ζ), i.e. Δt < m/η, for ζ ≫ 1),
-/// and implies the other two (checked for ζ in [0, 20] and against the eigenvalues of M
-/// in tests/physics/test_dashpot_limit.cpp).
+/// and implies the other two (checked numerically for ζ in [0, 20]; the bound is checked
+/// against the growth of the discrete update itself in tests/physics/test_dashpot_limit.cpp).
 ///
 /// Hertz–Mindlin (hertz_mindlin.hpp): linearised at overlap δ the normal force has the
 /// stiffness dF/dδ = (3/2) K δ^{1/2} and the dashpot α √(m K) δ^{1/4}, so ζ = α/√6 at every
@@ -34,17 +34,20 @@
 /// compresses less).
 ///
 /// Stability is not enough: a contact is a transient, and near the bound the discrete
-/// impact leaves faster than it arrived (en = 1e-4 at t_col/10 under paper_euler, about
-/// 4.5 bounds, leaves 1.8 times as fast). A sweep of isolated impacts (tests/physics/
+/// impact leaves faster than it arrived (under paper_euler t_col/10 is 1.13 bounds for
+/// en = 1e-4, and the impact leaves 1.8 times as fast; 2.2 bounds for en = 1e-8: 6 times
+/// as fast). A sweep of isolated impacts (tests/physics/
 /// test_dashpot_limit.cpp, DashpotLimit.DISABLED_SweepForTheSafetyFactor: en from 1e-8 to
 /// 1, linear and Hertz, both schemes, 33 entry phases within a step) at
 /// Δt = min(t_col/10, r x bound) finds the exit speed at most 0.043 (paper_euler) and
 /// 0.038 (velocity_verlet) above the model's own restitution for every r up to 0.6 and
-/// 0.85: the order error that t_col/10 alone already gives at en near 0.5. Beyond, small
+/// 0.85: the order error that t_col/10 alone already gives at en of 0.5–0.7. Beyond, small
 /// en leave faster (paper_euler, r = 0.7: 0.23 above; r = 0.9: faster than they arrived).
-/// Hertz pairs never reach it (t_col/10 is at most 0.8 of their bound). The safety
-/// factor is 0.5, below both with a margin for what this one-dimensional analysis leaves
-/// out (tangential and rolling forces, several contacts on one particle).
+/// Hertz pairs stay within 0.02 of their restitution at every r (their t_col/10 is at most
+/// 0.45 of the bound under paper_euler, 0.78 under velocity_verlet): the linear pairs set
+/// the factor. It is 0.5, below both with a margin for what this one-dimensional analysis
+/// leaves out (tangential and rolling forces, several contacts on one particle); it also
+/// keeps velocity_verlet Hertz pairs of en below about 0.1 under t_H/10, conservatively.
 #include <cmath>
 #include <limits>
 
