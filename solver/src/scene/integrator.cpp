@@ -2,6 +2,7 @@
 /// @brief The integrator and the time-step rule: dt from the shortest collision time, the Rayleigh time and the gas step.
 #include "sections.hpp"
 
+#include "cdm/solver/contact/dashpot_limit.hpp"
 #include "cdm/solver/coupling/substeps.hpp"
 
 #include <algorithm>
@@ -53,6 +54,8 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
   // ones; and the smallest Rayleigh time of the particles in Hertz–Mindlin contacts.
   double t_col = std::numeric_limits<double>::infinity(), t_ray = std::numeric_limits<double>::infinity();
   std::string t_col_pair, t_ray_material;
+  double t_dash = std::numeric_limits<double>::infinity();
+  std::string t_dash_pair;
   bool hertz_meets = false;
   if (spec.normal_contact) {
     const std::size_t nm = spec.materials.size();
@@ -86,6 +89,10 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
           tc = contact::hertz_collision_time(m_eff, r_star, pp.e_star, spec.impact_velocity);
       }
       if (tc < t_col) { t_col = tc; t_col_pair = what; }
+      // The explicit dashpot's own step limit (contact/dashpot_limit.hpp), below t_col/10 for small en.
+      const double td = contact::dashpot_dt_limit(pp, m_eff, r_star, spec.impact_velocity,
+                                                  spec.integrator == IntegratorScheme::velocity_verlet);
+      if (td < t_dash) { t_dash = td; t_dash_pair = what; }
     };
     for (std::size_t a = 0; a < nm; ++a) {
       if (!count[a]) continue;
@@ -135,7 +142,7 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
       spec.dt_divisor = rd.number_in(*t, "dt_divisor", "integrator", Dim::none, false, 50.0, 10.0, false,
                                      std::numeric_limits<double>::infinity(), false,
                                      ">= 10 (dt = t_col/dt_divisor; fewer than 10 steps per collision is not resolved)");
-      spec.dt = t_col / spec.dt_divisor;
+      spec.dt = std::min(t_col / spec.dt_divisor, t_dash);
     } else {
       rd.reject_unused(*t, "dt_divisor", "integrator",
                        "no collision time is known (no linear pair meets, and integrator.impact_velocity is not given)");
@@ -155,6 +162,15 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
       os << ", and with fewer than 10 steps per collision the contact force is not resolved (overlaps and "
          << "restitution come out wrong, or the run blows up); use dt = \"auto\" (t_col/50, as Garg et al. 2012) or "
          << "a smaller dt";
+      rd.fail_value("integrator.dt", *dtn, os.str());
+    }
+    if (spec.dt > t_dash) {
+      std::ostringstream os;
+      os << "a time step <= " << t_dash << " s: the normal dashpot of pair " << t_dash_pair << " makes "
+         << to_string(spec.integrator) << " unstable above " << t_dash / contact::dashpot_safety_factor
+         << " s, and above " << contact::dashpot_safety_factor << " of that an impact can leave faster than it "
+         << "arrived (the limit is of order m_eff/eta_n however long the collision lasts: small en); use a smaller "
+         << "dt or dt = \"auto\"";
       rd.fail_value("integrator.dt", *dtn, os.str());
     }
     if (hertz_meets && spec.dt > t_ray) {
