@@ -75,8 +75,8 @@ void Simulation::sort_if_due() {
   if (!spec_.sort_interval || !contact_) return;
   ParticleStore& p = particles_;
   if (!p.id.empty() && steps_ - last_sort_ < spec_.sort_interval) return;
-  if (!contact_->rebuild_due(p)) return;
-  const std::vector<std::uint32_t> from = contact_->spatial_order(p);
+  if (!contact_->list().rebuild_due(p)) return;
+  const std::vector<std::uint32_t> from = contact_->list().spatial_order(p);
   permute(from);
   last_sort_ = steps_;
 }

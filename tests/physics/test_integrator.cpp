@@ -126,7 +126,7 @@ TEST(VelocityVerlet, ListsAreRebuiltAtTheStepADisplacementPassesHalfTheSkin) {
   // at up to 0.5 m/s bounce off each other and the walls, so the summed drifts run far
   // ahead of the displacements and the bound restarts from many measures.
   cdm::Simulation sim(scene());
-  const double skin = sim.contact()->skin();
+  const double skin = sim.contact()->list().skin();
   ASSERT_GT(skin, 0.0);
   const double lim2 = 0.25 * skin * skin;
   auto positions = [&] {

@@ -352,7 +352,7 @@ TEST(SpatialSort, OrderIsAPermutationByCellsAndForcesFollowTheParticles) {
   };
   for (int step = 0; step < 4; ++step) {
     if (step == 2) {
-      const std::vector<std::uint32_t> from = sorted.spatial_order(q);
+      const std::vector<std::uint32_t> from = sorted.list().spatial_order(q);
       std::vector<std::uint8_t> seen(from.size(), 0);
       for (std::uint32_t k : from) { ASSERT_LT(k, from.size()); ASSERT_FALSE(seen[k]); seen[k] = 1; }
       q.permute(from);

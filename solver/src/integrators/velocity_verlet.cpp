@@ -79,10 +79,10 @@ double VelocityVerlet::step_deferred(StepHost& host) {
   // module's bound on it nears half the skin; otherwise the pass returns this step's
   // largest drift, which the module adds to that bound.
   constexpr double not_finite = std::numeric_limits<double>::infinity();
-  const bool listed = contact_ && contact_->listed(n);
-  const bool measure = listed && contact_->displacement_needed();
+  const bool listed = contact_ && contact_->list().listed(n);
+  const bool measure = listed && contact_->list().displacement_needed();
   if (measure) {
-    a.x0 = contact_->build_positions(0); a.y0 = contact_->build_positions(1); a.z0 = contact_->build_positions(2);
+    a.x0 = contact_->list().build_positions(0); a.y0 = contact_->list().build_positions(1); a.z0 = contact_->list().build_positions(2);
   }
   // With gravity the pass sets the forces to the weight instead of zeroing them,
   // sparing the gravity module a pass over masses and forces.
@@ -108,8 +108,8 @@ double VelocityVerlet::step_deferred(StepHost& host) {
   });
   kick_pending_ = false;
   if (worst == not_finite) host.fail_not_finite();  // names the state at t (the clock is still at t)
-  if (measure) contact_->set_displacement(worst);
-  else if (listed) contact_->add_drift(worst);
+  if (measure) contact_->list().set_displacement(worst);
+  else if (listed) contact_->list().add_drift(worst);
   host.compute_forces(grav ? ForceStart::weight : ForceStart::zeroed);
   kick_pending_ = true;
   return 0.0;  // checked when the step is completed (complete(), or the next step)

@@ -47,7 +47,10 @@ class ContactModule final : public ForceModule {
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
 
+  /// The Verlet list the loops run over: Simulation asks it when to rebuild and sort,
+  /// and an integrator that measures the particles' drift tells it (VerletList).
   const VerletList& list() const { return list_; }
+  VerletList& list() { return list_; }
   const OverlapRecord& worst_overlap() const { return worst_; }
   std::size_t active_contacts() const { return n_active_; }
   /// Contacts carrying tangential history (zero when frictionless).
@@ -69,16 +72,6 @@ class ContactModule final : public ForceModule {
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
   void permute(const std::vector<std::uint32_t>& from) override { list_.permute(from); }
-
-  // The list's, for Simulation (see VerletList).
-  double skin() const { return list_.skin(); }
-  bool rebuild_due(const ParticleStore& p) const { return list_.rebuild_due(p); }
-  bool listed(std::size_t n) const { return list_.listed(n); }
-  const double* build_positions(int axis) const { return list_.build_positions(axis); }
-  void set_displacement(double d2) { list_.set_displacement(d2); }
-  bool displacement_needed() const { return list_.displacement_needed(); }
-  void add_drift(double d2) { list_.add_drift(d2); }
-  std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const { return list_.spatial_order(p); }
 
   /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
