@@ -19,10 +19,9 @@ ContactModule::ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool
 }
 
 std::string ContactModule::name() const {
-  const char* laws = laws_ == LawsPresent::linear  ? "linear_spring_dashpot"
-                     : laws_ == LawsPresent::hertz ? "hertz_mindlin"
-                                                   : "linear_spring_dashpot,hertz_mindlin";
-  return std::string(laws) + (friction_ ? "+spring_coulomb" : "");
+  const std::string lin = to_string(ContactLaw::linear_spring_dashpot), hz = to_string(ContactLaw::hertz_mindlin);
+  const std::string laws = laws_ == LawsPresent::linear ? lin : laws_ == LawsPresent::hertz ? hz : lin + "," + hz;
+  return laws + (friction_ ? "+spring_coulomb" : "");
 }
 
 void ContactModule::add_forces(ParticleStore& p, double dt) {
