@@ -17,6 +17,7 @@
 
 #include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/neighbour_search.hpp"
+#include "scene_override.hpp"
 
 namespace cdm {
 
@@ -1319,6 +1320,8 @@ SceneSpec Loader::load() {
   return spec_;
 }
 
+}  // namespace
+
 // Walk "a.b[2].c" inside a table and set the final key to value.
 void apply_override(toml::table& root, const SceneOverride& o, const std::string& file) {
   auto bad = [&](const std::string& why) {
@@ -1370,6 +1373,8 @@ void apply_override(toml::table& root, const SceneOverride& o, const std::string
     if (!cur) bad("'" + key + "' is not a table");
   }
 }
+
+namespace {
 
 SceneSpec load_table(toml::table root, const std::string& name, const std::vector<SceneOverride>& overrides) {
   for (const auto& o : overrides) apply_override(root, o, name);
