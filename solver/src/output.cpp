@@ -62,9 +62,7 @@ std::vector<std::string> particle_columns(bool rot) {
   if (rot) c.insert(c.end(), {"wx[rad/s]", "wy[rad/s]", "wz[rad/s]"});
   return c;
 }
-}  // namespace
 
-namespace {
 /// Where a restarted run continues the table at @p path: the checkpoint's length, or
 /// nowhere (a new table) when there is no table there or no length was recorded.
 std::optional<std::uint64_t> resume_point(const std::string& path, const Simulation& sim,
