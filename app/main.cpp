@@ -21,6 +21,7 @@
 #include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/output.hpp"
+#include "cdm/solver/restart_origin.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
 #include "cdm/verification/harness.hpp"
@@ -101,26 +102,30 @@ class Progress {
   std::uint64_t s0_ = 0;
 };
 
+/// @p s quoted for a POSIX shell.
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
 int run_scene(const std::string& scene, const std::string& out_dir, const std::vector<std::string>& sets,
               const std::string& restart, std::uint64_t max_steps, bool quiet) {
   cdm::RunOrigin origin;
   origin.scene_name = scene;
   origin.scene_text = read_file(scene);
-  for (const auto& s : sets) origin.overrides.push_back(cdm::parse_override(s));
+  for (const auto& s : sets) {
+    origin.overrides.push_back(cdm::parse_override(s));
+    cdm::check_override(origin.overrides.back());
+  }
   // Everything is validated before anything is written.
   cdm::Simulation sim(cdm::load_scene_from_string(origin.scene_text, scene, origin.overrides));
   const cdm::SceneSpec& spec = sim.spec();
+  std::optional<cdm::CheckpointData> ck;
   if (!restart.empty()) {
-    const cdm::CheckpointData ck = cdm::read_checkpoint(restart);
-    bool same = ck.origin.scene_text == origin.scene_text && ck.origin.overrides.size() == origin.overrides.size();
-    for (std::size_t k = 0; same && k < origin.overrides.size(); ++k)
-      same = ck.origin.overrides[k].path == origin.overrides[k].path &&
-             ck.origin.overrides[k].value == origin.overrides[k].value;
-    if (!same)
-      throw cdm::CheckpointError(restart + ": written from scene '" + ck.origin.scene_name +
-                                 "' with other contents or --set overrides than '" + scene +
-                                 "' now has; restart with the scene and overrides the run started with");
-    cdm::restore_checkpoint(ck, sim, restart);
+    ck = cdm::read_checkpoint(restart);
+    cdm::check_restart_origin(ck->origin, origin, restart);
+    cdm::restore_checkpoint(*ck, sim, restart);
   }
   std::cout << "cdm run: " << scene << ": " << sim.particles().size() << " particles, modules:";
   for (const auto& m : sim.module_names()) std::cout << ' ' << m;
@@ -129,13 +134,26 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   std::cout << ", " << sim.total_steps() << " steps";
   if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
   std::cout << "\n" << std::flush;
-  fs::create_directories(out_dir);
+  cdm::make_output_directory(out_dir);
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.cdmck").string();
+  if (fs::exists(ckpt) && !fs::is_regular_file(ckpt))
+    throw cdm::OutputError("cannot write the checkpoint '" + ckpt + "': it exists and is not a regular file");
 
+  // A restart cuts each output back to where the checkpoint recorded it before appending.
   std::optional<cdm::ParticleTableObserver> table;
-  if (spec.output_particles) table.emplace((fs::path(out_dir) / "particles.dat").string(), sim);
+  if (spec.output_particles)
+    table.emplace((fs::path(out_dir) / "particles.dat").string(), sim,
+                  ck ? ck->outputs.particle_table : std::optional<std::uint64_t>());
   std::optional<cdm::VtkObserver> vtk;
-  if (spec.output_vtk) vtk.emplace(out_dir, sim);
+  if (spec.output_vtk) vtk.emplace(out_dir, sim, ck ? ck->outputs.vtk : std::optional<cdm::VtkMark>());
+  ck.reset();  // the state is restored; its bytes are not needed any more
+  // The outputs are made durable and their lengths recorded in the checkpoint.
+  auto checkpoint = [&](const cdm::Simulation& s) {
+    cdm::OutputMarks marks;
+    if (table) marks.particle_table = table->sync();
+    if (vtk) marks.vtk = vtk->sync();
+    cdm::write_checkpoint(ckpt, s, origin, marks);
+  };
   Progress progress(!quiet && isatty(STDERR_FILENO));
   progress.start_at(sim.steps());
   long long last_ck = spec.checkpoint_interval > 0
@@ -155,13 +173,12 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
           const auto k = static_cast<long long>(std::floor(s.time() / spec.checkpoint_interval + 1e-9));
           if (k > last_ck) {
             last_ck = k;
-            cdm::write_checkpoint(ckpt, s, origin);
+            checkpoint(s);
           }
         }
       },
       [&] { return g_signal.load() != 0 || sim.steps() >= stop_at; });
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
-  table.reset();  // flush the rows before anything else is said
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
   std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s; simulated "
               "time %.6g s\n",
@@ -169,16 +186,18 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
               omp_get_max_threads(), loop_s > 0 ? psteps / loop_s : 0.0, sim.time());
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
-    cdm::write_checkpoint(ckpt, sim, origin);
+    checkpoint(sim);
     std::cout << "wrote checkpoint " << ckpt << " at step " << sim.steps() << " (t = " << sim.time() << " s)\n";
   }
+  if (table) table->close();
   if (spec.output_particles) std::cout << "wrote " << (fs::path(out_dir) / "particles.dat").string() << "\n";
   if (spec.output_vtk)
     std::cout << "wrote " << (fs::path(out_dir) / "particles.pvd").string()
               << (sim.gas() ? " and " + (fs::path(out_dir) / "gas.pvd").string() : std::string()) << " (VTK)\n";
   if (sig != 0) {
-    std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << scene << " --restart " << ckpt
-              << " -o " << out_dir << "\n";
+    std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << shell_quote(scene);
+    for (const auto& s : sets) std::cerr << " --set " << shell_quote(s);
+    std::cerr << " --restart " << shell_quote(ckpt) << " -o " << shell_quote(out_dir) << "\n";
     return 128 + sig;
   }
   return 0;
@@ -197,10 +216,17 @@ int main(int argc, char** argv) {
   run->add_option("-o,--out", out_dir, "output directory")->capture_default_str();
   run->add_option("--set", sets, "override a scene value before validation: path=value (TOML syntax, scene units)");
   std::string restart;
-  std::uint64_t max_steps = 0;
+  long long max_steps = 0;
   bool quiet = false;
   run->add_option("--restart", restart, "continue from a checkpoint written by a run of the same scene and overrides");
-  run->add_option("--max-steps", max_steps, "stop after this many steps (writing a checkpoint to continue from)");
+  run->add_option("--max-steps", max_steps, "stop after this many steps, N >= 1 (writing a checkpoint to continue from)")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return v.find_first_not_of("0123456789") == std::string::npos && v.find_first_not_of('0') != std::string::npos
+                       ? std::string()
+                       : "expected a whole number of steps >= 1, got '" + v + "'";
+          },
+          "N >= 1"));
   run->add_flag("-q,--quiet", quiet, "no progress display");
   int threads = 0;
   run->add_option("-j,--threads", threads,
@@ -230,7 +256,7 @@ int main(int argc, char** argv) {
 
   try {
     if (threads > 0) omp_set_num_threads(threads);
-    if (*run) return run_scene(scene, out_dir, sets, restart, max_steps, quiet);
+    if (*run) return run_scene(scene, out_dir, sets, restart, static_cast<std::uint64_t>(max_steps), quiet);
     if (*report) {
       // The report is built from the tables alone, by reports/make_report.py with
       // Debian's python3-matplotlib (the interpreter on PATH may not see it).
@@ -259,6 +285,9 @@ int main(int argc, char** argv) {
   } catch (const cdm::CheckpointError& e) {
     std::cerr << "cdm: error: " << e.what() << "\n";
     return 2;
+  } catch (const cdm::OutputError& e) {
+    std::cerr << "cdm: output error: " << e.what() << "\n";
+    return 4;
   } catch (const cdm::SimulationError& e) {
     std::cerr << "cdm: the run went unstable and was stopped: " << e.what() << "\n";
     return 3;

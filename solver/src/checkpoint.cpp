@@ -1,5 +1,7 @@
 #include "cdm/solver/checkpoint.hpp"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -7,6 +9,7 @@
 #include <sstream>
 
 #include "cdm/solver/archive.hpp"
+#include "cdm/solver/io/durable_file.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -18,48 +21,102 @@ constexpr std::uint64_t max_payload = std::uint64_t{1} << 36;  // 64 GiB: refuse
 
 }  // namespace
 
-void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin) {
+namespace {
+
+void put_marks(OutArchive& a, const OutputMarks& m) {
+  a.put(static_cast<std::uint8_t>(m.particle_table ? 1 : 0));
+  a.put(m.particle_table.value_or(0));
+  a.put(static_cast<std::uint8_t>(m.vtk ? 1 : 0));
+  const VtkMark v = m.vtk.value_or(VtkMark{});
+  a.put(v.last);
+  a.put(v.particle_frames);
+  a.put(v.gas_frames);
+}
+
+OutputMarks get_marks(InArchive& a) {
+  OutputMarks m;
+  std::uint8_t has = 0;
+  std::uint64_t bytes = 0;
+  a.get(has);
+  a.get(bytes);
+  if (has > 1) throw ArchiveError("its output record is corrupted");
+  if (has) m.particle_table = bytes;
+  VtkMark v;
+  a.get(has);
+  a.get(v.last);
+  a.get(v.particle_frames);
+  a.get(v.gas_frames);
+  if (has > 1 || v.last < -1) throw ArchiveError("its output record is corrupted");
+  if (has) m.vtk = v;
+  return m;
+}
+
+/// Closes the checkpoint's temporary file and removes it unless it was renamed into place.
+struct TempFile {
+  std::FILE* f = nullptr;
+  std::string path;
+  bool renamed = false;
+  ~TempFile() {
+    if (f) std::fclose(f);
+    if (!renamed) std::remove(path.c_str());
+  }
+};
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin,
+                      const OutputMarks& marks) {
   // The state goes straight to the file (a large run's state is not held a second time
   // in memory); its length is learnt first by a pass that only counts, and the header's
   // length and checksum are filled in once the body is written.
   OutArchive counter;  // counts only
   sim.save_state(counter);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw CheckpointError(path + ": cannot open '" + tmp + "' for writing");
-    const std::uint32_t version = checkpoint_format_version;
-    std::uint64_t len = 0, sum = 0;
-    out.write(magic, sizeof magic);
-    out.write(reinterpret_cast<const char*>(&version), sizeof version);
-    const auto header_at = out.tellp();
-    out.write(reinterpret_cast<const char*>(&len), sizeof len);
-    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    OutArchive body(out);
-    body.put(origin.scene_name);
-    body.put(origin.scene_text);
-    body.put(static_cast<std::uint64_t>(origin.overrides.size()));
-    for (const auto& o : origin.overrides) {
-      body.put(o.path);
-      body.put(o.value);
-    }
-    body.put(counter.size());  // the state, as a byte array: its length, then its bytes
-    const std::uint64_t before = body.size();
-    sim.save_state(body);
-    if (body.size() - before != counter.size())
-      throw CheckpointError(path + ": the state changed size while it was written (" + std::to_string(counter.size()) +
-                            " then " + std::to_string(body.size() - before) + " bytes)");
-    len = body.size();
-    sum = body.checksum();
-    out.seekp(header_at);
-    out.write(reinterpret_cast<const char*>(&len), sizeof len);
-    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    out.flush();
-    if (!out) throw CheckpointError(path + ": writing '" + tmp + "' failed (disk full?)");
+  TempFile tmp{nullptr, path + ".tmp"};
+  tmp.f = std::fopen(tmp.path.c_str(), "wb");
+  if (!tmp.f) {
+    const int err = errno;
+    tmp.renamed = true;  // nothing was created
+    throw_output_error(tmp.path, "open for writing", err);
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);  // atomic on POSIX: the old checkpoint stays until this succeeds
-  if (ec) throw CheckpointError(path + ": cannot rename the new checkpoint into place: " + ec.message());
+  std::FILE* out = tmp.f;
+  const std::uint32_t version = checkpoint_format_version;
+  std::uint64_t len = 0, sum = 0;
+  auto raw = [&](const void* p, std::size_t n) {
+    if (std::fwrite(p, 1, n, out) != n) throw_output_error(tmp.path, "write", errno);
+  };
+  raw(magic, sizeof magic);
+  raw(&version, sizeof version);
+  const long header_at = std::ftell(out);
+  raw(&len, sizeof len);
+  raw(&sum, sizeof sum);
+  OutArchive body(out);
+  body.put(origin.scene_name);
+  body.put(origin.scene_text);
+  body.put(static_cast<std::uint64_t>(origin.overrides.size()));
+  for (const auto& o : origin.overrides) {
+    body.put(o.path);
+    body.put(o.value);
+  }
+  put_marks(body, marks);
+  body.put(counter.size());  // the state, as a byte array: its length, then its bytes
+  const std::uint64_t before = body.size();
+  sim.save_state(body);
+  if (body.size() - before != counter.size())
+    throw CheckpointError(path + ": the state changed size while it was written (" + std::to_string(counter.size()) +
+                          " then " + std::to_string(body.size() - before) + " bytes)");
+  if (body.failed()) throw_output_error(tmp.path, "write", body.error());
+  len = body.size();
+  sum = body.checksum();
+  if (std::fseek(out, header_at, SEEK_SET) != 0) throw_output_error(tmp.path, "seek in", errno);
+  raw(&len, sizeof len);
+  raw(&sum, sizeof sum);
+  sync_file(out, tmp.path);
+  tmp.f = nullptr;
+  if (std::fclose(out) != 0) throw_output_error(tmp.path, "close", errno);
+  // Atomic on POSIX: the old checkpoint stays until this succeeds.
+  if (std::rename(tmp.path.c_str(), path.c_str()) != 0) throw_output_error(path, "rename '" + tmp.path + "' onto", errno);
+  tmp.renamed = true;
+  sync_directory(std::filesystem::path(path).parent_path().string());
 }
 
 CheckpointData read_checkpoint(const std::string& path) {
@@ -111,6 +168,7 @@ CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::
       a.get(o.value);
       d.origin.overrides.push_back(o);
     }
+    d.outputs = get_marks(a);
     a.get(d.state);
     if (!a.done()) throw ArchiveError("it has data after the state");
   } catch (const ArchiveError& e) {
@@ -119,13 +177,63 @@ CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::
   return d;
 }
 
+namespace {
+
+std::string number(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+/// The restored state holds finite numbers only (a scene's are checked when it is read).
+void check_finite(const Simulation& sim, const std::string& path) {
+  auto refuse = [&](const std::string& what) {
+    throw CheckpointError(path + ": not a usable checkpoint: " + what + " (a run never writes one)");
+  };
+  const ParticleStore& p = sim.particles();
+  const std::pair<const char*, const std::vector<double>*> fields[] = {
+      {"x", &p.x}, {"y", &p.y}, {"z", &p.z}, {"vx", &p.vx}, {"vy", &p.vy}, {"vz", &p.vz},
+      {"wx", &p.wx}, {"wy", &p.wy}, {"wz", &p.wz}};
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const std::size_t i = p.slot_of(k);
+    for (const auto& [name, v] : fields)
+      if (i < v->size() && !std::isfinite((*v)[i]))
+        refuse("particle " + std::to_string(k) + " has " + name + " = " + number((*v)[i]));
+  }
+  if (const fluid::GasField* g = sim.gas()) {
+    const std::pair<const char*, const std::vector<double>*> gas[] = {
+        {"u", &g->u}, {"v", &g->v}, {"w", &g->w}, {"p", &g->p}, {"eps_g", &g->eps_g}};
+    for (const auto& [name, v] : gas)
+      for (double x : *v)
+        if (!std::isfinite(x)) refuse("the gas field " + std::string(name) + " holds " + number(x));
+  }
+}
+
+}  // namespace
+
 void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::string& path) {
   try {
+    // The state opens with the particle count, the step count and the time: the time
+    // must be the one the run reaches after that many steps (it advances as steps * dt).
+    InArchive head(data.state.data(), data.state.size());
+    std::uint64_t n = 0, steps = 0;
+    double t = 0.0;
+    head.get(n);
+    head.get(steps);
+    head.get(t);
+    if (!std::isfinite(t))
+      throw CheckpointError(path + ": not a usable checkpoint: its time is " + number(t) + ", not a finite number");
+    const double expected = static_cast<double>(steps) * sim.dt();
+    if (t != expected)
+      throw CheckpointError(path + ": not a usable checkpoint: its time t = " + number(t) + " s is not what its " +
+                            std::to_string(steps) + " steps of dt = " + number(sim.dt()) + " s give (" +
+                            number(expected) + " s)");
     InArchive a(data.state.data(), data.state.size());
     sim.load_state(a);
   } catch (const ArchiveError& e) {
     throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());
   }
+  check_finite(sim, path);
 }
 
 }  // namespace cdm

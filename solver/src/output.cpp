@@ -1,23 +1,28 @@
 #include "cdm/solver/output.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <stdexcept>
 
+#include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
 
 TableWriter::TableWriter(const std::string& path, const std::vector<std::string>& columns,
-                         const std::vector<std::string>& comments, bool append)
+                         const std::vector<std::string>& comments, std::optional<std::uint64_t> resume_at)
     : ncol_(columns.size()), path_(path) {
   if (path.empty()) return;  // a table nobody asked for: rows are discarded
-  f_ = std::fopen(path.c_str(), append ? "a" : "w");
-  if (!f_) throw std::runtime_error("cannot open '" + path + "' for writing");
-  if (append) return;  // continuing a table: its header is there already
-  for (const auto& c : comments) std::fprintf(f_, "# %s\n", c.c_str());
-  std::fputs("#", f_);
-  for (const auto& c : columns) std::fprintf(f_, " %s", c.c_str());
-  std::fputs("\n", f_);
+  if (resume_at) truncate_file(path, *resume_at);
+  f_ = std::fopen(path.c_str(), resume_at ? "a" : "w");
+  if (!f_) throw_output_error(path, "open for writing", errno);
+  if (resume_at) return;  // continuing a table: its header is there already
+  bool ok = true;
+  for (const auto& c : comments) ok = ok && std::fprintf(f_, "# %s\n", c.c_str()) >= 0;
+  ok = ok && std::fputs("#", f_) >= 0;
+  for (const auto& c : columns) ok = ok && std::fprintf(f_, " %s", c.c_str()) >= 0;
+  ok = ok && std::fputs("\n", f_) >= 0;
+  if (!ok) throw_output_error(path, "write", errno);
 }
 
 TableWriter::~TableWriter() {
@@ -27,12 +32,28 @@ TableWriter::~TableWriter() {
 void TableWriter::row(const std::vector<double>& v) {
   if (v.size() != ncol_) throw std::logic_error("table '" + path_ + "': row has the wrong number of columns");
   if (!f_) return;
-  for (std::size_t k = 0; k < v.size(); ++k) std::fprintf(f_, k ? " %.16e" : "%.16e", v[k]);
-  std::fputs("\n", f_);
+  bool ok = true;
+  for (std::size_t k = 0; k < v.size(); ++k) ok = ok && std::fprintf(f_, k ? " %.16e" : "%.16e", v[k]) >= 0;
+  if (!ok || std::fputs("\n", f_) < 0) throw_output_error(path_, "write", errno);
 }
 
 void TableWriter::flush() {
-  if (f_) std::fflush(f_);
+  if (f_ && std::fflush(f_) != 0) throw_output_error(path_, "write", errno);
+}
+
+std::uint64_t TableWriter::sync() {
+  if (!f_) return 0;
+  sync_file(f_, path_);
+  const long at = std::ftell(f_);
+  if (at < 0) throw_output_error(path_, "find the length of", errno);
+  return static_cast<std::uint64_t>(at);
+}
+
+void TableWriter::close() {
+  if (!f_) return;
+  std::FILE* f = f_;
+  f_ = nullptr;
+  close_file(f, path_);
 }
 
 namespace {
@@ -41,12 +62,28 @@ std::vector<std::string> particle_columns(bool rot) {
   if (rot) c.insert(c.end(), {"wx[rad/s]", "wy[rad/s]", "wz[rad/s]"});
   return c;
 }
+
+/// Where a restarted run continues the table at @p path: the checkpoint's length, or
+/// nowhere (a new table) when there is no table there or no length was recorded.
+std::optional<std::uint64_t> resume_point(const std::string& path, const Simulation& sim,
+                                          std::optional<std::uint64_t> recorded) {
+  if (!sim.restarted() || !recorded) return std::nullopt;
+  const long long size = regular_file_size(path);
+  if (size < 0) return std::nullopt;
+  if (static_cast<std::uint64_t>(size) < *recorded)
+    throw CheckpointError(path + ": holds " + std::to_string(size) + " bytes, fewer than the " +
+                          std::to_string(*recorded) +
+                          " the checkpoint recorded: not the table this checkpoint continues (restart into another "
+                          "-o directory to start a new table)");
+  return recorded;
+}
 }  // namespace
 
-ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim)
+ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim,
+                                             std::optional<std::uint64_t> resume_at)
     : table_(path, particle_columns(sim.particles().has_rotation()),
              {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"},
-             sim.restarted()),
+             resume_point(path, sim, resume_at)),
       interval_(sim.spec().output_interval),
       rot_(sim.particles().has_rotation()) {
   if (sim.restarted()) last_ = sample_index(sim.time());  // that row was written before the checkpoint

@@ -1,6 +1,7 @@
 #include "cdm/verification/harness.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <tuple>
 #include <stdexcept>
 #include <toml++/toml.h>
+
+#include "cdm/solver/io/durable_file.hpp"
 
 namespace cdm::verification {
 
@@ -22,6 +25,13 @@ double Variant::param(const std::string& key) const {
 }
 
 namespace {
+
+/// A table of the verification output, opened for writing; OutputError if it cannot be.
+std::FILE* open_output(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) cdm::throw_output_error(path, "open for writing", errno);
+  return f;
+}
 
 std::string fmt(double v, const char* f = "%.6e") {
   char b[64];
@@ -65,8 +75,7 @@ const Tolerance* find_tol(const std::vector<Tolerance>& tols, const std::string&
 template <class Run>
 void write_work_precision(const fs::path& out, const std::string& name, const std::vector<Run>& runs) {
   const std::string path = (out / "work_precision.dat").string();
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw std::runtime_error("cannot write " + path);
+  std::FILE* f = open_output(path);
   std::fprintf(f, "# cdm verify --sweep: case %s. Percent-error norms only (counts and orders left out).\n", name.c_str());
   std::fprintf(f, "# cheapest: per variant, integrator and quantity, the run of least wall time whose error is <= target;"
                   " not_reached if no run in the sweep gets there\n");
@@ -88,7 +97,7 @@ void write_work_precision(const fs::path& out, const std::string& name, const st
         std::fprintf(f, "%s %s %s %s %s %g not_reached - - - - -\n", name.c_str(), variant.c_str(), integ.c_str(),
                      q.c_str(), norm.c_str(), target);
     }
-  std::fclose(f);
+  cdm::close_file(f, path);
 }
 
 }  // namespace
@@ -202,7 +211,7 @@ int verify(const VerifyOptions& opt) {
       return 2;
     }
   }
-  fs::create_directories(opt.out_dir);
+  cdm::make_output_directory(opt.out_dir);
 
   struct Summary { std::string name; int pass = 0, fail = 0; double worst_ratio = 0; std::string worst; double wall = 0; };
   std::vector<Summary> summaries;
@@ -216,7 +225,7 @@ int verify(const VerifyOptions& opt) {
     const auto tols = load_tolerances(dir);
     const CaseRunner& runner = case_runners().at(c.kind);
     const fs::path out = fs::path(opt.out_dir) / name;
-    fs::create_directories(out / "series");
+    cdm::make_output_directory((out / "series").string());
     Summary s;
     s.name = name;
     std::cout << "== " << name << ": " << c.title << "\n";
@@ -224,8 +233,7 @@ int verify(const VerifyOptions& opt) {
     struct WpRun { std::string variant, integ, q, norm; double div, dt, err, wall; std::uint64_t psteps; };
     std::vector<WpRun> wp;
     const std::string table_path = (out / (opt.sweep ? "errors_sweep.dat" : "errors.dat")).string();
-    std::FILE* tf = std::fopen(table_path.c_str(), "w");
-    if (!tf) throw std::runtime_error("cannot write " + table_path);
+    std::FILE* tf = open_output(table_path);
     std::fprintf(tf, "# cdm verify: case %s (%s)\n", name.c_str(), c.title.c_str());
     std::fprintf(tf, "# dt_divisor N: %s\n", c.divisor_meaning.c_str());
     std::fprintf(tf, "# errors: norm max_rel_pct = max over the series of 100|Q_oracle - Q|/|Q_oracle| (Garg et al. eq 37);"
@@ -327,7 +335,7 @@ int verify(const VerifyOptions& opt) {
       emit(row, integ, divs, 0.0, 0.0, q, norm + "_grid_order", order ? *order : NAN,
            find_tol(tols, row, integ, div, q, norm + "_grid_order"), true, 0.0, 0, 0, "", 0);
     }
-    std::fclose(tf);
+    cdm::close_file(tf, table_path);
     if (opt.sweep) write_work_precision(out, name, wp);
     std::cout << "  " << s.pass << " passed, " << s.fail << " failed; solver wall time " << fmt(s.wall, "%.3f")
               << " s; table " << table_path << "\n";
@@ -338,19 +346,19 @@ int verify(const VerifyOptions& opt) {
   const double suite_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - suite_start).count();
   const std::string summary_path = (fs::path(opt.out_dir) / (opt.sweep ? "summary_sweep.dat" : "summary.dat")).string();
-  if (std::FILE* f = std::fopen(summary_path.c_str(), "w")) {
+  if (std::FILE* f = open_output(summary_path)) {
     std::fprintf(f, "# cdm verify summary; suite wall time %.3f s (solver and oracles)\n", suite_wall);
     std::fprintf(f, "# case passed[-] failed[-] worst_error_over_tolerance[-] solver_wall[s]\n");
     for (const auto& s : summaries)
       std::fprintf(f, "%s %d %d %.6e %.6e\n", s.name.c_str(), s.pass, s.fail, s.worst_ratio, s.wall);
-    std::fclose(f);
+    cdm::close_file(f, summary_path);
   }
   const std::string prov_path = (fs::path(opt.out_dir) / (opt.sweep ? "provenance_sweep.dat" : "provenance.dat")).string();
-  if (std::FILE* f = std::fopen(prov_path.c_str(), "w")) {
+  if (std::FILE* f = open_output(prov_path)) {
     std::fprintf(f, "# cdm verify provenance: key value\n");
     for (const auto& [k, v] : opt.provenance) std::fprintf(f, "%s %s\n", k.c_str(), v.c_str());
     std::fprintf(f, "suite_wall_s %.3f\n", suite_wall);
-    std::fclose(f);
+    cdm::close_file(f, prov_path);
   }
   std::cout << "\nSummary (" << fmt(suite_wall, "%.1f") << " s):\n";
   int np = 0, nf = 0;

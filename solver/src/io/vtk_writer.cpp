@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cdm/solver/checkpoint.hpp"
+#include "cdm/solver/io/durable_file.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -15,29 +17,6 @@ namespace cdm {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A file written to a temporary name and renamed into place on close, so a reader
-/// never sees half a file.
-class AtomicFile {
- public:
-  explicit AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
-    f_ = std::fopen(tmp_.c_str(), "w");
-    if (!f_) throw std::runtime_error("cannot open '" + tmp_ + "' for writing");
-  }
-  ~AtomicFile() {
-    if (f_) std::fclose(f_);
-  }
-  std::FILE* get() { return f_; }
-  void commit() {
-    if (std::fclose(f_) != 0) { f_ = nullptr; throw std::runtime_error("cannot write '" + tmp_ + "'"); }
-    f_ = nullptr;
-    fs::rename(tmp_, path_);
-  }
-
- private:
-  std::string path_, tmp_;
-  std::FILE* f_ = nullptr;
-};
 
 void time_field(std::FILE* f, double t) {
   std::fprintf(f, "    <FieldData>\n      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">%.16e</DataArray>\n    </FieldData>\n", t);
@@ -130,27 +109,50 @@ void write_gas_vti(const std::string& path, const Simulation& sim) {
   af.commit();
 }
 
-VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim)
+namespace {
+
+/// The entries of the collection @p path in order ((time, file) pairs); none when there
+/// is no such file.
+std::vector<std::pair<double, std::string>> read_collection(const std::string& path) {
+  std::vector<std::pair<double, std::string>> entries;
+  std::ifstream in(path);
+  const std::regex re(R"re(<DataSet timestep="([^"]+)" part="0" file="([^"]+)"/>)re");
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, re)) entries.emplace_back(std::stod(m[1]), m[2]);
+  return entries;
+}
+
+}  // namespace
+
+VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume)
     : dir_(out_dir), interval_(sim.spec().output_interval) {
-  fs::create_directories(fs::path(dir_) / "vtk");
+  make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
-  // Continue the collections: keep the entries written up to the checkpoint's sample.
-  last_ = sample_index(sim.time());
-  auto reload = [&](const std::string& name, std::vector<std::pair<double, std::string>>& entries) {
-    std::ifstream in(fs::path(dir_) / name);
-    const std::regex re(R"re(<DataSet timestep="([^"]+)" part="0" file="([^"]+)"/>)re");
-    std::string line;
-    std::smatch m;
-    while (std::getline(in, line))
-      if (std::regex_search(line, m, re)) {
-        const std::string file = m[2];
-        const auto us = file.rfind('_'), dot = file.rfind('.');
-        if (us == std::string::npos || dot == std::string::npos || dot <= us) continue;
-        if (std::stoll(file.substr(us + 1, dot - us - 1)) <= last_) entries.emplace_back(std::stod(m[1]), file);
-      }
+  last_ = resume ? resume->last : sample_index(sim.time());
+  if (!resume) return;  // the first run wrote no VTK: new collections from here on
+  // Continue the collections: cut them back to the frames the checkpoint recorded.
+  auto reload = [&](const std::string& name, std::uint64_t frames, std::vector<std::pair<double, std::string>>& entries) {
+    const std::string path = (fs::path(dir_) / name).string();
+    if (regular_file_size(path) < 0) return;  // none here: a new collection from here on
+    entries = read_collection(path);
+    if (entries.size() < frames)
+      throw CheckpointError(path + ": lists " + std::to_string(entries.size()) + " frames, fewer than the " +
+                            std::to_string(frames) +
+                            " the checkpoint recorded: not the collection this checkpoint continues (restart into "
+                            "another -o directory to start new collections)");
+    entries.resize(frames);
+    write_collection(path, entries);
   };
-  reload("particles.pvd", particle_files_);
-  if (sim.gas()) reload("gas.pvd", gas_files_);
+  reload("particles.pvd", resume->particle_frames, particle_files_);
+  if (sim.gas()) reload("gas.pvd", resume->gas_frames, gas_files_);
+}
+
+VtkMark VtkObserver::sync() const {
+  sync_directory((fs::path(dir_) / "vtk").string());
+  sync_directory(dir_);
+  return {last_, particle_files_.size(), gas_files_.size()};
 }
 
 long long VtkObserver::sample_index(double t) const { return static_cast<long long>(std::floor(t / interval_ + 1e-9)); }

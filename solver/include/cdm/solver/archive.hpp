@@ -4,9 +4,10 @@
 /// written in the machine's byte order (a checkpoint restarts on the machine kind
 /// that wrote it). Reading checks every length against what is left, so a truncated
 /// or corrupted archive is refused, never half-read.
+#include <cerrno>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
-#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -29,13 +30,14 @@ inline std::uint64_t fnv1a64(const char* p, std::size_t n, std::uint64_t h = fnv
   return h;
 }
 
-/// Writes straight into a stream (checkpoints: the state is never held twice in
-/// memory), counting the bytes and keeping their checksum; without a stream it only
-/// counts (to learn a size before writing).
+/// Writes straight into a file (checkpoints: the state is never held twice in
+/// memory), counting the bytes and keeping their checksum; without a file it only
+/// counts (to learn a size before writing). A failed write is remembered (failed(),
+/// error() is its errno) and the bytes after it are counted only.
 class OutArchive {
  public:
   OutArchive() = default;
-  explicit OutArchive(std::ostream& out) : out_(&out) {}
+  explicit OutArchive(std::FILE* out) : out_(out) {}
   template <class T>
   void put(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -54,15 +56,18 @@ class OutArchive {
   std::uint64_t size() const { return size_; }
   /// fnv1a64 of every byte written (a counting archive keeps none).
   std::uint64_t checksum() const { return hash_; }
+  bool failed() const { return error_ != 0; }
+  int error() const { return error_; }
 
  private:
   void write(const char* b, std::size_t n) {
     size_ += n;
     if (!out_ || n == 0) return;
     hash_ = fnv1a64(b, n, hash_);
-    out_->write(b, static_cast<std::streamsize>(n));
+    if (error_ == 0 && std::fwrite(b, 1, n, out_) != n) error_ = errno ? errno : EIO;
   }
-  std::ostream* out_ = nullptr;
+  std::FILE* out_ = nullptr;
+  int error_ = 0;
   std::uint64_t size_ = 0;
   std::uint64_t hash_ = fnv1a64_basis;
 };

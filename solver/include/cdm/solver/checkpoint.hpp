@@ -3,12 +3,16 @@
 /// @brief Checkpoints that restart bit for bit: every particle's full state, the
 /// contact history and Verlet list, the integrator state (forces of the current step,
 /// step counter), and the scene the run came from, under a format version and an
-/// FNV-1a 64-bit checksum. Written to a temporary file and renamed into place, so a
-/// crash mid-write leaves the previous checkpoint intact.
+/// FNV-1a 64-bit checksum, and where each output file of the run stood when it was
+/// taken. Written to a temporary file, fsync'ed and renamed into place (and the
+/// directory fsync'ed), so a crash mid-write leaves the previous checkpoint intact.
+#include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/scene_loader.hpp"
 
 namespace cdm {
@@ -27,22 +31,38 @@ struct RunOrigin {
   std::vector<SceneOverride> overrides;
 };
 
-constexpr std::uint32_t checkpoint_format_version = 3;
+/// Where the run's output files stood at the checkpoint, flushed and fsync'ed before
+/// it was written: a restart cuts each back to this point before it appends, so the
+/// files equal an uninterrupted run's however the first run ended (even by SIGKILL).
+/// Empty for an output the run does not write.
+struct OutputMarks {
+  std::optional<std::uint64_t> particle_table;  ///< bytes of particles.dat
+  std::optional<VtkMark> vtk;                   ///< frames of particles.pvd / gas.pvd
+};
 
-/// Write atomically (temporary file + rename). Throws CheckpointError on I/O failure.
-void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin);
+constexpr std::uint32_t checkpoint_format_version = 4;
 
-/// Read and verify a checkpoint (magic, version, length, checksum) and return its origin
-/// and the state payload. Throws CheckpointError naming the file and what is wrong.
+/// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
+/// OutputError naming the path and the system's reason when it cannot; no temporary
+/// file is left behind.
+void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin,
+                      const OutputMarks& marks = {});
+
+/// Read and verify a checkpoint (magic, version, length, checksum) and return its origin,
+/// output marks and the state payload. Throws CheckpointError naming the file and what
+/// is wrong.
 struct CheckpointData {
   RunOrigin origin;
+  OutputMarks outputs;
   std::vector<char> state;
 };
 CheckpointData read_checkpoint(const std::string& path);
 /// The same, from bytes already in memory (@p name is used in messages).
 CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& name);
 
-/// Restore @p sim (built from the same scene) to the checkpointed state.
+/// Restore @p sim (built from the same scene) to the checkpointed state, validated as
+/// strictly as a scene: the time finite and equal to what the step count gives (steps
+/// times dt, as the run advances it), every position, velocity and gas value finite.
 void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::string& path);
 
 }  // namespace cdm

@@ -2,23 +2,34 @@
 /// @file output.hpp
 /// @brief Plain whitespace-separated tables: a '#' header naming each column with its
 /// unit, then full-precision rows (%.16e).
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "cdm/solver/io/durable_file.hpp"
 
 namespace cdm {
 
 class TableWriter {
  public:
-  /// Opens @p path for writing; throws std::runtime_error if it cannot. An empty path
-  /// makes a writer that discards its rows.
+  /// Opens @p path for writing and writes the header; with @p resume_at, continues the
+  /// table already at @p path instead, cut back to its first *resume_at bytes (the header
+  /// is there already). Every failure to open, write, flush or close throws OutputError
+  /// naming the path and the system's reason. An empty path makes a writer that
+  /// discards its rows.
   TableWriter(const std::string& path, const std::vector<std::string>& columns,
-              const std::vector<std::string>& comments = {}, bool append = false);
+              const std::vector<std::string>& comments = {}, std::optional<std::uint64_t> resume_at = std::nullopt);
   ~TableWriter();
   TableWriter(const TableWriter&) = delete;
   TableWriter& operator=(const TableWriter&) = delete;
   void row(const std::vector<double>& values);
   void flush();
+  /// Flush and fsync the rows written so far; returns the table's length in bytes.
+  std::uint64_t sync();
+  /// Flush and close, checked (the destructor closes without a word).
+  void close();
 
  private:
   std::FILE* f_ = nullptr;
@@ -31,12 +42,19 @@ class Simulation;
 /// Writes every particle's state at the scene's output interval: one row per particle
 /// per sample (t id x y z vx vy vz [wx wy wz]). A sample is taken at the first step
 /// whose time reaches each multiple k·interval, and at the last step. After a restart
-/// the rows continue the table the first run wrote (appended, same grid), so a
-/// restarted run's table equals an uninterrupted run's.
+/// the rows continue the table the first run wrote: the table is cut back to the
+/// length the checkpoint recorded (@p resume_at) and the rows appended, so a restarted
+/// run's table equals an uninterrupted run's however the first run ended. A restart
+/// without a table at @p path (or without a recorded length) starts a new table, header
+/// first, whose rows begin after the checkpoint's time.
 class ParticleTableObserver {
  public:
-  ParticleTableObserver(const std::string& path, const Simulation& sim);
+  ParticleTableObserver(const std::string& path, const Simulation& sim,
+                        std::optional<std::uint64_t> resume_at = std::nullopt);
   void operator()(const Simulation& sim);
+  /// Flush and fsync the rows; the table's length in bytes (recorded by a checkpoint).
+  std::uint64_t sync() { return table_.sync(); }
+  void close() { table_.close(); }
 
  private:
   long long sample_index(double t) const;

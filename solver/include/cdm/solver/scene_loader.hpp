@@ -31,6 +31,10 @@ struct SceneOverride {
 /// Parse "path=value" (as given on the command line).
 SceneOverride parse_override(const std::string& text);
 
+/// Refuse an override whose value is more than one TOML value (a line break followed
+/// by another key=value would otherwise be dropped without a word).
+void check_override(const SceneOverride& o);
+
 SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides = {});
 SceneSpec load_scene_from_string(const std::string& toml_text, const std::string& name,
                                  const std::vector<SceneOverride>& overrides = {});

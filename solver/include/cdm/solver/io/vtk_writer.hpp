@@ -8,6 +8,8 @@
 ///    values averaged to the cell centre), and pressure [Pa] / gas_volume_fraction [-]
 ///    when the scene carries them.
 /// Every file holds its simulated time as field data TIME [s].
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,14 +17,26 @@ namespace cdm {
 
 class Simulation;
 
+/// Where a VTK series stood when a checkpoint was taken: the last sample index written
+/// and the number of frames each collection listed.
+struct VtkMark {
+  long long last = -1;
+  std::uint64_t particle_frames = 0, gas_frames = 0;
+};
+
 /// Writes OUTDIR/vtk/particles_<k>.vtp (and gas_<k>.vti with a gas) at every output
 /// sample of the scene (the same samples as the particle table), and keeps
 /// OUTDIR/particles.pvd (and gas.pvd) listing them. After a restart it continues the
-/// collections the first run wrote.
+/// collections the first run wrote, cut back to the frames the checkpoint recorded
+/// (@p resume); without them in OUTDIR it starts new collections. Every file is written
+/// atomically (temporary file, fsync, rename); failures throw OutputError.
 class VtkObserver {
  public:
-  VtkObserver(const std::string& out_dir, const Simulation& sim);
+  VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume = std::nullopt);
   void operator()(const Simulation& sim);
+  /// Make the frames written so far durable (fsync the directories) and say where the
+  /// collections stand (recorded by a checkpoint).
+  VtkMark sync() const;
 
  private:
   long long sample_index(double t) const;
