@@ -100,7 +100,7 @@ double VelocityVerlet::step_deferred(StepHost& host) {
     a.one_inv_inertia = rot ? p.inv_inertia[0] : 0.0;
   }
   // One contiguous range per thread, about the particles whose forces the same
-  // thread's part of the pair loop wrote (ContactModule's thread_slabs).
+  // thread's part of the pair loop wrote (VerletList::thread_slabs).
   const double worst = parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
     return verlet::with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>() {
       return verlet::verlet_pass<Pending, Rot, Wrap, Measure, Grav, One>(a, box, dt, i0, i1);
