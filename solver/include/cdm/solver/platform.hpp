@@ -19,11 +19,9 @@ std::size_t parse_cache_size(std::string_view text);
 /// /sys/devices/system/cpu/cpu0/cache), read once; fallback_cache_bytes if none can be
 /// read. Not sysconf(_SC_LEVEL3_CACHE_SIZE): glibc reports 384 MiB for a 32 MiB L3 on
 /// the AMD EPYC guests cdm is benchmarked on. The size the processor has, not what one
-/// core gets of it: on those shared guests a core finds 4 to 12 MiB of the 32 (measured
-/// by bench/cache_probe, bench/README.md session 20), so a footprint between the two is
-/// taken for cached when it is not. The partner prefetch then stays off where it would
-/// gain ~3 % (settle1e5's collisions); a measured size, varying from run to run, would
-/// make the choice less predictable for no more than that.
+/// core gets of it (bench/cache_probe measures that), so a footprint between the two is
+/// taken for cached when it is not; a measured size, varying from run to run, would make
+/// the choices that depend on it less predictable.
 std::size_t last_level_cache_bytes();
 
 }  // namespace cdm
