@@ -170,7 +170,10 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin,
   // chunks in thread order are the rows in order, whatever the thread count.
 #pragma omp parallel
   {
-    const auto [t, nt] = thread_id();
+    // Not a structured binding: clang (the fuzz build) cannot name one inside the nested
+    // OpenMP construct below.
+    const std::pair<std::size_t, std::size_t> tn = thread_id();
+    const std::size_t t = tn.first, nt = tn.second;
 #pragma omp single
     {
       chunks.resize(nt);
