@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cdm/solver/output.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -135,7 +136,7 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim)
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!sim.restarted()) return;
   // Continue the collections: keep the entries written up to the checkpoint's sample.
-  last_ = sample_index(sim.time());
+  last_ = output_sample(sim, interval_);
   auto reload = [&](const std::string& name, std::vector<std::pair<double, std::string>>& entries) {
     std::ifstream in(fs::path(dir_) / name);
     const std::regex re(R"re(<DataSet timestep="([^"]+)" part="0" file="([^"]+)"/>)re");
@@ -153,11 +154,9 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim)
   if (sim.gas()) reload("gas.pvd", gas_files_);
 }
 
-long long VtkObserver::sample_index(double t) const { return static_cast<long long>(std::floor(t / interval_ + 1e-9)); }
-
 void VtkObserver::operator()(const Simulation& sim) {
   const bool last = sim.steps() == sim.total_steps();
-  long long k = sample_index(sim.time());
+  long long k = output_sample(sim, interval_);
   if (k <= last_ && !last) return;
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;

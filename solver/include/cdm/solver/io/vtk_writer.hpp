@@ -25,7 +25,6 @@ class VtkObserver {
   void operator()(const Simulation& sim);
 
  private:
-  long long sample_index(double t) const;
   void write(const Simulation& sim, long long k);
   void write_collection(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) const;
 
