@@ -64,14 +64,6 @@ std::vector<std::pair<std::string, std::string>> provenance() {
 std::atomic<int> g_signal{0};
 extern "C" void on_signal(int sig) { g_signal.store(sig); }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw cdm::SceneError(path + ": cannot open the scene file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// Progress on the terminal (stderr) for runs longer than a few seconds: simulated time,
 /// steps, particle-steps per second and the time left. Never in the data files.
 class Progress {
@@ -113,7 +105,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
               const std::string& restart, std::uint64_t max_steps, bool quiet) {
   cdm::RunOrigin origin;
   origin.scene_name = scene;
-  origin.scene_text = read_file(scene);
+  origin.scene_text = cdm::read_scene_file(scene);
   for (const auto& s : sets) {
     origin.overrides.push_back(cdm::parse_override(s));
     cdm::check_override(origin.overrides.back());

@@ -120,6 +120,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
 }
 
 CheckpointData read_checkpoint(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
   in.seekg(0, std::ios::end);

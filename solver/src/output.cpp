@@ -86,16 +86,17 @@ ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simu
              resume_point(path, sim, resume_at)),
       interval_(sim.spec().output_interval),
       rot_(sim.particles().has_rotation()) {
-  if (sim.restarted()) last_ = sample_index(sim.time());  // that row was written before the checkpoint
+  if (sim.restarted()) last_ = output_sample(sim, interval_);  // that row was written before the checkpoint
 }
 
-long long ParticleTableObserver::sample_index(double t) const {
-  return static_cast<long long>(std::floor(t / interval_ + 1e-9));
+long long output_sample(const Simulation& sim, double interval) {
+  if (interval <= sim.dt()) return static_cast<long long>(sim.steps());
+  return static_cast<long long>(std::floor(sim.time() / interval + 1e-9));
 }
 
 void ParticleTableObserver::operator()(const Simulation& sim) {
   const bool last = sim.steps() == sim.total_steps();
-  const long long k = sample_index(sim.time());
+  const long long k = output_sample(sim, interval_);
   if (k <= last_ && !last) return;
   last_ = k;
   const ParticleStore& p = sim.particles();

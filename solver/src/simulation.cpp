@@ -54,7 +54,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
       const Vec3 u = gas_->velocity_at(particles_.position(i));
       particles_.vx[i] = u.x; particles_.vy[i] = u.y; particles_.vz[i] = u.z;
     }
-  total_steps_ = static_cast<std::uint64_t>(std::ceil(spec_.end_time / spec_.dt - 1e-9));
+  total_steps_ = static_cast<std::uint64_t>(step_count(spec_.end_time, spec_.dt));  // <= max_steps (loader)
   integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();

@@ -10,6 +10,7 @@
 
 #include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/io/durable_file.hpp"
+#include "cdm/solver/output.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -130,7 +131,7 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
     : dir_(out_dir), interval_(sim.spec().output_interval) {
   make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
-  last_ = resume ? resume->last : sample_index(sim.time());
+  last_ = resume ? resume->last : output_sample(sim, interval_);
   if (!resume) return;  // the first run wrote no VTK: new collections from here on
   // Continue the collections: cut them back to the frames the checkpoint recorded.
   auto reload = [&](const std::string& name, std::uint64_t frames, std::vector<std::pair<double, std::string>>& entries) {
@@ -155,11 +156,9 @@ VtkMark VtkObserver::sync() const {
   return {last_, particle_files_.size(), gas_files_.size()};
 }
 
-long long VtkObserver::sample_index(double t) const { return static_cast<long long>(std::floor(t / interval_ + 1e-9)); }
-
 void VtkObserver::operator()(const Simulation& sim) {
   const bool last = sim.steps() == sim.total_steps();
-  long long k = sample_index(sim.time());
+  long long k = output_sample(sim, interval_);
   if (k <= last_ && !last) return;
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;

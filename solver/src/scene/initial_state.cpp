@@ -76,13 +76,25 @@ void check_initial_state(const Reader& rd, const SceneSpec& spec) {
     }
   }
   // Overlaps between particles matter only when a contact model acts between them.
-  if (spec.allow_initial_overlap || spec.particles.size() < 2 || !spec.normal_contact) return;
+  if (spec.particles.size() < 2 || !spec.normal_contact) return;
   ParticleStore tmp;
   for (const auto& p : spec.particles) tmp.add(p.position, {}, p.radius, 1.0, p.material);
   std::vector<ContactPair> pairs;
   CellListSearch search;
   search.find_contacts(tmp, 0.0, pairs, spec.periodic);
-  if (!pairs.empty()) {
+  // Two particles at one centre have no contact normal: even an intended overlap needs
+  // distinct centres.
+  for (const auto& c : pairs)
+    if (c.overlap >= spec.particles[c.i].radius + spec.particles[c.j].radius) {
+      std::ostringstream os;
+      const Vec3 x = spec.particles[c.j].position;
+      os << rd.file() << ": key '" << particle_source(spec, c.j) << ".position' = [" << x.x << ", " << x.y << ", " << x.z
+         << "] (SI) is the centre of '" << particle_source(spec, c.i)
+         << "' too: expected distinct centres (two particles at one point have no contact normal, even with "
+         << "checks.allow_initial_overlap = true)";
+      throw SceneError(os.str());
+    }
+  if (!spec.allow_initial_overlap && !pairs.empty()) {
     const auto& c = pairs.front();
     std::ostringstream os;
     os << rd.file() << ": key '" << particle_source(spec, c.j) << ".position' overlaps '" << particle_source(spec, c.i)

@@ -54,6 +54,7 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
   // ones; and the smallest Rayleigh time of the particles in Hertz–Mindlin contacts.
   double t_col = std::numeric_limits<double>::infinity(), t_ray = std::numeric_limits<double>::infinity();
   std::string t_col_pair, t_ray_material;
+  double t_col_mass = 0.0;  // the effective mass of the pair with the shortest collision
   double t_dash = std::numeric_limits<double>::infinity();
   std::string t_dash_pair;
   bool hertz_meets = false;
@@ -61,9 +62,21 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
     const std::size_t nm = spec.materials.size();
     std::vector<double> m_min(nm, std::numeric_limits<double>::infinity()), r_min(nm, 0.0);
     std::vector<std::size_t> count(nm, 0);
-    for (const auto& p : spec.particles) {
+    for (std::size_t i = 0; i < spec.particles.size(); ++i) {
+      const ParticleSpec& p = spec.particles[i];
       const double d = 2.0 * p.radius;
       const double m = spec.materials[p.material].density * std::numbers::pi * d * d * d / 6.0;
+      if (!std::isnormal(m) && spec.materials[p.material].density > 0.0) {
+        // A mass of 0 or infinity makes every collision time 0 or infinite.
+        std::ostringstream os;
+        os << rd.file() << ": key '" << particle_source(spec, i) << ".radius' = " << p.radius
+           << " m (SI) with material '" << spec.materials[p.material].name << "' of density "
+           << spec.materials[p.material].density << " kg/m^3 gives a particle mass of " << m
+           << " kg, which " << (m > 0.0 ? "overflows" : "underflows")
+           << ": expected a radius and a density whose mass pi rho d^3/6 is a normal positive number "
+           << "(a particle of about 1e-300 kg to 1e300 kg)";
+        throw SceneError(os.str());
+      }
       if (m < m_min[p.material]) { m_min[p.material] = m; r_min[p.material] = p.radius; }
       ++count[p.material];
     }
@@ -88,7 +101,7 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
         if (spec.impact_velocity > 0.0)
           tc = contact::hertz_collision_time(m_eff, r_star, pp.e_star, spec.impact_velocity);
       }
-      if (tc < t_col) { t_col = tc; t_col_pair = what; }
+      if (tc < t_col) { t_col = tc; t_col_pair = what; t_col_mass = m_eff; }
       // The explicit dashpot's own step limit (contact/dashpot_limit.hpp), below t_col/10 for small en.
       const double td = contact::dashpot_dt_limit(pp, m_eff, r_star, spec.impact_velocity,
                                                   spec.integrator == IntegratorScheme::velocity_verlet);
@@ -182,6 +195,13 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
       rd.fail_value("integrator.dt", *dtn, os.str());
     }
   }
+  if (!std::isnormal(spec.dt) && !std::isinf(spec.dt)) {
+    std::ostringstream os;
+    os << "a time step that is a normal floating-point number (>= " << std::numeric_limits<double>::min()
+       << " s); it comes out as dt = " << spec.dt << " s";
+    if (spec.dt_auto) os << " from the shortest collision time t_col = " << t_col << " s (pair " << t_col_pair << ")";
+    rd.fail_value("integrator.dt", *dtn, os.str());
+  }
   if (spec.gas == GasModel::solved) {
     // Particles sub-step inside each gas step: a whole number of particle steps.
     const double ratio = spec.gas_dt / spec.dt;
@@ -196,7 +216,26 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
       spec.dt = spec.gas_dt / coupling::gas_substeps(spec.gas_dt, spec.dt);
     }
   }
-  if (spec.dt > spec.end_time) rd.fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");
+  if (spec.dt > spec.end_time) {
+    if (!spec.dt_auto) rd.fail_value("integrator.end_time", *t->get("end_time"), "a time >= dt");
+    // An automatic step longer than the run comes from an absurd collision time.
+    std::ostringstream os;
+    os << "a time step below integrator.end_time = " << spec.end_time << " s; \"auto\" gives dt = " << spec.dt << " s";
+    if (std::isfinite(t_col))
+      os << " from the shortest collision time t_col = " << t_col << " s (pair " << t_col_pair
+         << ", effective mass " << t_col_mass << " kg): check the materials' densities, the particles' radii and the "
+         << "contacts' kn";
+    rd.fail_value("integrator.dt", *dtn, os.str());
+  }
+  // The step count, before anything casts it to an integer.
+  const double steps = step_count(spec.end_time, spec.dt);
+  if (steps > max_steps) {
+    std::ostringstream os;
+    os << "a run of at most " << max_steps << " steps: end_time = " << spec.end_time << " s at dt = " << spec.dt
+       << " s" << (spec.dt_auto ? " (integrator.dt = \"auto\", t_col/dt_divisor of pair " + t_col_pair + ")" : "")
+       << " needs " << steps << " steps; shorten end_time or use a longer time step (softer contacts)";
+    rd.fail_value("integrator.end_time", *t->get("end_time"), os.str());
+  }
 }
 
 }  // namespace cdm::scene

@@ -3,10 +3,13 @@
 #include "sections.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 
 namespace cdm::scene {
@@ -19,16 +22,68 @@ int particle_material(const Reader& rd, const SceneSpec& spec, const toml::table
   return m;
 }
 
-std::size_t particle_count(const Reader& rd, const SceneSpec& spec, const toml::table& t, const std::string& path) {
+std::size_t particle_count(const Reader& rd, const toml::table& t, const std::string& path) {
   const toml::node* cn = t.get("count");
   if (!cn) rd.fail_missing(path + ".count", "an integer >= 1");
   if (!cn->is_integer() || cn->as_integer()->get() < 1 ||
-      static_cast<double>(cn->as_integer()->get()) + spec.particles.size() > max_particles)
+      static_cast<double>(cn->as_integer()->get()) > max_particles)
     rd.fail_value(path + ".count", *cn, "an integer >= 1 (at most " + std::to_string(max_particles) + " particles in the scene)");
   return static_cast<std::size_t>(cn->as_integer()->get());
 }
 
+namespace {
+
+// The counts of a lattice along x, y and z.
+std::array<long long, 3> lattice_count(const Reader& rd, const toml::table& t, const std::string& path) {
+  const toml::node* cn = t.get("count");
+  if (!cn) rd.fail_missing(path + ".count", "an array of 3 integers >= 1");
+  const toml::array* ca = cn->as_array();
+  std::array<long long, 3> c = {0, 0, 0};
+  if (!ca || ca->size() != 3) rd.fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
+  for (int k = 0; k < 3; ++k) {
+    auto iv = ca->get(k)->as_integer();
+    if (!iv || iv->get() < 1) rd.fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
+    c[k] = iv->get();
+  }
+  return c;
+}
+
+// The particles of every block counted, and held to max_particles, before any is placed.
+void check_particle_total(const Reader& rd) {
+  double total = 0.0;
+  const auto add = [&](double n, const std::string& path, const toml::table& t) {
+    total += n;
+    if (total > max_particles) {
+      std::ostringstream os;
+      os << "at most " << max_particles << " particles in the scene; with the entries before it, " << path
+         << " brings the total to " << std::fixed << std::setprecision(0) << total;
+      rd.fail_value(path + ".count", *t.get("count"), os.str());
+    }
+  };
+  const auto each = [&](const char* key, auto count) {
+    if (const toml::array* a = rd.array_of_tables(rd.root(), key))
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        const toml::table& t = *a->get(i)->as_table();
+        const std::string path = std::string(key) + "[" + std::to_string(i) + "]";
+        add(count(t, path), path, t);
+      }
+  };
+  if (const toml::array* ps = rd.array_of_tables(rd.root(), "particles")) total += static_cast<double>(ps->size());
+  each("lattices", [&](const toml::table& t, const std::string& path) {
+    const auto c = lattice_count(rd, t, path);
+    return static_cast<double>(c[0]) * c[1] * c[2];
+  });
+  const auto listed = [&](const toml::table& t, const std::string& path) {
+    return static_cast<double>(particle_count(rd, t, path));
+  };
+  each("shells", listed);
+  each("random_particles", listed);
+}
+
+}  // namespace
+
 void read_particles(const Reader& rd, SceneSpec& spec) {
+  check_particle_total(rd);
   if (const toml::array* ps = rd.array_of_tables(rd.root(), "particles")) {
     for (std::size_t i = 0; i < ps->size(); ++i) {
       const toml::table& t = *ps->get(i)->as_table();
@@ -75,18 +130,7 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
       // Uniform in [-jitter, jitter] per component.
       std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
       auto uniform = [&] { return uniform01(rng) * 2.0 - 1.0; };
-      const toml::node* cn = t.get("count");
-      if (!cn) rd.fail_missing(path + ".count", "an array of 3 integers >= 1");
-      const toml::array* ca = cn->as_array();
-      long long c[3] = {0, 0, 0};
-      if (!ca || ca->size() != 3) rd.fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
-      for (int k = 0; k < 3; ++k) {
-        auto iv = ca->get(k)->as_integer();
-        if (!iv || iv->get() < 1) rd.fail_value(path + ".count", *cn, "an array of 3 integers >= 1");
-        c[k] = iv->get();
-      }
-      if (static_cast<double>(c[0]) * c[1] * c[2] + spec.particles.size() > max_particles)
-        rd.fail_value(path + ".count", *cn, "at most " + std::to_string(max_particles) + " particles in the scene");
+      const std::array<long long, 3> c = lattice_count(rd, t, path);  // the total is checked
       spec.groups.push_back({path, spec.particles.size(), static_cast<std::size_t>(c[0] * c[1] * c[2]), c[0], c[1]});
       spec.particles.reserve(spec.particles.size() + static_cast<std::size_t>(c[0] * c[1] * c[2]));
       for (long long kz = 0; kz < c[2]; ++kz)
@@ -117,7 +161,7 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
       const double r = rd.positive(t, "radius", path, Dim::length, true);
       const Vec3 c = rd.vec3_required(t, "center", path, Dim::length);
       const double R = rd.positive(t, "shell_radius", path, Dim::length, true);
-      const std::size_t count = particle_count(rd, spec, t, path);
+      const std::size_t count = particle_count(rd, t, path);
       long long dim = 2;
       if (const toml::node* dn = t.get("dimension")) {
         if (!dn->is_integer() || (dn->as_integer()->get() != 2 && dn->as_integer()->get() != 3))

@@ -3,11 +3,13 @@
 /// sequential addition when contacts act between them.
 #include "sections.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace cdm::scene {
@@ -25,7 +27,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     const Vec3 lo = rd.vec3_required(t, "lower", path, Dim::length), hi = rd.vec3_required(t, "upper", path, Dim::length);
     if (!(hi.x >= lo.x && hi.y >= lo.y && hi.z >= lo.z))
       rd.fail_value(path + ".upper", *t.get("upper"), "a corner at or above " + path + ".lower along every axis");
-    const std::size_t count = particle_count(rd, spec, t, path);
+    const std::size_t count = particle_count(rd, t, path);
     long long seed = 1;
     if (const toml::node* sn = t.get("seed")) {
       if (!sn->is_integer() || sn->as_integer()->get() < 0) rd.fail_value(path + ".seed", *sn, "an integer >= 0");
@@ -35,13 +37,19 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     auto uniform = [&] { return uniform01(rng); };
     const bool exclusive =
         !rd.boolean(t, "allow_overlap", path).value_or(!spec.normal_contact);
-    // Random sequential addition on a cell grid of edge 2r (contacts only).
-    const double cell = 2.0 * r;
-    std::map<std::tuple<long long, long long, long long>, std::vector<Vec3>> placed;
+    // Random sequential addition on a cell grid of edge r + the largest radius so far
+    // (contacts only): a new centre clears every particle placed before it, of this block,
+    // of earlier blocks and listed ones.
+    double r_max = r;
+    for (const auto& p : spec.particles) r_max = std::max(r_max, p.radius);
+    const double cell = r + r_max;
+    std::map<std::tuple<long long, long long, long long>, std::vector<std::pair<Vec3, double>>> placed;
     auto key = [&](Vec3 x) {
       return std::make_tuple(static_cast<long long>(std::floor(x.x / cell)), static_cast<long long>(std::floor(x.y / cell)),
                              static_cast<long long>(std::floor(x.z / cell)));
     };
+    if (exclusive)
+      for (const auto& p : spec.particles) placed[key(p.position)].emplace_back(p.position, p.radius);
     auto clear = [&](Vec3 x) {
       for (const auto& w : spec.walls)
         if (w.distance(x) < r) return false;
@@ -51,8 +59,8 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
           for (long long dc = -1; dc <= 1; ++dc) {
             auto it = placed.find({a + da, b + db, c + dc});
             if (it == placed.end()) continue;
-            for (const Vec3& y : it->second)
-              if (dot(x - y, x - y) < 4.0 * r * r) return false;
+            for (const auto& [y, ry] : it->second)
+              if (dot(x - y, x - y) < (r + ry) * (r + ry)) return false;
           }
       return true;
     };
@@ -74,7 +82,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
         continue;
       }
       misses = 0;
-      if (exclusive) placed[key(x)].push_back(x);
+      if (exclusive) placed[key(x)].emplace_back(x, r);
       ParticleSpec p;
       p.material = mat;
       p.radius = r;

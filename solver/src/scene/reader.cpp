@@ -93,6 +93,9 @@ std::string show(const toml::node& n) {
   else if (auto i = n.as_integer()) os << i->get();
   else if (auto f = n.as_floating_point()) os << f->get();
   else if (auto b = n.as_boolean()) os << (b->get() ? "true" : "false");
+  else if (auto d = n.as_date()) os << *d << " (a date)";
+  else if (auto tm = n.as_time()) os << *tm << " (a time)";
+  else if (auto dt = n.as_date_time()) os << *dt << " (a date-time)";
   else os << "(value)";
   std::string r = os.str();
   if (r.size() > 80) r = r.substr(0, 77) + "...";

@@ -5,6 +5,7 @@
 #include "cdm/solver/scene_loader.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -16,7 +17,8 @@ namespace cdm {
 std::string particle_source(const SceneSpec& spec, std::size_t i) {
   for (const auto& g : spec.groups)
     if (i >= g.first && i < g.first + g.count) {
-      if (g.nx == 0) return g.key;
+      if (g.nx == 0 && g.count == 1) return g.key;
+      if (g.nx == 0) return g.key + " (particle " + std::to_string(i - g.first) + " of " + std::to_string(g.count) + ")";
       const auto k = static_cast<long long>(i - g.first);
       return g.key + " (lattice site " + std::to_string(k % g.nx) + "," + std::to_string((k / g.nx) % g.ny) + "," +
              std::to_string(k / (g.nx * g.ny)) + ")";
@@ -40,9 +42,11 @@ SceneSpec load(const std::string& file, const toml::table& root) {
   read_walls(rd, spec);
   read_gas(rd, spec);
   read_periodic(rd, spec);
-  read_particles(rd, spec);
+  // Every scalar before the particles are placed: a bad one is refused before a large
+  // scene allocates anything.
   read_integrator(rd, spec);
   read_output_and_checks(rd, spec);
+  read_particles(rd, spec);
   resolve_dt(rd, root.get("integrator")->as_table(), spec);
   check_initial_state(rd, spec);
   return spec;
@@ -76,12 +80,31 @@ SceneSpec load_scene_from_string(const std::string& text, const std::string& nam
   return load_table(std::move(root), name, overrides);
 }
 
-SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
+std::string read_scene_file(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st))
+    throw SceneError(path + ": cannot open the scene file" + (ec ? " (" + ec.message() + ")" : ""));
+  if (!std::filesystem::is_regular_file(st))
+    throw SceneError(path + ": is " + (std::filesystem::is_directory(st) ? "a directory" : "not a regular file") +
+                     ": expected a scene file (TOML text)");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw SceneError(path + ": cannot read the scene file's size (" + ec.message() + ")");
+  if (size > max_scene_file_bytes)
+    throw SceneError(path + ": is " + std::to_string(size) + " bytes: expected a scene file of at most " +
+                     std::to_string(max_scene_file_bytes) + " bytes (16 MiB)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return load_scene_from_string(ss.str(), path, overrides);
+  // Read at most the limit, in case the file grew since it was measured.
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw SceneError(path + ": cannot read the scene file");
+  return text;
+}
+
+SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides) {
+  return load_scene_from_string(read_scene_file(path), path, overrides);
 }
 
 std::vector<std::string> scene_schema_keys() {

@@ -29,8 +29,9 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec);
 void read_particles(const Reader& rd, SceneSpec& spec);
 /// The material of a placed particle: one with a density (tracers excepted).
 int particle_material(const Reader& rd, const SceneSpec& spec, const toml::table& t, const std::string& path);
-/// The count of particles an entry places: an integer >= 1 within max_particles in all.
-std::size_t particle_count(const Reader& rd, const SceneSpec& spec, const toml::table& t, const std::string& path);
+/// The count of particles an entry places: an integer >= 1 within max_particles (the total
+/// over all blocks is checked before any is placed).
+std::size_t particle_count(const Reader& rd, const toml::table& t, const std::string& path);
 /// Uniform in [0, 1) from a 64-bit Mersenne twister with a fixed mapping to doubles, so a
 /// scene gives the same particles on every platform.
 inline double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }

@@ -2,6 +2,7 @@
 /// @brief Plane walls ([[walls]]) and periodic axes ([periodic], or the gas's).
 #include "sections.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -19,9 +20,15 @@ void read_walls(const Reader& rd, SceneSpec& spec) {
     PlaneWall w;
     w.name = rd.string(t, "name", path).value_or("wall" + std::to_string(i));
     w.point = rd.vec3_required(t, "point", path, Dim::length);
-    const Vec3 n = rd.vec3_required(t, "normal", path, Dim::none);
-    const double len = norm(n);
-    if (!(len > 0.0)) rd.fail_value(path + ".normal", *t.get("normal"), "a non-zero vector (pointing into the domain)");
+    Vec3 n = rd.vec3_required(t, "normal", path, Dim::none);
+    const double big = std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)});
+    if (!(big > 0.0)) rd.fail_value(path + ".normal", *t.get("normal"), "a non-zero vector (pointing into the domain)");
+    double len = norm(n);
+    if (!(len >= 1e-150 && len <= 1e150)) {
+      // Its squared length would underflow or overflow: scale by the largest component first.
+      n = Vec3{n.x / big, n.y / big, n.z / big};  // divided: 1/big overflows for a subnormal big
+      len = norm(n);
+    }
     w.normal = (1.0 / len) * n;
     w.material = rd.material_index(spec, t, "material", path);
     spec.walls.push_back(w);

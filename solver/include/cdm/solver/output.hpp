@@ -39,6 +39,11 @@ class TableWriter {
 
 class Simulation;
 
+/// The output sample that the current step of @p sim belongs to: k for the first step
+/// whose time reaches k·interval; the step count when the interval is not longer than dt
+/// (every step is a sample), so the index never exceeds the step count.
+long long output_sample(const Simulation& sim, double interval);
+
 /// Writes every particle's state at the scene's output interval: one row per particle
 /// per sample (t id x y z vx vy vz [wx wy wz]). A sample is taken at the first step
 /// whose time reaches each multiple k·interval, and at the last step. After a restart
@@ -57,7 +62,6 @@ class ParticleTableObserver {
   void close() { table_.close(); }
 
  private:
-  long long sample_index(double t) const;
   TableWriter table_;
   double interval_;
   long long last_ = -1;

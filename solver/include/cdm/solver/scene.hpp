@@ -2,6 +2,7 @@
 /// @file scene.hpp
 /// @brief SceneSpec: a scene file loaded and validated, every value in SI units.
 /// The loader (scene_loader.hpp) is the only place that reads TOML or converts units.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -53,6 +54,15 @@ struct ParticleGroup {
   std::size_t first = 0, count = 0;
   long long nx = 0, ny = 0;      // lattice counts along x and y (0 for a listed particle)
 };
+
+/// The most time steps a scene may plan: beyond it a run would not end in practice
+/// (1e12 steps of one particle take days), and the step count no longer fits the
+/// integer arithmetic of the clock and the output samples with room to spare.
+constexpr double max_steps = 1e12;
+
+/// The number of steps that reach @p end_time at step @p dt (the last may end past it),
+/// as a double so that an absurd count is seen before it is cast to an integer.
+inline double step_count(double end_time, double dt) { return std::ceil(end_time / dt - 1e-9); }
 
 struct SceneSpec;
 /// The scene key particle @p i came from, e.g. "lattices[0] (lattice site 4,1,0)".

@@ -6,6 +6,7 @@
 /// thrown as SceneError before anything is built or written. The accepted keys are
 /// listed once, in scene_schema(); docs/scene-reference.md documents each of them and a
 /// unit test keeps the two in step.
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -34,6 +35,14 @@ SceneOverride parse_override(const std::string& text);
 /// Refuse an override whose value is more than one TOML value (a line break followed
 /// by another key=value would otherwise be dropped without a word).
 void check_override(const SceneOverride& o);
+
+/// The largest scene file read: 16 MiB. Scenes place many particles through
+/// [[lattices]] and [[random_particles]] blocks, so a real scene is a few kilobytes.
+constexpr std::uintmax_t max_scene_file_bytes = 16u << 20;
+
+/// The text of the scene file at @p path: a regular file of at most max_scene_file_bytes
+/// (a directory, a device or a larger file is refused with SceneError before reading).
+std::string read_scene_file(const std::string& path);
 
 SceneSpec load_scene(const std::string& path, const std::vector<SceneOverride>& overrides = {});
 SceneSpec load_scene_from_string(const std::string& toml_text, const std::string& name,

@@ -39,7 +39,6 @@ class VtkObserver {
   VtkMark sync() const;
 
  private:
-  long long sample_index(double t) const;
   void write(const Simulation& sim, long long k);
   void write_collection(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) const;
 
