@@ -23,6 +23,21 @@ struct Ijk {
   int operator[](int a) const { return v[a]; }
 };
 
+/// Calls visit(f) for every stored sample f of velocity component c (the faces normal to c).
+template <class Visit>
+void for_each_face(const StaggeredGrid& g, int c, Visit&& visit) {
+  const auto s = static_cast<Staggering>(c);
+  for (int k = 0; k < g.samples(s, 2); ++k)
+    for (int j = 0; j < g.samples(s, 1); ++j)
+      for (int i = 0; i < g.samples(s, 0); ++i) visit(Ijk{{i, j, k}});
+}
+
+/// The cell below face f along axis c: f − e_c.
+Ijk below(Ijk f, int c) {
+  f[c] -= 1;
+  return f;
+}
+
 }  // namespace
 
 GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec_(spec) {
@@ -100,66 +115,62 @@ void GasSolver::predictor(double dt) {
     std::vector<double>& out = *star[c];
     out = uc;  // fixed boundary faces keep their value
     const auto s = static_cast<Staggering>(c);
-    for (int k = 0; k < g.samples(s, 2); ++k)
-      for (int j = 0; j < g.samples(s, 1); ++j)
-        for (int i = 0; i < g.samples(s, 0); ++i) {
-          const Ijk f{{i, j, k}};
-          if (!unknown_face(c, f[c])) continue;
-          // Cells either side of the face along c: f − e_c and f.
-          Ijk lo = f;
-          lo[c] -= 1;
-          const double eps_f = 0.5 * (cell_eps(lo) + cell_eps(f));
-          const double u0 = uc[at(f)];
-          double adv = 0.0, diff = 0.0;
-          for (int d = 0; d < dims; ++d) {
-            const double hd = g.h(d);
-            if (d == c) {
-              // Fluxes at the cell centres f − e_c and f (faces m, m+1 around cell m).
-              auto flux = [&](const Ijk& cell) {
-                Ijk up = cell;
-                up[c] += 1;
-                const double ua = uc[at(cell)], ub = uc[at(up)];
-                const double m = cell_eps(cell) * 0.5 * (ua + ub);
-                const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
-                return std::pair{m * q, cell_eps(cell) * mu * (ub - ua) / hd};
-              };
-              const auto [fa, da] = flux(f);
-              const auto [fb, db] = flux(lo);
-              if (advect) adv += (fa - fb) / hd;
-              diff += (da - db) / hd;
-            } else {
-              // Fluxes at the edges f ± ½e_d: mass flux from the d-velocities on the d-faces
-              // there (at the two cells along c), ε the mean of the four cells around the edge.
-              auto flux = [&](int side) {  // side 0: lower edge (between f − e_d and f), 1: upper
-                Ijk a = f, b = f;
-                if (side == 0) a[d] -= 1;
-                else b[d] += 1;
-                // d-faces at index b[d] (between cells b[d]−1 and b[d]) for cells lo and f along c.
-                Ijk dl = lo, df = f;
-                dl[d] = b[d];
-                df[d] = b[d];
-                const double vd = 0.5 * ((*vel[d])[at(dl)] + (*vel[d])[at(df)]);
-                Ijk c1 = lo, c2 = f, c3 = lo, c4 = f;
-                c1[d] = c2[d] = b[d] - 1;
-                c3[d] = c4[d] = b[d];
-                const double eps_e = 0.25 * (cell_eps(c1) + cell_eps(c2) + cell_eps(c3) + cell_eps(c4));
-                const double ua = uc[at(a)], ub = uc[at(b)];
-                const double m = eps_e * vd;
-                const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
-                return std::pair{m * q, eps_e * mu * (ub - ua) / hd};
-              };
-              const auto [fu, du] = flux(1);
-              const auto [fl, dl_] = flux(0);
-              if (advect) adv += (fu - fl) / hd;
-              diff += (du - dl_) / hd;
-            }
-          }
-          double src = (*force[c])[at(f)];
-          if (momentum_source) src += momentum_source(g.position(s, i, j, k), time_, c);
-          // ε_f^{n+1} u* = ε_f^n u^n + Δt/ρ (−adv + diff + ε_f^n ρ g + f) − Δt/ρ ε_f^{n+1} ∂p^n/∂x:
-          // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
-          out[at(f)] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * (rho * gvec[c] - mean_gp[c]) + src);
+    for_each_face(g, c, [&](const Ijk& f) {
+      if (!unknown_face(c, f[c])) return;
+      // Cells either side of the face along c: f − e_c and f.
+      const Ijk lo = below(f, c);
+      const double eps_f = 0.5 * (cell_eps(lo) + cell_eps(f));
+      const double u0 = uc[at(f)];
+      double adv = 0.0, diff = 0.0;
+      for (int d = 0; d < dims; ++d) {
+        const double hd = g.h(d);
+        if (d == c) {
+          // Fluxes at the cell centres f − e_c and f (faces m, m+1 around cell m).
+          auto flux = [&](const Ijk& cell) {
+            Ijk up = cell;
+            up[c] += 1;
+            const double ua = uc[at(cell)], ub = uc[at(up)];
+            const double m = cell_eps(cell) * 0.5 * (ua + ub);
+            const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
+            return std::pair{m * q, cell_eps(cell) * mu * (ub - ua) / hd};
+          };
+          const auto [fa, da] = flux(f);
+          const auto [fb, db] = flux(lo);
+          if (advect) adv += (fa - fb) / hd;
+          diff += (da - db) / hd;
+        } else {
+          // Fluxes at the edges f ± ½e_d: mass flux from the d-velocities on the d-faces
+          // there (at the two cells along c), ε the mean of the four cells around the edge.
+          auto flux = [&](int side) {  // side 0: lower edge (between f − e_d and f), 1: upper
+            Ijk a = f, b = f;
+            if (side == 0) a[d] -= 1;
+            else b[d] += 1;
+            // d-faces at index b[d] (between cells b[d]−1 and b[d]) for cells lo and f along c.
+            Ijk dl = lo, df = f;
+            dl[d] = b[d];
+            df[d] = b[d];
+            const double vd = 0.5 * ((*vel[d])[at(dl)] + (*vel[d])[at(df)]);
+            Ijk c1 = lo, c2 = f, c3 = lo, c4 = f;
+            c1[d] = c2[d] = b[d] - 1;
+            c3[d] = c4[d] = b[d];
+            const double eps_e = 0.25 * (cell_eps(c1) + cell_eps(c2) + cell_eps(c3) + cell_eps(c4));
+            const double ua = uc[at(a)], ub = uc[at(b)];
+            const double m = eps_e * vd;
+            const double q = upwind ? (m >= 0.0 ? ua : ub) : 0.5 * (ua + ub);
+            return std::pair{m * q, eps_e * mu * (ub - ua) / hd};
+          };
+          const auto [fu, du] = flux(1);
+          const auto [fl, dl_] = flux(0);
+          if (advect) adv += (fu - fl) / hd;
+          diff += (du - dl_) / hd;
         }
+      }
+      double src = (*force[c])[at(f)];
+      if (momentum_source) src += momentum_source(g.position(s, f[0], f[1], f[2]), time_, c);
+      // ε_f^{n+1} u* = ε_f^n u^n + Δt/ρ (−adv + diff + ε_f^n ρ g + f) − Δt/ρ ε_f^{n+1} ∂p^n/∂x:
+      // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
+      out[at(f)] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * (rho * gvec[c] - mean_gp[c]) + src);
+    });
   }
 }
 
@@ -180,19 +191,12 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.
-  for (int c = 0; c < dims; ++c) {
-    const auto s = static_cast<Staggering>(c);
-    for (int k = 0; k < g.samples(s, 2); ++k)
-      for (int j = 0; j < g.samples(s, 1); ++j)
-        for (int i = 0; i < g.samples(s, 0); ++i) {
-          const Ijk f{{i, j, k}};
-          if (!unknown_face(c, f[c])) continue;
-          Ijk lo = f;
-          lo[c] -= 1;
-          const double dp = (gas_.p[at(f)] - gas_.p[at(lo)]) / g.h(c);
-          (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
-        }
-  }
+  for (int c = 0; c < dims; ++c)
+    for_each_face(g, c, [&](const Ijk& f) {
+      if (!unknown_face(c, f[c])) return;
+      const double dp = (gas_.p[at(f)] - gas_.p[at(below(f, c))]) / g.h(c);
+      (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+    });
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
   // Assemble (once per ε) the matrix of −∇·(ε_f ∇φ): faces with a fixed normal velocity
@@ -305,21 +309,14 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   }
 
   // Correct the unknown faces and the pressure.
-  for (int c = 0; c < dims; ++c) {
-    const auto s = static_cast<Staggering>(c);
-    for (int k = 0; k < g.samples(s, 2); ++k)
-      for (int j = 0; j < g.samples(s, 1); ++j)
-        for (int i = 0; i < g.samples(s, 0); ++i) {
-          const Ijk f{{i, j, k}};
-          if (!unknown_face(c, f[c])) {
-            (*vel[c])[at(f)] = (*star[c])[at(f)];
-            continue;
-          }
-          Ijk lo = f;
-          lo[c] -= 1;
-          (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (phi_[at(f)] - phi_[at(lo)]) / g.h(c);
-        }
-  }
+  for (int c = 0; c < dims; ++c)
+    for_each_face(g, c, [&](const Ijk& f) {
+      if (!unknown_face(c, f[c])) {
+        (*vel[c])[at(f)] = (*star[c])[at(f)];
+        return;
+      }
+      (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (phi_[at(f)] - phi_[at(below(f, c))]) / g.h(c);
+    });
   double pmean = 0.0;
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)

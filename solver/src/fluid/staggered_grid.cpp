@@ -25,76 +25,93 @@ Vec3 StaggeredGrid::position(Staggering s, int i, int j, int k) const {
 
 namespace {
 int wrap(int m, int n) { return ((m % n) + n) % n; }
+
+/// One grid line along an axis: sample m of it is at flat index base + m·stride.
+struct GridLine {
+  long base, stride;
+  std::size_t operator()(int m) const { return static_cast<std::size_t>(base + static_cast<long>(m) * stride); }
+};
+
+/// Visit the grid lines along each axis, the ghost layers of the two other axes included:
+/// wrap the ghosts of every line along a periodic axis, and call fill(axis, line) for every
+/// line along a bounded one. A 2D grid has one layer along z and nothing reads beyond it:
+/// no z pass, and the x and y passes touch layer 0 only.
+template <class Fill>
+void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill&& fill) {
+  const int g = StaggeredGrid::ghosts;
+  const bool two_d = grid.two_d();
+  for (int axis = 0; axis < grid.dims(); ++axis) {
+    const int n = grid.n(axis);
+    const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
+    int step[3] = {0, 0, 0};
+    step[axis] = 1;
+    const long stride = static_cast<long>(grid.at(step[0], step[1], step[2])) - static_cast<long>(grid.at(0, 0, 0));
+    const bool periodic = grid.spec().periodic(axis);
+    const int q0 = two_d && o2 == 2 ? 0 : -g, q1 = two_d && o2 == 2 ? 0 : grid.n(o2) + g;
+    const int p0 = two_d && o1 == 2 ? 0 : -g, p1 = two_d && o1 == 2 ? 0 : grid.n(o1) + g;
+    for (int q = q0; q <= q1; ++q)
+      for (int p = p0; p <= p1; ++p) {
+        int start[3];  // sample 0 of the line at (p along o1, q along o2)
+        start[axis] = 0;
+        start[o1] = p;
+        start[o2] = q;
+        const GridLine idx{static_cast<long>(grid.at(start[0], start[1], start[2])), stride};
+        if (periodic) {
+          for (int m = -g; m < 0; ++m) a[idx(m)] = a[idx(wrap(m, n))];
+          for (int m = n; m <= n + g; ++m) a[idx(m)] = a[idx(wrap(m, n))];
+          continue;
+        }
+        fill(axis, idx);
+      }
+  }
+}
 }  // namespace
 
 void StaggeredGrid::fill_component(std::vector<double>& a, Staggering s, bool even) const {
   const int g = ghosts;
-  // A 2D grid has one layer along z and nothing reads beyond it: no z pass, and the x and
-  // y passes touch layer 0 only.
-  const int axes = spec_.two_d ? 2 : 3;
-  for (int axis = 0; axis < axes; ++axis) {
+  fill_ghosts_by_line(*this, a, [&](int axis, const GridLine& idx) {
     const int n = n_[axis];
-    const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
     const bool normal = static_cast<int>(s) == axis;  // the component normal to these faces
-    // Index with `m` along `axis` and (p, q) along the two other axes.
-    // Index of (m along axis, p along o1, q along o2): a base and a stride (hot loop).
-    const std::size_t stride[3] = {1, ext_[0], ext_[0] * ext_[1]};
-    const std::size_t sa = stride[axis];
-    auto idx = [&, sa](int m, int p, int q) {
-      return static_cast<std::size_t>(static_cast<long>(at(0, 0, 0)) + static_cast<long>(m) * static_cast<long>(sa) +
-                                      static_cast<long>(p) * static_cast<long>(stride[o1]) +
-                                      static_cast<long>(q) * static_cast<long>(stride[o2]));
-    };
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
-    const int q0 = spec_.two_d && o2 == 2 ? 0 : -g, q1 = spec_.two_d && o2 == 2 ? 0 : n_[o2] + g;
-    const int p0 = spec_.two_d && o1 == 2 ? 0 : -g, p1 = spec_.two_d && o1 == 2 ? 0 : n_[o1] + g;
-    for (int q = q0; q <= q1; ++q)
-      for (int p = p0; p <= p1; ++p) {
-        if (lower.kind == BoundaryKind::periodic) {
-          for (int m = -g; m < 0; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
-          for (int m = n; m <= n + g; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
-          continue;
+    if (s == Staggering::centre || (even && !normal)) {
+      // Zero normal gradient: mirror about the boundary face.
+      for (int m = 0; m < g; ++m) a[idx(-1 - m)] = a[idx(m)];
+      for (int m = 0; m <= g; ++m) a[idx(n + m)] = a[idx(n - 1 - m)];
+      return;
+    }
+    if (normal) {
+      // The boundary faces are samples 0 and n.
+      auto set_face = [&](const Boundary& b, int face, double inward_sign) {
+        switch (b.kind) {
+          case BoundaryKind::no_slip:
+          case BoundaryKind::free_slip: a[idx(face)] = 0.0; break;
+          case BoundaryKind::velocity_inlet: a[idx(face)] = inward_sign * b.normal_velocity; break;
+          case BoundaryKind::pressure_outlet:
+          case BoundaryKind::periodic: break;  // solved for, not imposed
         }
-        if (s == Staggering::centre || (even && !normal)) {
-          // Zero normal gradient: mirror about the boundary face.
-          for (int m = 0; m < g; ++m) a[idx(-1 - m, p, q)] = a[idx(m, p, q)];
-          for (int m = 0; m <= g; ++m) a[idx(n + m, p, q)] = a[idx(n - 1 - m, p, q)];
-          continue;
-        }
-        if (normal) {
-          // The boundary faces are samples 0 and n.
-          auto set_face = [&](const Boundary& b, int face, double inward_sign) {
-            switch (b.kind) {
-              case BoundaryKind::no_slip:
-              case BoundaryKind::free_slip: a[idx(face, p, q)] = 0.0; break;
-              case BoundaryKind::velocity_inlet: a[idx(face, p, q)] = inward_sign * b.normal_velocity; break;
-              case BoundaryKind::pressure_outlet:
-              case BoundaryKind::periodic: break;  // solved for, not imposed
-            }
-          };
-          if (!even) {
-            set_face(lower, 0, 1.0);
-            set_face(upper, n, -1.0);
-          }
-          const bool lo_flat = !even && lower.kind == BoundaryKind::pressure_outlet;
-          const bool hi_flat = !even && upper.kind == BoundaryKind::pressure_outlet;
-          for (int m = 1; m <= g; ++m) {
-            a[idx(-m, p, q)] = lo_flat ? a[idx(0, p, q)] : a[idx(m, p, q)];
-            a[idx(n + m, p, q)] = hi_flat ? a[idx(n, p, q)] : a[idx(n - m, p, q)];
-          }
-        } else {
-          // Tangential: odd about a no-slip wall or an inlet (zero tangential velocity on
-          // the boundary), even for free slip and outlets.
-          auto sign = [](const Boundary& b) {
-            return b.kind == BoundaryKind::no_slip || b.kind == BoundaryKind::velocity_inlet ? -1.0 : 1.0;
-          };
-          const double sl = sign(lower), su = sign(upper);
-          for (int m = 0; m < g; ++m) a[idx(-1 - m, p, q)] = sl * a[idx(m, p, q)];
-          for (int m = 0; m <= g; ++m) a[idx(n + m, p, q)] = su * a[idx(n - 1 - m, p, q)];
-        }
+      };
+      if (!even) {
+        set_face(lower, 0, 1.0);
+        set_face(upper, n, -1.0);
       }
-  }
+      const bool lo_flat = !even && lower.kind == BoundaryKind::pressure_outlet;
+      const bool hi_flat = !even && upper.kind == BoundaryKind::pressure_outlet;
+      for (int m = 1; m <= g; ++m) {
+        a[idx(-m)] = lo_flat ? a[idx(0)] : a[idx(m)];
+        a[idx(n + m)] = hi_flat ? a[idx(n)] : a[idx(n - m)];
+      }
+    } else {
+      // Tangential: odd about a no-slip wall or an inlet (zero tangential velocity on
+      // the boundary), even for free slip and outlets.
+      auto sign = [](const Boundary& b) {
+        return b.kind == BoundaryKind::no_slip || b.kind == BoundaryKind::velocity_inlet ? -1.0 : 1.0;
+      };
+      const double sl = sign(lower), su = sign(upper);
+      for (int m = 0; m < g; ++m) a[idx(-1 - m)] = sl * a[idx(m)];
+      for (int m = 0; m <= g; ++m) a[idx(n + m)] = su * a[idx(n - 1 - m)];
+    }
+  });
 }
 
 void StaggeredGrid::fill_velocity_ghosts(std::vector<double>& u, std::vector<double>& v, std::vector<double>& w) const {
@@ -108,44 +125,24 @@ void StaggeredGrid::fill_scalar_ghosts(std::vector<double>& s) const { fill_comp
 
 void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a) const {
   const int g = ghosts;
-  const int axes = spec_.two_d ? 2 : 3;
-  for (int axis = 0; axis < axes; ++axis) {
+  fill_ghosts_by_line(*this, a, [&](int axis, const GridLine& idx) {
     const int n = n_[axis];
-    const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
-    // Index of (m along axis, p along o1, q along o2): a base and a stride (hot loop).
-    const std::size_t stride[3] = {1, ext_[0], ext_[0] * ext_[1]};
-    const std::size_t sa = stride[axis];
-    auto idx = [&, sa](int m, int p, int q) {
-      return static_cast<std::size_t>(static_cast<long>(at(0, 0, 0)) + static_cast<long>(m) * static_cast<long>(sa) +
-                                      static_cast<long>(p) * static_cast<long>(stride[o1]) +
-                                      static_cast<long>(q) * static_cast<long>(stride[o2]));
-    };
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
-    const int q0 = spec_.two_d && o2 == 2 ? 0 : -g, q1 = spec_.two_d && o2 == 2 ? 0 : n_[o2] + g;
-    const int p0 = spec_.two_d && o1 == 2 ? 0 : -g, p1 = spec_.two_d && o1 == 2 ? 0 : n_[o1] + g;
-    for (int q = q0; q <= q1; ++q)
-      for (int p = p0; p <= p1; ++p) {
-        if (lower.kind == BoundaryKind::periodic) {
-          for (int m = -g; m < 0; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
-          for (int m = n; m <= n + g; ++m) a[idx(m, p, q)] = a[idx(wrap(m, n), p, q)];
-          continue;
-        }
-        // Lower side: ghost −1−m mirrors cell m about the face.
-        for (int m = 0; m < g; ++m) {
-          const double inner = a[idx(m, p, q)];
-          a[idx(-1 - m, p, q)] = lower.kind == BoundaryKind::pressure_outlet
-                                     ? 2.0 * lower.pressure - inner
-                                     : a[idx(0, p, q)] - (m + 1) * (a[idx(n > 1 ? 1 : 0, p, q)] - a[idx(0, p, q)]);
-        }
-        for (int m = 0; m <= g; ++m) {
-          const double inner = a[idx(n - 1 - m, p, q)];
-          a[idx(n + m, p, q)] = upper.kind == BoundaryKind::pressure_outlet
-                                    ? 2.0 * upper.pressure - inner
-                                    : a[idx(n - 1, p, q)] + (m + 1) * (a[idx(n - 1, p, q)] - a[idx(n > 1 ? n - 2 : n - 1, p, q)]);
-        }
-      }
-  }
+    // Lower side: ghost −1−m mirrors cell m about the face.
+    for (int m = 0; m < g; ++m) {
+      const double inner = a[idx(m)];
+      a[idx(-1 - m)] = lower.kind == BoundaryKind::pressure_outlet
+                           ? 2.0 * lower.pressure - inner
+                           : a[idx(0)] - (m + 1) * (a[idx(n > 1 ? 1 : 0)] - a[idx(0)]);
+    }
+    for (int m = 0; m <= g; ++m) {
+      const double inner = a[idx(n - 1 - m)];
+      a[idx(n + m)] = upper.kind == BoundaryKind::pressure_outlet
+                          ? 2.0 * upper.pressure - inner
+                          : a[idx(n - 1)] + (m + 1) * (a[idx(n - 1)] - a[idx(n > 1 ? n - 2 : n - 1)]);
+    }
+  });
 }
 
 void StaggeredGrid::fill_even_ghosts(std::vector<double>& a, Staggering s) const { fill_component(a, s, true); }

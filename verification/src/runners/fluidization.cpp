@@ -152,10 +152,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
   const SettledBed bed = settled_bed(p, vol, area, floor_y, v.param("d"));
   oracles::BedParams bp;
   bp.law = oracles::DragLaw::Gidaspow;
-  bp.d = v.param("d");
-  bp.rho_p = v.param("rho_p");
-  bp.rho_g = v.param("rho_g");
-  bp.mu_g = v.param("mu_g");
+  set_particle_gas(bp, v);
   bp.g = grav;
   bp.eps_g = bed.eps_bed;
   const oracles::MinFluidisation mf = oracles::minimum_fluidisation(bp);

@@ -67,6 +67,16 @@ std::string series_title(const std::string& what, const Variant& v, const RunCon
 /// A companion series beside @p series_path: "<stem>@p suffix.dat".
 std::string series_beside(const std::string& series_path, const std::string& suffix);
 
+/// Sets the particle and gas properties that the drag oracles' parameters share (d, rho_p,
+/// rho_g, mu_g) from the variant's parameters of the same names.
+template <class P>
+void set_particle_gas(P& p, const Variant& v) {
+  p.d = v.param("d");
+  p.rho_p = v.param("rho_p");
+  p.rho_g = v.param("rho_g");
+  p.mu_g = v.param("mu_g");
+}
+
 /// Volume of the particles' spheres [m³].
 double solids_volume(const ParticleStore& p);
 /// The particles' momentum along y, Σ m v_y [kg m/s].

@@ -43,10 +43,7 @@ RunOutput suspension(const CaseDef& /*c*/, const Variant& v, const RunConfig& rc
   if (rc.timing_only) return r;
   oracles::SuspensionParams q;
   q.law = oracles::DragLaw::WenYu;
-  q.d = v.param("d");
-  q.rho_p = v.param("rho_p");
-  q.rho_g = v.param("rho_g");
-  q.mu_g = v.param("mu_g");
+  set_particle_gas(q, v);
   q.g = v.param("g");
   q.eps_g = 1.0 - eps_s;
   q.G = v.param("G");

@@ -41,10 +41,7 @@ oracles::TaylorGreenParams taylor_green_params(const Variant& v) {
   oracles::TaylorGreenParams tp;
   tp.U = v.param("U");
   tp.kx = tp.ky = v.param("k");
-  tp.d = v.param("d");
-  tp.rho_p = v.param("rho_p");
-  tp.rho_g = v.param("rho_g");
-  tp.mu_g = v.param("mu_g");
+  set_particle_gas(tp, v);
   tp.eps_g = v.param("eps_g");
   return tp;
 }

@@ -36,10 +36,7 @@ RunOutput record_fall(Simulation& sim, Fall& fall, F&& also) {
 /// velocity against the ODE (with @p vs_ode) and against the terminal velocity.
 void compare_fall(const Variant& v, Fall& fall, bool vs_ode, RunOutput& r) {
   oracles::TerminalParams p;
-  p.d = v.param("d");
-  p.rho_p = v.param("rho_p");
-  p.rho_g = v.param("rho_g");
-  p.mu_g = v.param("mu_g");
+  set_particle_gas(p, v);
   p.u_g = v.param("u_g");
   p.g = v.param("g");
   fall.ode = oracles::terminal_velocity_cvode(p, fall.t);
