@@ -2,7 +2,8 @@
 /// @brief The `cdm` command: thin wiring of the solver and the verification harness.
 ///   cdm run SCENE [-o DIR] [--set path=value ...] [--restart CHECKPOINT] [--max-steps N] [-q]
 ///   cdm verify [CASE ...] [--cases DIR] [--out DIR] [--sweep]
-///   cdm report [--in DIR] [--out DIR]
+///   cdm report [--in DIR] [--out DIR] [--report-script FILE]
+///   cdm --version
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -26,9 +27,7 @@
 #include "cdm/solver/simulation.hpp"
 #include "cdm/verification/harness.hpp"
 
-#ifndef CDM_SOURCE_DIR
-#define CDM_SOURCE_DIR "."
-#endif
+#include "cdm/version.hpp"
 
 namespace fs = std::filesystem;
 
@@ -45,13 +44,19 @@ std::string shell_line(const std::string& cmd) {
   return out.empty() ? "unknown" : out;
 }
 
+/// The folder of the command's data (verification cases, report script): at
+/// CDM_DATA_RELATIVE from the directory of the running executable, in an installed tree
+/// (bin/../share/cdm) and in the build tree alike.
+fs::path data_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return fs::path(CDM_DATA_RELATIVE);
+  return (exe.parent_path() / CDM_DATA_RELATIVE).lexically_normal();
+}
+
 /// What a reader of the tables needs to reproduce them: commit, compiler, machine.
 std::vector<std::pair<std::string, std::string>> provenance() {
-  const std::string src = CDM_SOURCE_DIR;
-  std::string commit = shell_line("git -C '" + src + "' rev-parse HEAD 2>/dev/null");
-  if (shell_line("git -C '" + src + "' status --porcelain --untracked-files=no 2>/dev/null | head -1") != "unknown")
-    commit += "+uncommitted";
-  return {{"commit", commit},
+  return {{"commit", CDM_GIT_COMMIT},
           {"compiler", CDM_COMPILER},
           {"flags", CDM_CXX_FLAGS},
           {"build_type", CDM_BUILD_TYPE},
@@ -199,6 +204,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
 
 int main(int argc, char** argv) {
   CLI::App app{"cdm: CFD-DEM solver for gas-solid flows, verification first"};
+  app.set_version_flag("--version", std::string("cdm ") + CDM_VERSION + " (commit " + CDM_GIT_COMMIT + ")");
   app.require_subcommand(1);
 
   std::string scene, out_dir = "cdm-out";
@@ -226,7 +232,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024));
 
   std::vector<std::string> only;
-  std::string cases_dir = std::string(CDM_SOURCE_DIR) + "/verification/cases", verify_out = "verification-out";
+  const fs::path data = data_dir();
+  std::string cases_dir = (data / "verification" / "cases").string(), verify_out = "verification-out";
   auto* verify = app.add_subcommand("verify", "Run verification cases against their oracles and write error tables");
   verify->add_option("cases", only, "case names (default: all)");
   verify->add_option("--cases", cases_dir, "folder holding one folder per case")->capture_default_str();
@@ -239,6 +246,8 @@ int main(int argc, char** argv) {
   auto* report = app.add_subcommand("report", "Build the HTML verification report from the tables of cdm verify");
   report->add_option("--in", report_in, "folder written by cdm verify (and cdm verify --sweep)")->capture_default_str();
   report->add_option("-o,--out", report_out, "report folder")->capture_default_str();
+  std::string report_script = (data / "reports" / "make_report.py").string();
+  report->add_option("--report-script", report_script, "the script that draws the report")->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -252,7 +261,7 @@ int main(int argc, char** argv) {
     if (*report) {
       // The report is built from the tables alone, by reports/make_report.py with
       // Debian's python3-matplotlib (the interpreter on PATH may not see it).
-      const std::string py = "/usr/bin/python3", script = std::string(CDM_SOURCE_DIR) + "/reports/make_report.py";
+      const std::string py = "/usr/bin/python3", script = report_script;
       if (!fs::exists(py) || !fs::exists(script)) {
         std::cerr << "cdm report: needs " << py << " with python3-matplotlib (scripts/install-deps.sh installs it) and "
                   << script << "\n";
