@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <deque>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -20,6 +21,8 @@
 #include <iostream>
 
 #include "cdm/solver/checkpoint.hpp"
+#include "cdm/solver/io/monitors.hpp"
+#include "cdm/solver/io/thermo_log.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/output.hpp"
 #include "cdm/solver/restart_origin.hpp"
@@ -70,7 +73,9 @@ std::atomic<int> g_signal{0};
 extern "C" void on_signal(int sig) { g_signal.store(sig); }
 
 /// Progress on the terminal (stderr) for runs longer than a few seconds: simulated time,
-/// steps, particle-steps per second and the time left. Never in the data files.
+/// steps, particle-steps per second and the time left, from the rate over the last ten
+/// seconds or so (a run's pace changes: a falling bed is fast, a settled one slow). Never
+/// in the data files.
 class Progress {
  public:
   explicit Progress(bool on) : on_(on), start_(clock::now()), last_(start_) {}
@@ -79,23 +84,32 @@ class Progress {
     const auto now = clock::now();
     if (now - last_ < std::chrono::seconds(1) || now - start_ < std::chrono::seconds(3)) return;
     last_ = now;
-    const double wall = std::chrono::duration<double>(now - start_).count();
     const double done = static_cast<double>(s.steps() - s0_), total = static_cast<double>(s.total_steps() - s0_);
-    const double rate = done * static_cast<double>(s.particles().size()) / wall;
-    const double left = done > 0 ? wall * (total - done) / done : 0.0;
+    window_.push_back({now, done});
+    while (window_.size() > 2 && now - window_[1].first >= std::chrono::seconds(10)) window_.pop_front();
+    const auto& [t0, d0] = window_.front();
+    const double span = std::chrono::duration<double>(now - (window_.size() > 1 ? t0 : start_)).count();
+    const double steps = window_.size() > 1 ? done - d0 : done;
+    const double step_rate = span > 0 ? steps / span : 0.0;
+    const double rate = step_rate * static_cast<double>(s.particles().size());
+    const double left = step_rate > 0 ? (total - done) / step_rate : 0.0;
     std::fprintf(stderr, "\r  t = %.4g s  step %llu/%llu  %.3g particle-steps/s  %.0f s left   ", s.time(),
                  static_cast<unsigned long long>(s.steps()), static_cast<unsigned long long>(s.total_steps()), rate, left);
     shown_ = true;
   }
   void start_at(std::uint64_t steps) { s0_ = steps; }
-  ~Progress() {
+  /// Ends the progress line, so that what is printed next starts on a line of its own.
+  void end_line() {
     if (shown_) std::fputs("\n", stderr);
+    shown_ = false;
   }
+  ~Progress() { end_line(); }
 
  private:
   using clock = std::chrono::steady_clock;
   bool on_, shown_ = false;
   clock::time_point start_, last_;
+  std::deque<std::pair<clock::time_point, double>> window_;  // (wall, steps done) at each display
   std::uint64_t s0_ = 0;
 };
 
@@ -143,12 +157,18 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
                   ck ? ck->outputs.particle_table : std::optional<std::uint64_t>());
   std::optional<cdm::VtkObserver> vtk;
   if (spec.output_vtk) vtk.emplace(out_dir, sim, ck ? ck->outputs.vtk : std::optional<cdm::VtkMark>());
+  std::optional<cdm::ThermoLogObserver> log;
+  if (spec.log_interval > 0)
+    log.emplace((fs::path(out_dir) / "log.dat").string(), sim, ck ? ck->outputs.log : std::optional<std::uint64_t>());
+  cdm::MonitorObserver monitors(out_dir, sim, ck ? ck->outputs.monitors : std::vector<std::uint64_t>());
   ck.reset();  // the state is restored; its bytes are not needed any more
   // The outputs are made durable and their lengths recorded in the checkpoint.
   auto checkpoint = [&](const cdm::Simulation& s) {
     cdm::OutputMarks marks;
     if (table) marks.particle_table = table->sync();
     if (vtk) marks.vtk = vtk->sync();
+    if (log) marks.log = log->sync();
+    marks.monitors = monitors.sync();
     cdm::write_checkpoint(ckpt, s, origin, marks);
   };
   Progress progress(!quiet && isatty(STDERR_FILENO));
@@ -165,6 +185,13 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
       [&](const cdm::Simulation& s) {
         if (table) (*table)(s);
         if (vtk) (*vtk)(s);
+        monitors(s);
+        if (log)
+          if (const auto row = (*log)(s); row && !quiet) {
+            progress.end_line();
+            std::printf("  %s\n", cdm::thermo_line(*row).c_str());
+            std::fflush(stdout);
+          }
         progress(s);
         if (spec.checkpoint_interval > 0) {
           const auto k = static_cast<long long>(std::floor(s.time() / spec.checkpoint_interval + 1e-9));
@@ -176,6 +203,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
       },
       [&] { return g_signal.load() != 0 || sim.steps() >= stop_at; });
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
+  progress.end_line();
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
   std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s; simulated "
               "time %.6g s\n",
@@ -187,6 +215,10 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
     std::cout << "wrote checkpoint " << ckpt << " at step " << sim.steps() << " (t = " << sim.time() << " s)\n";
   }
   if (table) table->close();
+  if (log) log->close();
+  monitors.close();
+  if (log) std::cout << "wrote " << (fs::path(out_dir) / "log.dat").string() << "\n";
+  for (const auto& m : spec.monitors) std::cout << "wrote " << (fs::path(out_dir) / cdm::monitor_file(m)).string() << "\n";
   if (spec.output_particles) std::cout << "wrote " << (fs::path(out_dir) / "particles.dat").string() << "\n";
   if (spec.output_vtk)
     std::cout << "wrote " << (fs::path(out_dir) / "particles.pvd").string()

@@ -31,6 +31,10 @@ void put_marks(OutArchive& a, const OutputMarks& m) {
   a.put(v.last);
   a.put(v.particle_frames);
   a.put(v.gas_frames);
+  a.put(static_cast<std::uint8_t>(m.log ? 1 : 0));
+  a.put(m.log.value_or(0));
+  a.put(static_cast<std::uint64_t>(m.monitors.size()));
+  for (std::uint64_t b : m.monitors) a.put(b);
 }
 
 OutputMarks get_marks(InArchive& a) {
@@ -48,6 +52,15 @@ OutputMarks get_marks(InArchive& a) {
   a.get(v.gas_frames);
   if (has > 1 || v.last < -1) throw ArchiveError("its output record is corrupted");
   if (has) m.vtk = v;
+  a.get(has);
+  a.get(bytes);
+  if (has > 1) throw ArchiveError("its output record is corrupted");
+  if (has) m.log = bytes;
+  std::uint64_t monitors = 0;
+  a.get(monitors);
+  if (monitors > 4096) throw ArchiveError("its output record is corrupted");
+  m.monitors.resize(monitors);
+  for (std::uint64_t& b : m.monitors) a.get(b);
   return m;
 }
 

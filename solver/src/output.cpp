@@ -63,9 +63,11 @@ std::vector<std::string> particle_columns(bool rot) {
   return c;
 }
 
+}  // namespace
+
 /// Where a restarted run continues the table at @p path: the checkpoint's length, or
 /// nowhere (a new table) when there is no table there or no length was recorded.
-std::optional<std::uint64_t> resume_point(const std::string& path, const Simulation& sim,
+std::optional<std::uint64_t> table_resume_point(const std::string& path, const Simulation& sim,
                                           std::optional<std::uint64_t> recorded) {
   if (!sim.restarted() || !recorded) return std::nullopt;
   const long long size = regular_file_size(path);
@@ -77,17 +79,26 @@ std::optional<std::uint64_t> resume_point(const std::string& path, const Simulat
                           "-o directory to start a new table)");
   return recorded;
 }
-}  // namespace
+
+SampleSchedule::SampleSchedule(const Simulation& sim, double interval) : interval_(interval) {
+  if (sim.restarted()) last_ = output_sample(sim, interval_);  // that sample was written before the checkpoint
+}
+
+bool SampleSchedule::due(const Simulation& sim) {
+  const bool last = sim.steps() == sim.total_steps();
+  const long long k = output_sample(sim, interval_);
+  if (k <= last_ && !last) return false;
+  last_ = k;
+  return true;
+}
 
 ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim,
                                              std::optional<std::uint64_t> resume_at)
     : table_(path, particle_columns(sim.particles().has_rotation()),
              {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"},
-             resume_point(path, sim, resume_at)),
-      interval_(sim.spec().output_interval),
-      rot_(sim.particles().has_rotation()) {
-  if (sim.restarted()) last_ = output_sample(sim, interval_);  // that row was written before the checkpoint
-}
+             table_resume_point(path, sim, resume_at)),
+      schedule_(sim, sim.spec().output_interval),
+      rot_(sim.particles().has_rotation()) {}
 
 long long output_sample(const Simulation& sim, double interval) {
   if (interval <= sim.dt()) return static_cast<long long>(sim.steps());
@@ -95,10 +106,8 @@ long long output_sample(const Simulation& sim, double interval) {
 }
 
 void ParticleTableObserver::operator()(const Simulation& sim) {
+  if (!schedule_.due(sim)) return;
   const bool last = sim.steps() == sim.total_steps();
-  const long long k = output_sample(sim, interval_);
-  if (k <= last_ && !last) return;
-  last_ = k;
   const ParticleStore& p = sim.particles();
   std::vector<double> r(rot_ ? 11 : 8);
   for (std::size_t k = 0; k < p.size(); ++k) {  // by identity, whatever order the store keeps

@@ -13,6 +13,7 @@ void read_output_and_checks(const Reader& rd, SceneSpec& spec) {
     spec.output_vtk = rd.boolean(*o, "vtk", "output").value_or(false);
     spec.output_interval = rd.positive(*o, "interval", "output", Dim::time, true);
     spec.checkpoint_interval = rd.positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
+    spec.log_interval = rd.positive(*o, "log_interval", "output", Dim::time, false, 0.0);
   } else {
     spec.output_particles = false;
   }

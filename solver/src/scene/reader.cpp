@@ -14,7 +14,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
-            "periodic", "neighbour_list"}},
+            "periodic", "neighbour_list", "monitors"}},
       {"periodic", {"x", "y", "z"}},
       {"neighbour_list", {"sort_interval"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
@@ -35,7 +35,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
-      {"output", {"interval", "particles", "vtk", "checkpoint_interval"}},
+      {"output", {"interval", "particles", "vtk", "checkpoint_interval", "log_interval"}},
+      {"monitors[]", {"name", "type", "point", "axis", "position", "from", "to", "threshold", "bin"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
   return s;
@@ -81,6 +82,8 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"coupling.kernel", names(coupling::kernel_keywords)},
       {"coupling.gas_velocity", names(coupling::slip_velocity_keywords)},
       {"integrator.scheme", names(integrator_keywords)},
+      {"monitors[].type", names(monitor_keywords)},
+      {"monitors[].axis", {"x", "y", "z"}},
   };
   return s;
 }

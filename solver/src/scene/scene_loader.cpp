@@ -46,6 +46,7 @@ SceneSpec load(const std::string& file, const toml::table& root) {
   // scene allocates anything.
   read_integrator(rd, spec);
   read_output_and_checks(rd, spec);
+  read_monitors(rd, spec);
   read_particles(rd, spec);
   resolve_dt(rd, root.get("integrator")->as_table(), spec);
   check_initial_state(rd, spec);

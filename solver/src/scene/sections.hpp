@@ -41,6 +41,8 @@ void read_integrator(const Reader& rd, SceneSpec& spec);
 void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec);
 // output_checks.cpp
 void read_output_and_checks(const Reader& rd, SceneSpec& spec);
+/// [[monitors]] (after [gas] and [output]).
+void read_monitors(const Reader& rd, SceneSpec& spec);
 // initial_state.cpp
 void check_initial_state(const Reader& rd, const SceneSpec& spec);
 

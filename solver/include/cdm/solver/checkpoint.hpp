@@ -38,9 +38,11 @@ struct RunOrigin {
 struct OutputMarks {
   std::optional<std::uint64_t> particle_table;  ///< bytes of particles.dat
   std::optional<VtkMark> vtk;                   ///< frames of particles.pvd / gas.pvd
+  std::optional<std::uint64_t> log;             ///< bytes of log.dat
+  std::vector<std::uint64_t> monitors;          ///< bytes of each monitor's table, in scene order
 };
 
-constexpr std::uint32_t checkpoint_format_version = 4;
+constexpr std::uint32_t checkpoint_format_version = 5;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

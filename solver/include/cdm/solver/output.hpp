@@ -44,6 +44,27 @@ class Simulation;
 /// (every step is a sample), so the index never exceeds the step count.
 long long output_sample(const Simulation& sim, double interval);
 
+/// Which steps a table samples: the first step whose time reaches each multiple of the
+/// interval, and the last step. After a restart the checkpoint's own sample is not
+/// taken again (it was written before the checkpoint).
+class SampleSchedule {
+ public:
+  SampleSchedule(const Simulation& sim, double interval);
+  /// Whether the current step of @p sim is a sample (and, if so, marks it taken).
+  bool due(const Simulation& sim);
+
+ private:
+  double interval_;
+  long long last_ = -1;
+};
+
+/// Where a restarted run continues the table at @p path: the length the checkpoint
+/// recorded, or nowhere (a new table) when there is no table there or no length was
+/// recorded. A table shorter than recorded is not the one the checkpoint continues: an
+/// error.
+std::optional<std::uint64_t> table_resume_point(const std::string& path, const Simulation& sim,
+                                                std::optional<std::uint64_t> recorded);
+
 /// Writes every particle's state at the scene's output interval: one row per particle
 /// per sample (t id x y z vx vy vz [wx wy wz]). A sample is taken at the first step
 /// whose time reaches each multiple k·interval, and at the last step. After a restart
@@ -63,8 +84,7 @@ class ParticleTableObserver {
 
  private:
   TableWriter table_;
-  double interval_;
-  long long last_ = -1;
+  SampleSchedule schedule_;
   bool rot_;
 };
 

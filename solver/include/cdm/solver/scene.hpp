@@ -13,6 +13,7 @@
 #include "cdm/solver/coupling/drag_laws.hpp"
 #include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
+#include "cdm/solver/io/monitor_spec.hpp"
 #include "cdm/solver/keywords.hpp"
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/periodic_box.hpp"
@@ -125,6 +126,8 @@ struct SceneSpec {
   bool output_particles = true;
   bool output_vtk = false;  // VTK files (particles, and the gas) at the output interval
   double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
+  double log_interval = 0.0;  // [s] between rows of log.dat and the monitors' tables; 0 = no log
+  std::vector<MonitorSpec> monitors;
 
   // Spatial sorting of the particles at Verlet-list rebuilds, at most every this many
   // steps; 0 = never (particles stay in scene order).
