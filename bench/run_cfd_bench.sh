@@ -65,7 +65,7 @@ run_one() {  # code problem rep -> appends a line of summarise_cfd.py's runs fil
     read -r loop steps n < <(awk '/^loop time/ {print $3, $6, $9}' "$dir/log.txt")
     psteps=$(awk -v s="$steps" -v n="$n" 'BEGIN {printf "%.0f", s * n}')
     stats=$(/usr/bin/python3 "$here/bed_stats.py" cdm "$dir" --axis "$axis")
-    rm -f "$dir/checkpoint.cdmck" "$dir/particles.dat"
+    rm -rf "$dir/checkpoint.cdmck" "$dir/particles.dat" "$dir/vtk"  # hundreds of MB over the repetitions
   else
     line=$("$here/peers/dpmfoam_goldschmidt.sh" "$t" "$dir" | tee "$dir/summary.txt" | tail -1)
     loop=$(field "$line" wall_s)
