@@ -3,35 +3,20 @@
 
     bench/test_summarise.py SUMMARISE
 """
-import os
-import subprocess
 import sys
-import tempfile
+
+from table_checks import check, failures, table_row
+from table_checks import run as run_script
 
 summarise = sys.argv[1]
-failures = []
-
-
-def check(what, ok):
-    if not ok:
-        failures.append(what)
 
 
 def run(text):
-    with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
-        f.write(text)
-    try:
-        return subprocess.run([sys.executable, summarise, f.name], capture_output=True, text=True), f.name
-    finally:
-        os.unlink(f.name)
+    return run_script(summarise, text)
 
 
 def row(out, prob, code, cores):
-    for line in out.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if cells[:3] == [prob, code, str(cores)]:
-            return cells
-    return None
+    return table_row(out, prob, code, cores)
 
 
 # Three repetitions each; the medians are 10 (cdm), 5 (cdm2), 30 (lammps), 15 (lammps2),

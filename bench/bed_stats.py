@@ -1,0 +1,158 @@
+#!/usr/bin/python3
+"""Pressure drop and bed height of a fluidised bed, from cdm's output or an OpenFOAM case.
+
+    bed_stats.py cdm OUTDIR --axis z       cdm run -o OUTDIR with output.vtk and output.particles
+    bed_stats.py openfoam CASE --axis z    a DPMFoam case written in ascii (last time directory)
+
+prints one line at the last written time:
+
+    t=<s> dp=<Pa> bed_height=<m> h99=<m>
+
+dp is the mean gas pressure of the lowest layer of cells minus that of the highest layer
+(cell centres, so both codes are measured on the same points of the same grid). OpenFOAM's
+incompressible p is kinematic (p/rho); it is multiplied by the gas density of
+constant/transportProperties. bed_height is twice the mean particle centre height above
+the bottom of the domain (the height of a bed of uniform density holding the same
+particles); h99 is the 99th percentile of centre height plus radius.
+"""
+import argparse
+import gzip
+import os
+import re
+import sys
+import xml.etree.ElementTree as ET
+
+AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def fail(msg):
+    sys.exit(f"bed_stats.py: {msg}")
+
+
+def layer_dp(values, cells, axis):
+    """Mean of the lowest minus mean of the highest layer along axis; values x fastest."""
+    nx, ny, nz = cells
+    n = [nx, ny, nz]
+    if len(values) != nx * ny * nz:
+        fail(f"{len(values)} cell values, expected {nx}*{ny}*{nz}")
+    low, high, count = 0.0, 0.0, 0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                idx = (i, j, k)[axis]
+                v = values[i + nx * (j + ny * k)]
+                if idx == 0:
+                    low += v
+                    count += 1
+                elif idx == n[axis] - 1:
+                    high += v
+    return (low - high) / count
+
+
+def heights(z, r, base):
+    if not z:
+        fail("no particles found")
+    h = sorted(zi - base + ri for zi, ri in zip(z, r))
+    mean = sum(zi - base for zi in z) / len(z)
+    return 2.0 * mean, h[min(len(h) - 1, int(0.99 * len(h)))]
+
+
+def cdm_stats(out, axis):
+    vtk = os.path.join(out, "vtk")
+    gas = sorted(f for f in os.listdir(vtk) if f.startswith("gas_") and f.endswith(".vti"))
+    if not gas:
+        fail(f"no {vtk}/gas_*.vti (the scene needs output.vtk = true)")
+    root = ET.parse(os.path.join(vtk, gas[-1])).getroot()
+    image = root.find("ImageData")
+    ext = [int(v) for v in image.get("WholeExtent").split()]
+    cells = [ext[1] - ext[0], ext[3] - ext[2], ext[5] - ext[4]]
+    base = float(image.get("Origin").split()[axis])
+    t = float(root.find(".//FieldData/DataArray").text)
+    arrays = {a.get("Name"): a for a in root.iter("DataArray")}
+    if "pressure" not in arrays:
+        fail(f"{gas[-1]} has no pressure array")
+    p = [float(v) for v in arrays["pressure"].text.split()]
+    dp = layer_dp(p, cells, axis)
+    # particles.dat: the rows of the last sample (t id x y z ...); radius from the VTK points.
+    last_t, z = None, []
+    with open(os.path.join(out, "particles.dat")) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            cols = line.split()
+            if cols[0] != last_t:
+                last_t, z = cols[0], []
+            z.append(float(cols[2 + axis]))
+    if abs(float(last_t) - t) > 1e-9:
+        fail(f"particles.dat ends at t = {last_t}, the gas at t = {t}")
+    parts = sorted(f for f in os.listdir(vtk) if f.startswith("particles_"))
+    radius = [float(v) for v in ET.parse(os.path.join(vtk, parts[-1])).getroot()
+              .find(".//DataArray[@Name='radius']").text.split()]
+    if len(radius) != len(z):
+        radius = [radius[0]] * len(z)
+    return t, dp, heights(z, radius, base)
+
+
+def foam_list(path):
+    """The numbers of an ascii OpenFOAM field or cloud file (internalField or the top list)."""
+    opener = gzip.open if path.endswith(".gz") else open
+    with opener(path, "rt") as f:
+        text = f.read()
+    m = re.search(r"internalField\s+nonuniform\s+List<scalar>\s*(\d+)\s*\((.*?)\)\s*;", text, re.S)
+    if m:
+        return [float(v) for v in m.group(2).split()]
+    m = re.search(r"internalField\s+uniform\s+([-\d.eE+]+)", text)
+    if m:
+        return None
+    return text
+
+
+def openfoam_stats(case, axis):
+    times = [d for d in os.listdir(case) if re.fullmatch(r"[\d.eE+-]+", d) and float(d) > 0]
+    if not times:
+        fail(f"{case}: no time directory after 0")
+    tdir = max(times, key=float)
+    with open(os.path.join(case, "constant", "transportProperties")) as f:
+        rho = float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
+    with open(os.path.join(case, "system", "blockMeshDict")) as f:
+        bm = f.read()
+    cells = [int(v) for v in re.search(r"hex\s*\([\d\s]+\)\s*\((\d+)\s+(\d+)\s+(\d+)\)",
+                                       re.sub(r"//.*", "", bm)).groups()]
+    scale = float(re.search(r"scale\s+([-\d.eE+]+)", bm).group(1))
+    verts = re.findall(r"\(\s*([-\d.eE+]+)\s+([-\d.eE+]+)\s+([-\d.eE+]+)\s*\)",
+                       bm.split("vertices", 1)[1].split("blocks", 1)[0])
+    base = min(float(v[axis]) for v in verts) * scale
+    p = foam_list(os.path.join(case, tdir, "p"))
+    if not isinstance(p, list):
+        fail(f"{case}/{tdir}/p: expected an ascii nonuniform field (writeFormat ascii)")
+    dp = rho * layer_dp(p, cells, axis)
+    cloud = os.path.join(case, tdir, "lagrangian", "kinematicCloud")
+    text = foam_list(os.path.join(cloud, "positions"))
+    # Legacy positions: "(x y z) celli" per parcel.
+    pts = re.findall(r"\(\s*([-\d.eE+]+)\s+([-\d.eE+]+)\s+([-\d.eE+]+)\s*\)\s*-?\d+", text)
+    z = [float(v[axis]) for v in pts]
+    dtext = foam_list(os.path.join(cloud, "d")).split("FoamFile", 1)[-1].split("}", 1)[-1]
+    uniform = re.search(r"(\d+)\s*\{\s*([-\d.eE+]+)\s*\}", dtext)  # N{value}: all equal
+    listed = re.search(r"(\d+)\s*\((.*?)\)", dtext, re.S)
+    if uniform:
+        d = [float(uniform.group(2))] * int(uniform.group(1))
+    else:
+        d = [float(v) for v in listed.group(2).split()] if listed else []
+    if len(d) != len(z):
+        fail(f"{cloud}: {len(z)} positions but {len(d)} diameters")
+    return float(tdir), dp, heights(z, [0.5 * v for v in d], base)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("code", choices=["cdm", "openfoam"])
+    ap.add_argument("dir")
+    ap.add_argument("--axis", choices=sorted(AXES), default="z", help="the vertical axis")
+    a = ap.parse_args()
+    stats = cdm_stats if a.code == "cdm" else openfoam_stats
+    t, dp, (h, h99) = stats(a.dir, AXES[a.axis])
+    print(f"t={t:.6g} dp={dp:.6g} bed_height={h:.6g} h99={h99:.6g}")
+
+
+if __name__ == "__main__":
+    main()
