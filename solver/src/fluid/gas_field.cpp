@@ -10,7 +10,8 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
       velocity_interp_(grid_, spec.interpolation),
       gradient_interp_(grid_, spec.interpolation),
       flux_interp_(grid_, spec.interpolation == InterpolationScheme::analytic ? InterpolationScheme::trilinear
-                                                                             : spec.interpolation) {
+                                                                             : spec.interpolation),
+      hydrostatic_gradient_(spec.density * gravity) {
   u = grid_.make_array();
   v = grid_.make_array();
   w = grid_.make_array();
@@ -89,7 +90,7 @@ void GasField::refresh() {
     if (!g.two_d()) grad(gpz, Staggering::w, 2);
   } else {
     std::vector<double>& pp = p;
-    g.fill_pressure_ghosts(pp);
+    fill_pressure_ghosts();
     for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
       for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
         for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
@@ -106,7 +107,7 @@ void GasField::refresh() {
   }
   // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
   // of the gradient), which is exact for the linear hydrostatic part.
-  if (!prescribed_) g.fill_pressure_ghosts(p);
+  if (!prescribed_) fill_pressure_ghosts();
   else g.fill_scalar_ghosts(p);
   g.fill_even_ghosts(gpx, Staggering::u);
   g.fill_even_ghosts(gpy, Staggering::v);
