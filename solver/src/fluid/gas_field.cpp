@@ -10,8 +10,7 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
       velocity_interp_(grid_, spec.interpolation),
       gradient_interp_(grid_, spec.interpolation),
       flux_interp_(grid_, spec.interpolation == InterpolationScheme::analytic ? InterpolationScheme::trilinear
-                                                                             : spec.interpolation),
-      hydrostatic_gradient_(spec.density * gravity) {
+                                                                             : spec.interpolation) {
   u = grid_.make_array();
   v = grid_.make_array();
   w = grid_.make_array();
@@ -90,7 +89,7 @@ void GasField::refresh() {
     if (!g.two_d()) grad(gpz, Staggering::w, 2);
   } else {
     std::vector<double>& pp = p;
-    fill_pressure_ghosts();
+    g.fill_pressure_ghosts(pp);
     for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
       for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
         for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
@@ -107,7 +106,7 @@ void GasField::refresh() {
   }
   // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
   // of the gradient), which is exact for the linear hydrostatic part.
-  if (!prescribed_) fill_pressure_ghosts();
+  if (!prescribed_) g.fill_pressure_ghosts(p);
   else g.fill_scalar_ghosts(p);
   g.fill_even_ghosts(gpx, Staggering::u);
   g.fill_even_ghosts(gpy, Staggering::v);

@@ -123,24 +123,24 @@ void StaggeredGrid::fill_velocity_ghosts(std::vector<double>& u, std::vector<dou
 
 void StaggeredGrid::fill_scalar_ghosts(std::vector<double>& s) const { fill_component(s, Staggering::centre, false); }
 
-void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a, Vec3 fixed_face_gradient) const {
+void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a) const {
   const int g = ghosts;
-  const double grad[3] = {fixed_face_gradient.x, fixed_face_gradient.y, fixed_face_gradient.z};
   fill_ghosts_by_line(*this, a, [&](int axis, const GridLine& idx) {
     const int n = n_[axis];
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
-    // Ghost −1−m (lower) and n+m (upper) mirror the cell (2m+1)h away across the face:
-    // about the outlet pressure on an outlet, else with the normal gradient given.
+    // Lower side: ghost −1−m mirrors cell m about the face.
     for (int m = 0; m < g; ++m) {
       const double inner = a[idx(m)];
-      a[idx(-1 - m)] = lower.kind == BoundaryKind::pressure_outlet ? 2.0 * lower.pressure - inner
-                                                                    : inner - (2 * m + 1) * h_[axis] * grad[axis];
+      a[idx(-1 - m)] = lower.kind == BoundaryKind::pressure_outlet
+                           ? 2.0 * lower.pressure - inner
+                           : a[idx(0)] - (m + 1) * (a[idx(n > 1 ? 1 : 0)] - a[idx(0)]);
     }
     for (int m = 0; m <= g; ++m) {
       const double inner = a[idx(n - 1 - m)];
-      a[idx(n + m)] = upper.kind == BoundaryKind::pressure_outlet ? 2.0 * upper.pressure - inner
-                                                                   : inner + (2 * m + 1) * h_[axis] * grad[axis];
+      a[idx(n + m)] = upper.kind == BoundaryKind::pressure_outlet
+                          ? 2.0 * upper.pressure - inner
+                          : a[idx(n - 1)] + (m + 1) * (a[idx(n - 1)] - a[idx(n > 1 ? n - 2 : n - 1)]);
     }
   });
 }

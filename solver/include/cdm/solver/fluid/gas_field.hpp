@@ -108,15 +108,6 @@ class GasField {
   /// Recompute the face pressure gradient from p and refresh both interpolators; call
   /// after changing u, v, w or p.
   void refresh();
-  /// Fill the pressure ghosts (StaggeredGrid::fill_pressure_ghosts). On a face whose
-  /// normal velocity is fixed (a wall, an inlet) the gas momentum equation is not solved,
-  /// and the drag reaction's share of that face goes to the cell's other face
-  /// (TwoWayExchange::apply_reaction): the gas in the half cell against it carries no
-  /// friction and is at rest in the face's direction, so its normal gradient is the
-  /// hydrostatic ρ_g g. Particles there feel that; a linear extrapolation would give
-  /// them the first interior face's frictional gradient a second time, a force the gas
-  /// equations never see.
-  void fill_pressure_ghosts() { grid_.fill_pressure_ghosts(p, hydrostatic_gradient_); }
 
  private:
   void sample_prescribed();
@@ -127,7 +118,6 @@ class GasField {
   VectorInterpolator velocity_interp_, gradient_interp_, flux_interp_;
   std::vector<double> flux_u_, flux_v_, flux_w_;  // ε_f u on the faces (solved gas with ε_g)
   bool with_flux_ = false;                         // see enable_superficial_velocity()
-  Vec3 hydrostatic_gradient_;  // ρ_g g [Pa/m]: ∂p/∂n on faces whose velocity is fixed
   double scale_ = 1.0;
   double time_ = 0.0;
   bool analytic_ = false;  // interpolation "analytic": the closed form at the particle

@@ -103,12 +103,9 @@ class StaggeredGrid {
   /// Fill the ghost layers of a cell-centred scalar: periodic wrap or zero normal gradient.
   void fill_scalar_ghosts(std::vector<double>& s) const;
   /// Fill the ghost layers of a cell-centred pressure: periodic wrap, the outlet pressure
-  /// on a pressure-outlet face (Dirichlet), and on a face whose normal velocity is fixed
-  /// (a wall or an inlet) the normal gradient @p fixed_face_gradient (its component along
-  /// the face's axis): mirrored, p_ghost = p_inner ∓ (2m+1) h ∂p/∂n. The gas equations
-  /// never read these ghosts (no pressure gradient acts on a fixed face); what the
-  /// particles feel there does (GasField::fill_pressure_ghosts).
-  void fill_pressure_ghosts(std::vector<double>& p, Vec3 fixed_face_gradient = {}) const;
+  /// on a pressure-outlet face (Dirichlet), linear extrapolation at walls and inlets (so
+  /// that a hydrostatic gradient continues to the boundary face).
+  void fill_pressure_ghosts(std::vector<double>& p) const;
   /// Fill the ghost layers of any staggered array by periodic wrap or even mirroring
   /// (zero normal gradient), whatever the boundary kind; boundary samples are kept.
   void fill_even_ghosts(std::vector<double>& a, Staggering s) const;
