@@ -46,9 +46,10 @@ SettledBed settled_bed(const ParticleStore& p, double vol, double area, double f
 }
 
 /// Per inflow: the mean frictional pressure drop, the same corrected by the bed's momentum
-/// change, and its fluctuation; and every 10th gas step, the history.
+/// change, and its fluctuation; the same drop between cell centres and the gas's force on
+/// the bed per area less its buoyancy; and every 10th gas step, the history.
 struct Segments {
-  std::vector<double> U, dP, dP_corr, dP_sd, hist_t, hist_u, hist_dp, hist_mv;
+  std::vector<double> U, dP, dP_corr, dP_sd, dP_centre, force, hist_t, hist_u, hist_dp, hist_mv;
 };
 
 /// What the comparison found besides its measurements: the measured U_mf and the oracle's
@@ -91,6 +92,12 @@ Fluidised compare(const Segments& seg, const SettledBed& bed, double weight, con
     }
   r.measurements.push_back({"packed_dP", "max_rel_pct_vs_ergun_eps_bed", dev_mean});
   r.measurements.push_back({"packed_dP", "max_rel_pct_vs_ergun_eps_bulk", dev_bulk});
+  // The packed bed's momentum balance: the gas's force on it (drag and pressure-gradient
+  // force less buoyancy) against the pressure drop from the inlet face times the area.
+  double dev_force = 0.0;
+  for (std::size_t k = 0; k < U.size(); ++k)
+    if (kFactors[k] < 1.0) dev_force = std::max(dev_force, rel_pct(dP[k], seg.force[k]));
+  r.measurements.push_back({"packed_gas_force", "max_rel_pct_vs_dP", dev_force});
   // Packed branch: least-squares dP = a U + b U^2 through the packed segments, met with
   // the measured plateau.
   double s11 = 0, s12 = 0, s22 = 0, r1 = 0, r2 = 0;
@@ -136,14 +143,18 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     return s / (g.n(0) * g.n(2));
   };
   // Frictional pressure drop from the inlet face (pressure extrapolated linearly from the
-  // first two cell centres: the bed rests on the inlet, where the gradient is uniform) to
-  // the top cell centre, less the gas's own hydrostatic head over that height.
+  // first two cell centres, as the solver's pressure ghosts are: the pressure the particles
+  // on the distributor feel) to the top cell centre, less the gas's own hydrostatic head
+  // over that height; the same from the first cell centre (the bed less its lowest half
+  // cell); the gas's force on the bed per area, less its buoyancy.
   const int j_hi = g.n(1) - 1;
   const double dy = (j_hi + 0.5) * g.h(1);
   auto frictional = [&] {
     const double p_in = 1.5 * layer_p(0) - 0.5 * layer_p(1);
     return p_in - layer_p(j_hi) - rho_g * grav * dy;
   };
+  auto frictional_centre = [&] { return layer_p(0) - layer_p(j_hi) - rho_g * grav * (dy - 0.5 * g.h(1)); };
+  auto bed_force = [&] { return (gas_force_y(p, gas) - vol * rho_g * grav) / area; };
   const Stopwatch clock;
   auto advance = [&](double until) {
     while (sim.time() < until - 0.5 * sim.dt()) sim.step();
@@ -161,7 +172,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     const double u = f * mf.U;
     gas.set_inlet_velocity(2, u);
     const double start = sim.time(), end = start + hold(f);
-    double s = 0.0, s2 = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0;
+    double s = 0.0, s2 = 0.0, s_centre = 0.0, s_force = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0;
     int n = 0;
     while (sim.time() < end - 0.5 * sim.dt()) {
       sim.step();
@@ -174,6 +185,8 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
       if (sim.time() < start + t_tr) continue;
       if (n == 0) { t_a = sim.time(); mv_a = momentum_y(p); }
       s += q; s2 += q * q; ++n;
+      s_centre += frictional_centre();
+      s_force += bed_force();
       t_b = sim.time();
     }
     const double mv_b = momentum_y(p);
@@ -187,6 +200,8 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     // window), leaving what the time average converges to.
     seg.dP_corr.push_back(s / n - (mv_b - mv_a) / (area * std::max(t_b - t_a, sim.dt())));
     seg.dP_sd.push_back(std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n))));
+    seg.dP_centre.push_back(s_centre / n);
+    seg.force.push_back(s_force / n);
   }
   RunOutput r = run_output(sim, clock.seconds());
   if (rc.timing_only) return r;
@@ -196,6 +211,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
   {
     TableWriter w(rc.series_path,
                   {"U[m/s]", "dP_frictional[Pa]", "dP_momentum_corrected[Pa]", "dP_std_dev[Pa]",
+                   "dP_from_cell_centre[Pa]", "gas_force_on_bed_per_area[Pa]",
                    "buoyant_weight_per_area[Pa]", "U_mf_oracle[m/s]", "dP_ergun_at_eps_bed[Pa]",
                    "dP_ergun_at_eps_bulk[Pa]"},
                   {"fluidisation " + v.name + ", " + rc.integrator + ": settled bed height " + std::to_string(bed.H) +
@@ -204,7 +220,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
                    "dP averaged over each inflow after the first " + std::to_string(t_tr) +
                        " s; std_dev = its fluctuation (not an error bar of the mean)"});
     for (std::size_t k = 0; k < seg.U.size(); ++k)
-      w.row({seg.U[k], seg.dP[k], seg.dP_corr[k], seg.dP_sd[k], weight, mf.U,
+      w.row({seg.U[k], seg.dP[k], seg.dP_corr[k], seg.dP_sd[k], seg.dP_centre[k], seg.force[k], weight, mf.U,
              oracles::ergun_pressure_gradient(bp, seg.U[k]) * bed.H, oracles::ergun_pressure_gradient(bulk, seg.U[k]) * bed.H});
   }
   TableWriter h(series_beside(rc.series_path, "_history"),

@@ -106,10 +106,21 @@ std::string series_beside(const std::string& series_path, const std::string& suf
   return p;
 }
 
+namespace {
+double sphere_volume(double r) { return std::numbers::pi * std::pow(2.0 * r, 3) / 6.0; }
+}  // namespace
+
 double solids_volume(const ParticleStore& p) {
   double vol = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) vol += std::numbers::pi * std::pow(2.0 * p.radius[i], 3) / 6.0;
+  for (std::size_t i = 0; i < p.size(); ++i) vol += sphere_volume(p.radius[i]);
   return vol;
+}
+
+double gas_force_y(const ParticleStore& p, const fluid::GasField& gas) {
+  double f = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    f += p.dfy[i] - sphere_volume(p.radius[i]) * gas.pressure_gradient_at(p.position(i)).y;
+  return f;
 }
 
 double momentum_y(const ParticleStore& p) {
