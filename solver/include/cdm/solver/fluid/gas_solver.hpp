@@ -24,7 +24,7 @@
 /// first-order upwind (robust at high cell Reynolds numbers), chosen per scene. The
 /// pressure equation −∇·(d ∇φ) = b, d = ε_f^{n+1} on the faces, is solved by
 /// PressureSolver (pressure_solver.hpp): by default conjugate gradients preconditioned
-/// by multigrid (hypre), started from the previous step's φ and stopped when
+/// by multigrid (hypre), started from φ = 0 and stopped when
 /// ‖b − Aφ‖₂ ≤ tol ‖b‖₂ (gas.pressure_tolerance, default 1e-10); or a sparse LDLᵀ
 /// factorisation (kept until d changes). The default tolerance keeps the algebraic
 /// error ≥ 100× below the discretisation error on the gas MMS case. Continuity then
