@@ -120,21 +120,25 @@ std::string PressureSolver::Multigrid::method() const { return "PCG + PFMG (hypr
 void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const FaceCoefficients& d) {
   destroy_solver();
   Hypre& h = *h_;
-  const int entries = 1 + 2 * h.ndim;
+  // Symmetric storage: the cell and its lower neighbours (−x, −y, −z); hypre takes each
+  // upper entry from the neighbour's lower one. A is symmetric (a face's coefficient is
+  // the same seen from either cell, the held cell's row and column are both cleared).
+  const int stored = 1 + h.ndim;
   check(HYPRE_StructMatrixCreate(h.comm, h.grid, h.stencil, &h.A), "matrix");
+  HYPRE_StructMatrixSetSymmetric(h.A, 1);
   HYPRE_StructMatrixInitialize(h.A);
   if (!h.box.empty) {
-    h.values.resize(g_.cell_count() * static_cast<std::size_t>(entries));
+    h.values.resize(g_.cell_count() * static_cast<std::size_t>(stored));
     std::size_t q = 0;
     for (int k = h.box.lo[2]; k <= h.box.hi[2]; ++k)
       for (int j = h.box.lo[1]; j <= h.box.hi[1]; ++j)
         for (int i = h.box.lo[0]; i <= h.box.hi[0]; ++i) {
           const CellStencil s = ps.stencil(d, i, j, k);
           h.values[q++] = s.diag;
-          for (int e = 0; e < entries - 1; ++e) h.values[q++] = s.off[static_cast<std::size_t>(e)];
+          for (int a = 0; a < h.ndim; ++a) h.values[q++] = s.off[static_cast<std::size_t>(2 * a)];
         }
-    HYPRE_Int ent[7] = {0, 1, 2, 3, 4, 5, 6};
-    check(HYPRE_StructMatrixSetBoxValues(h.A, h.box.lo, h.box.hi, entries, ent, h.values.data()), "matrix values");
+    HYPRE_Int ent[4] = {0, 1, 3, 5};
+    check(HYPRE_StructMatrixSetBoxValues(h.A, h.box.lo, h.box.hi, stored, ent, h.values.data()), "matrix values");
   }
   check(HYPRE_StructMatrixAssemble(h.A), "matrix assembly");
 
