@@ -2,11 +2,13 @@
 # Install the Debian 12 packages cdm builds with, if any is missing. Idempotent.
 # python3-matplotlib draws the report and python3-vtk9 reads VTK output back in a test
 # (both run with /usr/bin/python3), chromium checks the report in
-# a test, clang and its runtime build the fuzz target (fuzz/README.md).
+# a test, clang and its runtime build the fuzz target (fuzz/README.md); hypre and Open MPI
+# solve the gas pressure equation.
 set -euo pipefail
 pkgs=(cmake g++ make pkg-config
       libeigen3-dev libsundials-dev libgsl-dev libgtest-dev
       libtomlplusplus-dev libcli11-dev
+      libhypre-dev libopenmpi-dev openmpi-bin
       python3-matplotlib python3-vtk9 chromium
       clang libclang-rt-14-dev)
 missing=()

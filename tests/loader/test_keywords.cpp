@@ -35,6 +35,7 @@ TEST(Keywords, EveryTableRoundTrips) {
   expect_round_trip(cdm::coupling::slip_velocity_keywords);
   expect_round_trip(cdm::coupling::coupling_method_keywords);
   expect_round_trip(cdm::fluid::advection_keywords);
+  expect_round_trip(cdm::fluid::pressure_backend_keywords);
   expect_round_trip(cdm::fluid::interpolation_keywords);
   expect_round_trip(cdm::fluid::field_type_keywords);
   expect_round_trip(cdm::fluid::boundary_keywords);

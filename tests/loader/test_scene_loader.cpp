@@ -272,6 +272,30 @@ TEST(SceneLoader, CouplingGasVelocity) {
                  {"coupling.gas_velocity", "superficial", "not used", "cell_average"});
 }
 
+TEST(SceneLoader, GasPressureSolver) {
+  const std::string scene = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/fluidization/scene.toml");
+  const std::string gas = "[gas]\n";
+  ASSERT_NE(scene.find(gas), std::string::npos);
+  auto with = [&](const std::string& keys) { return replace(scene, gas, gas + keys); };
+  const cdm::SceneSpec d = cdm::load_scene_from_string(scene, "f.toml");
+  EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::multigrid);
+  EXPECT_EQ(d.pressure_solver.tolerance, 1e-10);
+  const cdm::SceneSpec m = cdm::load_scene_from_string(with("pressure_tolerance = 1e-8\n"), "f.toml");
+  EXPECT_EQ(m.pressure_solver.tolerance, 1e-8);
+  EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"direct\"\n"), "f.toml").pressure_solver.backend,
+            cdm::fluid::PressureBackend::direct);
+  expect_refused(with("pressure_solver = \"cg\"\n"), {"bad.toml", "gas.pressure_solver", "cg", "\"multigrid\" or \"direct\""});
+  expect_refused(with("pressure_tolerance = 0.1\n"), {"gas.pressure_tolerance", "0.1", "[1e-14, 0.001]"});
+  expect_refused(with("pressure_tolerance = 0.0\n"), {"gas.pressure_tolerance", "relative residual in"});
+  expect_refused(with("pressure_tolerance = \"tight\"\n"), {"gas.pressure_tolerance", "tight"});
+  expect_refused(with("pressure_solver = \"direct\"\npressure_tolerance = 1e-8\n"),
+                 {"gas.pressure_tolerance", "not used", "direct"});
+  // A prescribed gas solves no pressure equation.
+  const std::string tv = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/terminal_velocity/scene.toml");
+  if (tv.find(gas) != std::string::npos)
+    expect_refused(replace(tv, gas, gas + "pressure_solver = \"direct\"\n"), {"gas.pressure_solver", "not used"});
+}
+
 TEST(SceneLoader, NeighbourListSortInterval) {
   // The settle benchmark sorts every 1000 steps; without its [neighbour_list] it never does.
   const std::string bench = read_text(std::string(CDM_SOURCE_DIR) + "/bench/scenes/settle_1e4.toml");

@@ -14,6 +14,17 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
   spec.gas_dt = rd.positive(gt, "dt", "gas", Dim::time, true);
   spec.advection = rd.keyword(gt, "advection", "gas", fluid::advection_keywords, fluid::AdvectionScheme::upwind,
                               [](fluid::AdvectionScheme a) { return a != fluid::AdvectionScheme::none; });
+  spec.pressure_solver.backend =
+      rd.keyword(gt, "pressure_solver", "gas", fluid::pressure_backend_keywords, fluid::PressureBackend::multigrid);
+  if (spec.pressure_solver.backend == fluid::PressureBackend::direct)
+    rd.reject_unused(gt, "pressure_tolerance", "gas", "gas.pressure_solver is \"direct\" (exact to round-off)");
+  {
+    using P = fluid::PressureSolverSpec;
+    std::ostringstream range;
+    range << "a relative residual in [" << P::min_tolerance << ", " << P::max_tolerance << "]";
+    spec.pressure_solver.tolerance = rd.number_in(gt, "pressure_tolerance", "gas", Dim::none, false, P{}.tolerance,
+                                                  P::min_tolerance, false, P::max_tolerance, false, range.str());
+  }
   spec.gas_initial_velocity = rd.vec3(gt, "initial_velocity", "gas", Dim::velocity).value_or(Vec3{});
   spec.mean_pressure_gradient = rd.vec3(gt, "mean_pressure_gradient", "gas", Dim::pressure_gradient).value_or(Vec3{});
   if (spec.gas_spec.grid.two_d && spec.gas_initial_velocity.z != 0.0)

@@ -134,7 +134,8 @@ void read_gas(const Reader& rd, SceneSpec& spec) {
     read_solved_gas(rd, *gt, spec);
     return;
   }
-  for (const char* k : {"dt", "advection", "initial_velocity", "mean_pressure_gradient"})
+  for (const char* k : {"dt", "advection", "pressure_solver", "pressure_tolerance", "initial_velocity",
+                        "mean_pressure_gradient"})
     rd.reject_unused(*gt, k, "gas", "modules.gas is \"prescribed\" (these set up a solved gas)");
   if (const toml::node* cn = rd.root().get("coupling"))
     throw SceneError(rd.file() + ": table [coupling] = " + show(*cn) + " is not used: modules.gas is not \"solved\"");

@@ -1,0 +1,98 @@
+// gas_poisson: the cost of one solve of the gas pressure equation −∇·(d ∇φ) = b
+// (cdm::fluid::PressureSolver) on an N³ box: velocity inlet below, pressure outlet above,
+// no-slip walls around, d random in [0.4, 1] per face (a gas fraction), b random in
+// [−1, 1] per cell. Each repetition draws a new d, so it times what a gas step with
+// changing ε pays: the operator's setup (factorisation or multigrid hierarchy) and the
+// solve. Prints one line:
+//   N cells backend reps setup_s solve_s us_per_cell cpu_us_per_cell iterations rel_residual maxrss_MB
+// (wall times, medians over the repetitions; cpu_us_per_cell the process's CPU time per
+// cell and solve, setup included, which a shared machine inflates less than the wall
+// time; maxrss the process's peak resident memory).
+// bench/gas_poisson.sh runs the table in bench/README.md.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/fluid/pressure_solver.hpp"
+
+namespace {
+
+using namespace cdm::fluid;
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+int usage() {
+  std::fprintf(stderr, "usage: gas_poisson N multigrid|direct [repetitions] (N in [2, 512], repetitions in [1, 100])\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3 || argc > 4) return usage();
+  const int n = std::atoi(argv[1]);
+  const std::string backend = argv[2];
+  const int reps = argc == 4 ? std::atoi(argv[3]) : 3;
+  if (n < 2 || n > 512 || reps < 1 || reps > 100 || (backend != "multigrid" && backend != "direct")) return usage();
+
+  GridSpec gs;
+  gs.lo = {0, 0, 0};
+  gs.hi = {0.1, 0.1, 0.1};
+  gs.cells = {n, n, n};
+  for (auto& f : gs.faces) f.kind = BoundaryKind::no_slip;
+  gs.faces[2].kind = BoundaryKind::velocity_inlet;
+  gs.faces[3].kind = BoundaryKind::pressure_outlet;
+  const StaggeredGrid g(gs);
+  PressureSolverSpec spec;
+  spec.backend = backend == "direct" ? PressureBackend::direct : PressureBackend::multigrid;
+  PressureSolver solver(g, spec);
+
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> eps(0.4, 1.0), src(-1.0, 1.0);
+  std::array<std::vector<double>, 3> d;
+  for (auto& a : d) a = g.make_array();
+  std::vector<double> b(g.cell_count()), phi(g.cell_count(), 0.0);
+  std::vector<double> setup, solve, cpu;
+  PressureSolveStats last;
+  using clock = std::chrono::steady_clock;
+  for (int r = 0; r < reps; ++r) {
+    for (auto& a : d)
+      for (double& x : a) x = eps(rng);
+    for (double& x : b) x = src(rng);
+    std::fill(phi.begin(), phi.end(), 0.0);
+    // A zero right-hand side does the setup alone (the solve returns at once).
+    std::vector<double> zero(g.cell_count(), 0.0), phi0(g.cell_count(), 0.0);
+    const double c0 = cpu_seconds();
+    const auto t0 = clock::now();
+    solver.solve({&d[0], &d[1], &d[2]}, zero, phi0);
+    const auto t1 = clock::now();
+    last = solver.solve({&d[0], &d[1], &d[2]}, b, phi);
+    const auto t2 = clock::now();
+    cpu.push_back(cpu_seconds() - c0);
+    setup.push_back(std::chrono::duration<double>(t1 - t0).count());
+    solve.push_back(std::chrono::duration<double>(t2 - t1).count());
+  }
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  const double cells = static_cast<double>(g.cell_count());
+  const double su = median(setup), so = median(solve);
+  std::printf("%d %.0f %s %d %.4f %.4f %.3f %.3f %d %.2e %.1f\n", n, cells, backend.c_str(), reps, su, so,
+              (su + so) / cells * 1e6, median(cpu) / cells * 1e6, last.iterations, last.relative_residual, static_cast<double>(ru.ru_maxrss) / 1024.0);
+  return 0;
+}

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The gas step's cost against the grid (bench/README.md, "The gas pressure solve"):
+# bench/scenes/gas_scaling.toml (10 gas steps, ε changing every step) at N³ cells, one
+# thread, for each backend. Prints per run: N backend wall_s user_s loop_s maxrss_MB.
+# Usage: bench/gas_scaling.sh [REPS] [multigrid sizes...] (default 3; 16 24 32 40 64);
+# DIRECT="16 24" sets the sizes run with the direct solver (default "16 24 32", once each
+# for 32). BUILD sets the build directory (default build/release).
+set -euo pipefail
+reps=${1:-3}
+shift || true
+sizes=${*:-16 24 32 40 64}
+build=${BUILD:-build/release}
+scene=$(dirname "$0")/scenes/gas_scaling.toml
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+run() {  # N backend
+  local out
+  out=$( { /usr/bin/time -f "TIME %e %U %M" "$build/app/cdm" run "$scene" -j 1 -q --set "gas.cells=[$1,$1,$1]" \
+           --set "gas.pressure_solver=\"$2\"" --out "$tmp/run"; } 2>&1 )
+  local loop t
+  loop=$(echo "$out" | sed -n 's/.*loop time \([0-9.]*\) s.*/\1/p')
+  t=$(echo "$out" | grep '^TIME')
+  echo "$1 $2 $(echo "$t" | awk '{print $2, $3}') $loop $(echo "$t" | awk '{printf "%.0f", $4/1024}')"
+}
+echo "# N backend wall_s user_s loop_s maxrss_MB"
+for n in $sizes; do for r in $(seq "$reps"); do run "$n" multigrid; done; done
+for n in ${DIRECT-16 24 32}; do
+  k=$reps
+  [ "$n" -ge 32 ] && k=1
+  for r in $(seq "$k"); do run "$n" direct; done
+done

@@ -1,0 +1,100 @@
+#pragma once
+/// @file pressure_solver.hpp
+/// @brief The linear solve of the pressure-correction equation on the staggered grid.
+///
+///   A φ = b,   A φ = −∇·(d ∇φ)  (finite volumes, one unknown per cell)
+///
+/// d is a coefficient per face (the u, v and w faces), given by the caller at every solve,
+/// and b one value per cell. The boundary rules are those of the projection
+/// (gas_solver.hpp): a periodic axis wraps; walls and velocity inlets carry no φ flux;
+/// a pressure-outlet face holds φ = 0 (ghost value −φ, so the diagonal gains 2 d/h²).
+/// Without an outlet, −∇·(d ∇φ) is singular (φ is defined up to a constant) and b must
+/// sum to zero: the solver removes the mean of b (the round-off of a balanced source) and
+/// holds cell 0 at φ = 0 (its row and column become those of the identity, b₀ = 0), for
+/// both backends. The system stays symmetric positive definite; the projection does not
+/// see the constant (it uses ∇φ, and the pressure's mean is held at zero without an
+/// outlet). Pinning rather than a zero-mean solve because PFMG's coarsest level of a
+/// singular operator is singular too (a periodic box coarsens to one cell whose operator
+/// is 0) and its relaxation there breaks the preconditioner.
+///
+/// Backends:
+///  - multigrid (default): conjugate gradients preconditioned by one V-cycle of hypre's
+///    structured-grid multigrid PFMG (semi-coarsening, Galerkin coarse operators,
+///    weighted-Jacobi smoothing), on hypre's Struct interface over MPI_COMM_WORLD.
+///    Converged when ‖b − Aφ‖₂ ≤ tolerance ‖b‖₂. Work and memory O(N) in the cells.
+///  - direct: Eigen's sparse LDLᵀ factorisation, O(N^{5/3}) or worse in 3D, kept until d
+///    changes; exact to round-off. The reference the multigrid solver is tested against.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/fluid/staggered_grid.hpp"
+#include "cdm/solver/keywords.hpp"
+
+namespace cdm::fluid {
+
+enum class PressureBackend { multigrid, direct };
+inline constexpr Keywords<PressureBackend, 2> pressure_backend_keywords{
+    {{"multigrid", PressureBackend::multigrid}, {"direct", PressureBackend::direct}}};
+inline const char* to_string(PressureBackend b) { return keyword_of(pressure_backend_keywords, b); }
+
+struct PressureSolverSpec {
+  PressureBackend backend = PressureBackend::multigrid;
+  /// Relative residual ‖b − Aφ‖₂/‖b‖₂ at which the multigrid backend stops. The default
+  /// keeps the algebraic error ≥ 100× below the discretisation error of the gas MMS case
+  /// (verification/cases/gas_mms/README.md).
+  double tolerance = 1e-10;
+  static constexpr double min_tolerance = 1e-14, max_tolerance = 1e-3;
+};
+
+/// Outcome of one solve.
+struct PressureSolveStats {
+  int iterations = 0;              // Krylov iterations (0 for the direct backend)
+  double relative_residual = 0.0;  // ‖b − Aφ‖₂/‖b‖₂ (0 when b = 0)
+};
+
+class PressureSolver {
+ public:
+  /// Built once for a grid and its boundary kinds. The multigrid backend initialises MPI
+  /// on first use if the program has not (mpi_session.hpp).
+  PressureSolver(const StaggeredGrid& grid, const PressureSolverSpec& spec);
+  ~PressureSolver();
+  PressureSolver(const PressureSolver&) = delete;
+  PressureSolver& operator=(const PressureSolver&) = delete;
+
+  /// Solve A φ = b. @p d holds the face coefficients of the u, v and w faces in padded
+  /// arrays (StaggeredGrid::make_array; faces 0..n along each axis, the w faces unused in
+  /// 2D). @p b and @p phi have one value per cell, x fastest: b is modified (its mean is
+  /// removed without an outlet); phi is the start (multigrid) and receives the solution.
+  PressureSolveStats solve(const std::array<const std::vector<double>*, 3>& d, std::vector<double>& b,
+                           std::vector<double>& phi);
+
+  /// Operator setups so far (a factorisation or a multigrid hierarchy; one per new d).
+  std::size_t setups() const { return setups_; }
+  /// The method in use, e.g. "PCG + PFMG (hypre)".
+  std::string method() const;
+
+  /// The operator's coefficients for one cell: diagonal and the off-diagonal entry to
+  /// each neighbour, sides ordered (−x, +x, −y, +y, −z, +z); an entry is 0 where the face
+  /// carries no φ flux or the neighbour is the held cell 0. Both backends assemble from it.
+  struct CellStencil {
+    double diag = 0.0;
+    std::array<double, 6> off{};
+  };
+  CellStencil stencil(const std::array<const std::vector<double>*, 3>& d, int i, int j, int k) const;
+
+ private:
+  class Direct;
+  class Multigrid;
+  StaggeredGrid grid_;
+  PressureSolverSpec spec_;
+  bool has_outlet_ = false;
+  std::unique_ptr<Direct> direct_;
+  std::unique_ptr<Multigrid> multigrid_;
+  std::array<std::vector<double>, 3> d_set_;  // d of the current setup
+  std::size_t setups_ = 0;
+};
+
+}  // namespace cdm::fluid

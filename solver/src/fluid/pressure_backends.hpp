@@ -1,0 +1,50 @@
+#pragma once
+/// @file pressure_backends.hpp
+/// @brief The two backends of PressureSolver (pressure_solver.hpp): direct (Eigen LDLᵀ,
+/// pressure_solver.cpp) and multigrid (hypre Struct PCG + PFMG, pressure_multigrid.cpp).
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/fluid/pressure_solver.hpp"
+
+namespace cdm::fluid {
+
+using FaceCoefficients = std::array<const std::vector<double>*, 3>;
+
+/// Eigen's sparse LDLᵀ of A.
+class PressureSolver::Direct {
+ public:
+  explicit Direct(const StaggeredGrid& g) : g_(g) {}
+  void set_operator(const PressureSolver& ps, const FaceCoefficients& d);
+  PressureSolveStats solve(const std::vector<double>& b, std::vector<double>& phi) const;
+
+ private:
+  const StaggeredGrid& g_;
+  Eigen::SparseMatrix<double> A_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+  bool analysed_ = false;
+};
+
+/// hypre's Struct PCG preconditioned by PFMG (or SMG where PFMG cannot coarsen soundly).
+class PressureSolver::Multigrid {
+ public:
+  Multigrid(const StaggeredGrid& g, const PressureSolverSpec& spec);
+  ~Multigrid();
+  Multigrid(const Multigrid&) = delete;
+  Multigrid& operator=(const Multigrid&) = delete;
+  void set_operator(const PressureSolver& ps, const FaceCoefficients& d);
+  PressureSolveStats solve(const std::vector<double>& b, std::vector<double>& phi);
+  std::string method() const;
+
+ private:
+  struct Hypre;  // the hypre objects (keeps hypre's headers out of this one)
+  void destroy_solver();
+  const StaggeredGrid& g_;
+  double tolerance_;
+  std::unique_ptr<Hypre> h_;
+};
+
+}  // namespace cdm::fluid
