@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace cdm::fluid {
 
 struct GasSolver::PressureSystem {
-  Eigen::SparseMatrix<double> A;  // −∇·(ε_f ∇·) over Δ, symmetric positive (semi)definite
+  Eigen::SparseMatrix<double> A;  // −∇·(d ∇·) over Δ, d = ε_f or ε_f²/(ε_f + Δt β/ρ), symmetric positive (semi)definite
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   bool analysed = false;
   bool pinned = false;  // no outlet: cell 0 holds φ = 0 (φ is defined up to a constant)
@@ -188,6 +189,15 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   auto face_eps = [&](int a, const Ijk& f) { return gas_.face_void_fraction(e1, a, f[0], f[1], f[2]); };
   bool has_outlet = false;
   for (int f = 0; f < 2 * dims; ++f) has_outlet |= gs.faces[f].kind == BoundaryKind::pressure_outlet;
+  // The implicit drag (drag_u/v/w): Δt β/ρ on a face, and the pressure operator's coefficient there.
+  const bool implicit = !drag_u.empty();
+  const std::vector<double>* beta[3] = {&drag_u, &drag_v, &drag_w};
+  const std::vector<double>* target[3] = {&drag_target_u, &drag_target_v, &drag_target_w};
+  auto drag_c = [&](int a, const Ijk& f) { return dt / rho * (*beta[a])[at(f)]; };
+  auto face_coef = [&](int a, const Ijk& f) {
+    const double e = face_eps(a, f);
+    return implicit ? e * e / (e + drag_c(a, f)) : e;
+  };
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.
@@ -195,14 +205,23 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     for_each_face(g, c, [&](const Ijk& f) {
       if (!unknown_face(c, f[c])) return;
       const double dp = (gas_.p[at(f)] - gas_.p[at(below(f, c))]) / g.h(c);
-      (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+      if (implicit) {
+        const double e = face_eps(c, f);
+        (*star[c])[at(f)] = ((*star[c])[at(f)] + dt / rho * ((*target[c])[at(f)] - e * dp)) / (e + drag_c(c, f));
+      } else {
+        (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+      }
     });
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
   // Assemble (once per ε) the matrix of −∇·(ε_f ∇φ): faces with a fixed normal velocity
   // (walls, inlets) carry no φ flux; an outlet face holds φ = 0 (ghost −φ).
   const Eigen::Index ncell = static_cast<Eigen::Index>(nx) * ny * nz;
-  bool same = eps_factorised_.size() == e1.size() && std::equal(e1.begin(), e1.end(), eps_factorised_.begin());
+  std::vector<double> drag_now;
+  if (implicit)
+    for (const auto* b : beta) drag_now.insert(drag_now.end(), b->begin(), b->end());
+  const bool same = eps_factorised_.size() == e1.size() &&
+                    std::equal(e1.begin(), e1.end(), eps_factorised_.begin()) && drag_now == drag_factorised_;
   if (!same) {
     std::vector<Eigen::Triplet<double>> trip;
     trip.reserve(static_cast<std::size_t>(ncell) * (2 * dims + 1));
@@ -220,7 +239,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
               Ijk nb = cell;
               nb[a] += side == 1 ? 1 : -1;
               const bool boundary = nb[a] < 0 || nb[a] >= g.n(a);
-              const double ef = face_eps(a, f);
+              const double ef = face_coef(a, f);
               if (!boundary) {
                 diag += ef * w;
                 trip.emplace_back(r, row(nb), -ef * w);
@@ -251,6 +270,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     ps_->ldlt.factorize(ps_->A);
     if (ps_->ldlt.info() != Eigen::Success) throw std::runtime_error("gas pressure equation: factorisation failed");
     eps_factorised_ = e1;
+    drag_factorised_ = std::move(drag_now);
     ++factorisations_;
   }
 
@@ -315,7 +335,13 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
         (*vel[c])[at(f)] = (*star[c])[at(f)];
         return;
       }
-      (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (phi_[at(f)] - phi_[at(below(f, c))]) / g.h(c);
+      const double dphi = phi_[at(f)] - phi_[at(below(f, c))];
+      if (implicit) {
+        const double e = face_eps(c, f);
+        (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (e / (e + drag_c(c, f))) * dphi / g.h(c);
+      } else {
+        (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * dphi / g.h(c);
+      }
     });
   double pmean = 0.0;
   for (int k = 0; k < nz; ++k)
