@@ -120,7 +120,9 @@ void Simulation::step() {
   time_ = static_cast<double>(steps_) * spec_.dt;
   check_state(nonfinite);
   if (solver_) {
-    if (exchange_->two_way()) exchange_->deposit_impulses(particles_);
+    // The implicit drag gathers each particle's impulse over the gas step and deposits
+    // it at the gas step, where the particles' K are deposited (implicit_drag.hpp).
+    if (exchange_->two_way() && !implicit_drag_) exchange_->deposit_impulses(particles_);
     if (++substep_ == substeps_) {
       substep_ = 0;
       gas_step();
@@ -165,7 +167,10 @@ void Simulation::gas_step() {
   const double dtg = spec_.gas_dt;
   gs.clear_force();
   if (exchange_->two_way()) {
-    if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs);
+    if (implicit_drag_) {
+      exchange_->deposit_impulses(particles_);
+      implicit_drag_->prepare(particles_, *exchange_, gs);
+    }
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
     exchange_->deposit_void_fraction(particles_, eps_work_, time_);

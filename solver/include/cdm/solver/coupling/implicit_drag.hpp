@@ -4,8 +4,9 @@
 /// momentum exchanged kept equal and opposite to round-off.
 ///
 /// The particles take their drag K(u_g − v) over the particle sub-steps of a gas step with
-/// the gas velocity u^n of its start; their impulse J is gathered on the cells
-/// (two_way_exchange.hpp). With the implicit treatment the gas does not take −J
+/// the gas velocity u^n of its start; each particle's impulse J_i is gathered over the gas
+/// step and deposited on the cells at the gas step (two_way_exchange.hpp), with the same
+/// weights as its K. With the implicit treatment the gas does not take −J
 /// explicitly: it feels −β(u^{n+1} − V_s), β = Σ_i w K_i / V the particles' drag
 /// coefficients deposited with the coupling kernel and β V_s = Σ_i w K_i v_i / V their
 /// momentum-weighted velocities at the end of the particle sub-steps, both handed from the
@@ -17,9 +18,10 @@
 /// differs from −J_c. The difference goes to the particles at the end of the gas step:
 /// particle i receives Σ_c (w_ic K_i/K_c)(−G_c − J_c), so that what the particles receive
 /// is what the gas gives to round-off every gas step (each particle keeps its own drag
-/// impulse less its share of the cell's, plus its share of the cell's implicit drag). A
-/// cell whose particles have all left its kernel during the step (K_c = 0, J_c ≠ 0) keeps
-/// its difference for the next gas step (pending(), saved in checkpoints).
+/// impulse less its share of the cell's, plus its share of the cell's implicit drag). J
+/// and K are deposited with the same weights, so a cell without K holds no J; were one to
+/// (a particle with K = 0), its difference waits for the next gas step (pending(), saved
+/// in checkpoints).
 /// The particles' share is explicit in the new gas velocity: stable while Δt stays below
 /// about 2 m/K, the particles' own relaxation time (ε_s ρ_p/(ε_g ρ_g) times the gas's).
 #include <vector>
