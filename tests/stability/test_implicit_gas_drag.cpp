@@ -122,3 +122,19 @@ TEST(Stability, DenseSuspensionImplicitGasDragBoundedFarAboveTheExplicitLimit) {
     EXPECT_LE(worst_balance, 1e-12 * scale);
   }
 }
+
+TEST(Stability, DenseSuspensionExplicitGasDragStoppedAboveItsLimit) {
+  // The same suspension at 10 times the explicit limit with the explicit treatment: the
+  // guard stops it, naming the limit and the key that lifts it.
+  const cdm::oracles::SuspensionSteady st = cdm::oracles::suspension_steady(params());
+  const double dtg = 10.0 * 2.0 * (1.0 - eps_s) * 1.2 / st.beta;
+  cdm::Simulation sim(cdm::load_scene_from_string(scene("explicit", dtg, 150 * dtg), "dense_suspension"));
+  try {
+    while (sim.steps() < sim.total_steps()) sim.step();
+    FAIL() << "the explicit drag ran stable at 10 times its limit";
+  } catch (const cdm::SimulationError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("2 eps_g rho_g / beta"), std::string::npos) << m;
+    EXPECT_NE(m.find("coupling.gas_drag"), std::string::npos) << m;
+  }
+}
