@@ -100,10 +100,11 @@ void RunGuards::check_gas(const fluid::GasSolver& gs, double dtg, double time) c
      << time << " s (Courant number " << cfl << ", diffusion number " << gs.diffusion_number(dtg)
      << "). Likely cause: gas.dt = " << dtg << " s too large for the flow (keep |u| dt/h below 1 and "
      << "mu dt/(rho h^2) summed over the axes below 1/2"
-     << (p_.has_two_way() ? "; with two-way coupling the drag on the gas is explicit, so gas.dt must also "
-                            "stay below 2 eps_g rho_g / beta, the time the gas takes to relax to the particles' "
-                            "velocity, which dense or fine-particle regions make short"
-                          : "")
+     << (p_.has_two_way() && !spec_.implicit_gas_drag
+             ? "; with two-way coupling and coupling.gas_drag = \"explicit\" the drag on the gas is explicit, so "
+               "gas.dt must also stay below 2 eps_g rho_g / beta, the time the gas takes to relax to the particles' "
+               "velocity, which dense or fine-particle regions make short (\"implicit\" lifts this limit)"
+             : "")
      << ")";
   throw SimulationError(os.str());
 }

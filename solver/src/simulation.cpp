@@ -120,7 +120,9 @@ void Simulation::step() {
   time_ = static_cast<double>(steps_) * spec_.dt;
   check_state(nonfinite);
   if (solver_) {
-    if (exchange_->two_way()) exchange_->deposit_impulses(particles_);
+    // The implicit drag gathers each particle's impulse over the gas step and deposits
+    // it at the gas step, where the particles' K are deposited (implicit_drag.hpp).
+    if (exchange_->two_way() && !implicit_drag_) exchange_->deposit_impulses(particles_);
     if (++substep_ == substeps_) {
       substep_ = 0;
       gas_step();
@@ -153,6 +155,7 @@ void Simulation::build_gas() {
     } catch (const SimulationError& e) {
       throw SceneError(spec_.file + ": the initial particles do not fit the gas cells: " + std::string(e.what()));
     }
+    if (spec_.implicit_gas_drag) implicit_drag_ = std::make_unique<coupling::ImplicitDrag>(g, *exchange_->deposition());
   }
   gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
   solver_ = std::make_unique<fluid::GasSolver>(
@@ -165,12 +168,18 @@ void Simulation::gas_step() {
   const double dtg = spec_.gas_dt;
   gs.clear_force();
   if (exchange_->two_way()) {
+    if (implicit_drag_) {
+      exchange_->deposit_impulses(particles_);
+      implicit_drag_->prepare(particles_, *exchange_, gs);
+    }
     exchange_->apply_reaction(gs, dtg);
+    if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
     exchange_->deposit_void_fraction(particles_, eps_work_, time_);
   } else {
     eps_work_ = gas_->eps_g;
   }
   gs.step(dtg, eps_work_);
+  if (implicit_drag_) exchange_->add_to_balance(implicit_drag_->give_back(particles_, *gas_, gs, dtg));
   guards().check_gas(gs, dtg, time_);
 }
 
@@ -213,6 +222,7 @@ void Simulation::save_state(OutArchive& a) const {
     a.put(solver_->time());
     a.put(substep_);
     exchange_->save_state(a);
+    if (implicit_drag_) implicit_drag_->save_state(a);
   }
 }
 
@@ -279,6 +289,7 @@ void Simulation::load_state(InArchive& a) {
     a.get(substep_);
     if (!std::isfinite(gt) || substep_ >= substeps_) throw ArchiveError("its gas clock is inconsistent");
     exchange_->load_state(a);
+    if (implicit_drag_) implicit_drag_->load_state(a);
     solver_->set_time(gt);
     gas_->refresh();
   }

@@ -57,6 +57,24 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p) {
   }
 }
 
+FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {
+  auto fixed_face = [&](int f) {
+    if (g.spec().periodic(c) || (f > 0 && f < g.n(c))) return false;
+    return g.spec().faces[2 * c + (f == 0 ? 0 : 1)].kind != fluid::BoundaryKind::pressure_outlet;
+  };
+  const bool lo_fixed = fixed_face(i), hi_fixed = fixed_face(i + 1);
+  if (lo_fixed && hi_fixed) return {0.0, 0.0};  // a single cell between walls: the walls take it
+  if (lo_fixed) return {0.0, 1.0};
+  if (hi_fixed) return {1.0, 0.0};
+  return {0.5, 0.5};
+}
+
+void TwoWayExchange::add_to_balance(const CouplingBalance& b) {
+  balance_.particles += b.particles;
+  balance_.gas_cells += b.gas_cells;
+  balance_.gas_faces += b.gas_faces;
+}
+
 void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   // The drag reaction, deposited on the cells, as a force per unit volume on the faces:
   // each cell gives half to each of its two faces along the component; the share of a
@@ -69,10 +87,6 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   Vec3 cells, faces;
   double* cc[3] = {&cells.x, &cells.y, &cells.z};
   double* fc[3] = {&faces.x, &faces.y, &faces.z};
-  auto fixed_face = [&](int c, int f) {
-    if (g.spec().periodic(c) || (f > 0 && f < g.n(c))) return false;
-    return g.spec().faces[2 * c + (f == 0 ? 0 : 1)].kind != fluid::BoundaryKind::pressure_outlet;
-  };
   for (int c = 0; c < g.dims(); ++c)
     for (int k = 0; k < g.n(2); ++k)
       for (int j = 0; j < g.n(1); ++j)
@@ -82,11 +96,8 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
           int lo[3] = {i, j, k}, hi[3] = {i, j, k};
           hi[c] += 1;
           if (g.spec().periodic(c)) hi[c] %= g.n(c);
-          const bool lo_fixed = fixed_face(c, lo[c]), hi_fixed = fixed_face(c, lo[c] + 1);
-          double to_lo = 0.5 * v, to_hi = 0.5 * v;
-          if (lo_fixed && !hi_fixed) { to_hi = v; to_lo = 0.0; }
-          if (hi_fixed && !lo_fixed) { to_lo = v; to_hi = 0.0; }
-          if (lo_fixed && hi_fixed) to_lo = to_hi = 0.0;  // a single cell between walls: the walls take it
+          const FaceShares sh = face_shares(g, c, lo[c]);
+          const double to_lo = sh.lo * v, to_hi = sh.hi * v;
           (*force[c])[g.at(lo[0], lo[1], lo[2])] += to_lo * per;
           (*force[c])[g.at(hi[0], hi[1], hi[2])] += to_hi * per;
           *fc[c] += to_lo + to_hi;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace cdm::fluid {
 
@@ -181,6 +182,15 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   auto face_eps = [&](int a, const Ijk& f) { return gas_.face_void_fraction(e1, a, f[0], f[1], f[2]); };
   bool has_outlet = false;
   for (int f = 0; f < 2 * dims; ++f) has_outlet |= gs.faces[f].kind == BoundaryKind::pressure_outlet;
+  // The implicit drag (drag_u/v/w): Δt β/ρ on a face, and the pressure operator's coefficient there.
+  const bool implicit = !drag_u.empty();
+  const std::vector<double>* beta[3] = {&drag_u, &drag_v, &drag_w};
+  const std::vector<double>* target[3] = {&drag_target_u, &drag_target_v, &drag_target_w};
+  auto drag_c = [&](int a, const Ijk& f) { return dt / rho * (*beta[a])[at(f)]; };
+  auto face_coef = [&](int a, const Ijk& f) {
+    const double e = face_eps(a, f);
+    return implicit ? e * e / (e + drag_c(a, f)) : e;
+  };
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.
@@ -188,15 +198,21 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     for_each_face(g, c, [&](const Ijk& f) {
       if (!unknown_face(c, f[c])) return;
       const double dp = (gas_.p[at(f)] - gas_.p[at(below(f, c))]) / g.h(c);
-      (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+      if (implicit) {
+        const double e = face_eps(c, f);
+        (*star[c])[at(f)] = ((*star[c])[at(f)] + dt / rho * ((*target[c])[at(f)] - e * dp)) / (e + drag_c(c, f));
+      } else {
+        (*star[c])[at(f)] = (*star[c])[at(f)] / face_eps(c, f) - dt / rho * dp;
+      }
     });
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
-  // The coefficient of −∇·(d ∇φ) on every face 0..n along each axis: d = ε_f^{n+1}.
+  // The coefficient of −∇·(d ∇φ) on every face 0..n along each axis: d = ε_f^{n+1}, or
+  // ε_f²/(ε_f + Δt β/ρ) with the implicit drag.
   for (int a = 0; a < dims; ++a)
     for (int k = 0; k < (a == 2 ? nz + 1 : nz); ++k)
       for (int j = 0; j < (a == 1 ? ny + 1 : ny); ++j)
-        for (int i = 0; i < (a == 0 ? nx + 1 : nx); ++i) d_[a][g.at(i, j, k)] = face_eps(a, Ijk{{i, j, k}});
+        for (int i = 0; i < (a == 0 ? nx + 1 : nx); ++i) d_[a][g.at(i, j, k)] = face_coef(a, Ijk{{i, j, k}});
 
   // Right-hand side: −ρ/Δt [∇·(ε_f^{n+1} u*) + (ε^{n+1} − ε^n)/Δt − s].
   std::vector<double>& b = b_cells_;
@@ -256,7 +272,13 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
         (*vel[c])[at(f)] = (*star[c])[at(f)];
         return;
       }
-      (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (phi_[at(f)] - phi_[at(below(f, c))]) / g.h(c);
+      const double dphi = phi_[at(f)] - phi_[at(below(f, c))];
+      if (implicit) {
+        const double e = face_eps(c, f);
+        (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * (e / (e + drag_c(c, f))) * dphi / g.h(c);
+      } else {
+        (*vel[c])[at(f)] = (*star[c])[at(f)] - dt / rho * dphi / g.h(c);
+      }
     });
   double pmean = 0.0;
   for (int k = 0; k < nz; ++k)

@@ -65,8 +65,16 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
       rd.keyword(c, "gas_velocity", "coupling", coupling::slip_velocity_keywords, coupling::SlipVelocity::interstitial);
   if (spec.coupling_method == coupling::CouplingMethod::cell_average)
     rd.reject_unused(c, "gas_velocity", "coupling", "coupling.method = \"cell_average\" uses the cell-centred gas velocity");
+  // The implicit treatment needs each particle's drag coefficient K, kept by the relaxed
+  // drag updates; with the explicit update the gas takes the drag explicitly.
+  const bool relaxed = spec.drag && spec.drag_update != coupling::DragUpdate::explicit_force;
+  spec.implicit_gas_drag = spec.two_way && rd.keyword(c, "gas_drag", "coupling", gas_drag_keywords, relaxed);
+  if (spec.implicit_gas_drag && !relaxed)
+    rd.fail_value("coupling.gas_drag", *c.get("gas_drag"),
+                  "\"explicit\" with drag.update = \"explicit\" (the implicit drag on the gas needs each particle's "
+                  "drag coefficient, kept by drag.update = \"exponential\" or \"implicit\")");
   if (!spec.two_way) {
-    for (const char* k : {"method", "kernel", "kernel_width", "gas_velocity"})
+    for (const char* k : {"method", "kernel", "kernel_width", "gas_velocity", "gas_drag"})
       rd.reject_unused(c, k, "coupling", "coupling.mode is \"one_way\" (the particles do not act on the gas)");
   }
   if (spec.two_way && !spec.drag)

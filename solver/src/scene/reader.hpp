@@ -32,6 +32,7 @@ const std::map<std::string, std::vector<std::string>>& schema();
 /// (value: two-way).
 inline constexpr Keywords<bool, 2> units_keywords{{{"SI", false}, {"cgs", true}}};
 inline constexpr Keywords<bool, 2> coupling_mode_keywords{{{"one_way", false}, {"two_way", true}}};
+inline constexpr Keywords<bool, 2> gas_drag_keywords{{{"implicit", true}, {"explicit", false}}};
 /// A gas face given by a table (solved gas) rather than a keyword.
 inline bool is_open_face(fluid::BoundaryKind k) {
   return k == fluid::BoundaryKind::velocity_inlet || k == fluid::BoundaryKind::pressure_outlet;

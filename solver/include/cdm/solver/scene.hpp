@@ -96,6 +96,7 @@ struct SceneSpec {
   Vec3 gas_initial_velocity;         // [m/s]
   Vec3 mean_pressure_gradient;       // imposed ∇P̄ [Pa/m] (solved gas)
   bool two_way = false;              // the particles act on the gas (ε and drag reaction)
+  bool implicit_gas_drag = false;    // two-way: the drag coefficient implicit in the gas step
   coupling::CouplingMethod coupling_method = coupling::CouplingMethod::interpolate;
   coupling::Kernel kernel = coupling::Kernel::trilinear;
   double kernel_width = 0.0;         // gaussian σ [m]

@@ -12,6 +12,7 @@
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/coupling/drag_module.hpp"
+#include "cdm/solver/coupling/implicit_drag.hpp"
 #include "cdm/solver/coupling/two_way_exchange.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/contact/contact_module.hpp"
@@ -116,6 +117,7 @@ class Simulation : private integrators::StepHost {
   coupling::DragModule* drag_ = nullptr;
   std::unique_ptr<fluid::GasSolver> solver_;
   std::unique_ptr<coupling::TwoWayExchange> exchange_;  // with a solved gas
+  std::unique_ptr<coupling::ImplicitDrag> implicit_drag_;  // coupling.gas_drag = "implicit"
   std::unique_ptr<integrators::Integrator> integrator_;
   std::uint64_t substeps_ = 1, substep_ = 0;
   std::vector<double> eps_work_;  // ε_g handed to the gas step

@@ -22,6 +22,14 @@ struct CouplingBalance {
   Vec3 particles, gas_cells, gas_faces;
 };
 
+/// The shares of a cell's value along component @p c that go to its lower face (index
+/// @p i) and its upper face (i + 1): half each; all to the other face where one has a
+/// fixed velocity (a wall or an inlet); none where both have (the walls take it).
+struct FaceShares {
+  double lo, hi;
+};
+FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i);
+
 /// Built for every solved gas; with @c two_way false it holds nothing and gives nothing
 /// (the gas keeps its own ε_g).
 class TwoWayExchange {
@@ -43,6 +51,12 @@ class TwoWayExchange {
   /// @p dtg on the faces of @p solver (added to what it holds); records the balance and
   /// starts gathering anew.
   void apply_reaction(fluid::GasSolver& solver, double dtg);
+  /// The reaction on the gas gathered so far in the present gas step, per cell [N s]
+  /// (component @p c).
+  const std::vector<double>& reaction(int c) const { return c == 0 ? imp_x_ : c == 1 ? imp_y_ : imp_z_; }
+  /// Add @p b (an implicit drag's share of the step, implicit_drag.hpp) to the balance
+  /// of the last gas step.
+  void add_to_balance(const CouplingBalance& b);
   /// The balance of the last gas step (zero without two-way coupling).
   const CouplingBalance& balance() const { return balance_; }
 

@@ -77,6 +77,15 @@ class GasSolver {
   std::vector<double> force_u, force_v, force_w;
   void clear_force();
 
+  /// The interphase drag treated implicitly over the next step (coupling/implicit_drag.hpp):
+  /// β on the faces [kg/(m^3 s)] and β V_s, V_s the particles' mean velocity there
+  /// [kg/(m^2 s^2)], or empty (no implicit drag). With them the gas feels β(V_s − u^{n+1})
+  /// besides force_*: the predictor solves (ε_f^{n+1} + Δt β/ρ) u* = [explicit part]
+  /// + Δt β V_s/ρ − Δt/ρ ε_f^{n+1} ∇p^n, the correction u^{n+1} = u* − Δt/ρ ε_f/(ε_f + Δt β/ρ) ∇φ,
+  /// so the pressure operator's coefficient on a face is ε_f²/(ε_f + Δt β/ρ) instead of ε_f.
+  std::vector<double> drag_u, drag_v, drag_w;
+  std::vector<double> drag_target_u, drag_target_v, drag_target_w;
+
   /// A manufactured-solution source, added to force_* on every face before each step:
   /// called with the face position, the time at the start of the step and the
   /// component (0 x, 1 y, 2 z). Used by verification cases only.

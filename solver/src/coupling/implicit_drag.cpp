@@ -1,0 +1,147 @@
+#include "cdm/solver/coupling/implicit_drag.hpp"
+
+#include <algorithm>
+
+namespace cdm::coupling {
+
+ImplicitDrag::ImplicitDrag(const fluid::StaggeredGrid& grid, const Deposition& deposition)
+    : grid_(grid), deposition_(deposition) {
+  k_cell_.assign(grid.padded_size(), 0.0);
+  for (int c = 0; c < 3; ++c) kv_[c] = diff_[c] = pending_[c] = k_cell_;
+}
+
+namespace {
+
+/// Calls f(c, cell, upper face, shares) for every cell and component c: the cell's
+/// index (that of its lower face along c), its upper face along c (wrapped on a periodic
+/// axis) and the shares of the cell's value the two faces take (face_shares).
+template <class F>
+void for_each_cell_faces(const fluid::StaggeredGrid& g, F&& f) {
+  for (int c = 0; c < g.dims(); ++c)
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j < g.n(1); ++j)
+        for (int i = 0; i < g.n(0); ++i) {
+          int hi[3] = {i, j, k};
+          hi[c] += 1;
+          if (g.spec().periodic(c)) hi[c] %= g.n(c);
+          const int lo_c = c == 0 ? i : c == 1 ? j : k;
+          f(c, g.at(i, j, k), g.at(hi[0], hi[1], hi[2]), face_shares(g, c, lo_c));
+        }
+}
+
+}  // namespace
+
+void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchange, fluid::GasSolver& gs) {
+  const fluid::StaggeredGrid& g = grid_;
+  std::fill(k_cell_.begin(), k_cell_.end(), 0.0);
+  for (auto& v : kv_) std::fill(v.begin(), v.end(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double k = p.drag_k[i], kx = k * p.vx[i], ky = k * p.vy[i], kz = k * p.vz[i];
+    deposition_.for_each_weight(p.position(i), [&](std::size_t c, double w) {
+      k_cell_[c] += w * k;
+      kv_[0][c] += w * kx; kv_[1][c] += w * ky; kv_[2][c] += w * kz;
+    });
+  }
+  double* gathered[3] = {&gathered_.x, &gathered_.y, &gathered_.z};
+  for (int c = 0; c < 3; ++c) {
+    diff_[c] = exchange.reaction(c);
+    *gathered[c] = 0.0;
+    for (std::size_t x = 0; x < diff_[c].size(); ++x) {
+      *gathered[c] += diff_[c][x];
+      diff_[c][x] += pending_[c][x];
+    }
+  }
+  std::vector<double>* beta[3] = {&gs.drag_u, &gs.drag_v, &gs.drag_w};
+  std::vector<double>* target[3] = {&gs.drag_target_u, &gs.drag_target_v, &gs.drag_target_w};
+  for (int c = 0; c < 3; ++c) {
+    beta[c]->assign(g.padded_size(), 0.0);
+    target[c]->assign(g.padded_size(), 0.0);
+  }
+  const double inv_v = 1.0 / g.cell_volume();
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, FaceShares s) {
+    const double b = k_cell_[cell] * inv_v, t = kv_[c][cell] * inv_v;
+    (*beta[c])[cell] += s.lo * b;
+    (*beta[c])[hi] += s.hi * b;
+    (*target[c])[cell] += s.lo * t;
+    (*target[c])[hi] += s.hi * t;
+  });
+  // A periodic axis's last face, n, is its face 0 (the pressure operator reads it there).
+  for (int c = 0; c < g.dims(); ++c) {
+    if (!g.spec().periodic(c)) continue;
+    const int n = g.n(c);
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j < g.n(1); ++j)
+        for (int i = 0; i < g.n(0); ++i) {
+          const int x[3] = {i, j, k};
+          if (x[c] != 0) continue;
+          int e[3] = {i, j, k};
+          e[c] = n;
+          const std::size_t from = g.at(i, j, k), to = g.at(e[0], e[1], e[2]);
+          (*beta[c])[to] = (*beta[c])[from];
+          (*target[c])[to] = (*target[c])[from];
+        }
+  }
+}
+
+CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField& gas, const fluid::GasSolver& gs,
+                                        double dtg) {
+  const fluid::StaggeredGrid& g = grid_;
+  const std::vector<double>* u1[3] = {&gas.u, &gas.v, &gas.w};
+  CouplingBalance b;
+  double* cells[3] = {&b.gas_cells.x, &b.gas_cells.y, &b.gas_cells.z};
+  // The gas's momentum per cell, G_c = −Δt (K_c ū_c − Σ w K v); the difference −G_c − J_c
+  // to the particles (diff_ holds −J_c and what was pending): diff_c − G_c.
+  for (auto& v : pending_) std::fill(v.begin(), v.end(), 0.0);
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, FaceShares s) {
+    const double u = s.lo * (*u1[c])[cell] + s.hi * (*u1[c])[hi];
+    const double gc = -dtg * (k_cell_[cell] * u - kv_[c][cell]);
+    *cells[c] += gc;
+    diff_[c][cell] -= gc;
+    if (k_cell_[cell] > 0.0) {
+      diff_[c][cell] /= k_cell_[cell];  // per unit K, for the particles' shares
+    } else {
+      pending_[c][cell] = diff_[c][cell];
+      diff_[c][cell] = 0.0;
+    }
+  });
+  // The gas's momentum on its faces, −Δt V Σ_f (β_f u_f − β V_s,f), summed on its own as a check.
+  const std::vector<double>* beta[3] = {&gs.drag_u, &gs.drag_v, &gs.drag_w};
+  const std::vector<double>* target[3] = {&gs.drag_target_u, &gs.drag_target_v, &gs.drag_target_w};
+  double* faces[3] = {&b.gas_faces.x, &b.gas_faces.y, &b.gas_faces.z};
+  const double vdt = g.cell_volume() * dtg;
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t, FaceShares) {
+    *faces[c] -= vdt * ((*beta[c])[cell] * (*u1[c])[cell] - (*target[c])[cell]);
+  });
+  // The exchange recorded the gathered reaction −J as the gas's: replace it by the above.
+  b.gas_cells -= gathered_;
+  b.gas_faces -= gathered_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    Vec3 d;
+    deposition_.for_each_weight(p.position(i), [&](std::size_t c, double w) {
+      d.x += w * diff_[0][c]; d.y += w * diff_[1][c]; d.z += w * diff_[2][c];
+    });
+    const Vec3 j = p.drag_k[i] * d;
+    p.vx[i] += p.inv_mass[i] * j.x; p.vy[i] += p.inv_mass[i] * j.y; p.vz[i] += p.inv_mass[i] * j.z;
+    b.particles += j;
+  }
+  return b;
+}
+
+Vec3 ImplicitDrag::pending() const {
+  Vec3 s;
+  for (std::size_t x = 0; x < pending_[0].size(); ++x) s += Vec3{pending_[0][x], pending_[1][x], pending_[2][x]};
+  return s;
+}
+
+void ImplicitDrag::save_state(OutArchive& a) const {
+  for (const auto& v : pending_) a.put(v);
+}
+
+void ImplicitDrag::load_state(InArchive& a) {
+  for (auto& v : pending_) {
+    a.get(v, grid_.padded_size());
+    if (v.size() != grid_.padded_size()) throw ArchiveError("a gas array has the wrong length");
+  }
+}
+
+}  // namespace cdm::coupling
