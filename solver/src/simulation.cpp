@@ -45,10 +45,15 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
                                                     spec_.coupling_method, deposition, spec_.two_way,
                                                     spec_.gas_velocity);
     if (spec_.gas_velocity == coupling::SlipVelocity::superficial) gas_->enable_superficial_velocity();
+    if (lagged()) d->evaluate_per_gas_step(gas_clock_);
     drag_ = d.get();
     modules_.push_back(std::move(d));
   }
-  if (spec_.pressure_gradient) modules_.push_back(std::make_unique<coupling::PressureGradientModule>(*gas_));
+  if (spec_.pressure_gradient) {
+    auto m = std::make_unique<coupling::PressureGradientModule>(*gas_);
+    if (lagged()) m->evaluate_per_gas_step(gas_clock_);
+    modules_.push_back(std::move(m));
+  }
   if (spec_.tracers)  // a tracer moves with the gas from the start
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       const Vec3 u = gas_->velocity_at(particles_.position(i));
@@ -94,6 +99,7 @@ void Simulation::compute_forces(integrators::ForceStart start) {
   const ForceModule* applied = start == integrators::ForceStart::weight ? gravity_ : nullptr;
   for (auto& m : modules_)
     if (m.get() != applied) m->add_forces(particles_, spec_.dt);
+  gas_clock_.due = false;  // the gas was evaluated at the particles (if lagged)
   forces_valid_ = true;
 }
 
@@ -120,7 +126,7 @@ void Simulation::step() {
   time_ = static_cast<double>(steps_) * spec_.dt;
   check_state(nonfinite);
   if (solver_) {
-    if (exchange_->two_way()) exchange_->deposit_impulses(particles_);
+    if (exchange_->two_way() && !lagged()) exchange_->deposit_impulses(particles_);
     if (++substep_ == substeps_) {
       substep_ = 0;
       gas_step();
@@ -164,12 +170,16 @@ void Simulation::gas_step() {
   const double dtg = spec_.gas_dt;
   gs.clear_force();
   if (exchange_->two_way()) {
+    // Evaluated once per gas step: the impulses gathered over its sub-steps, deposited
+    // where the particles are now.
+    if (lagged()) exchange_->deposit_impulses(particles_);
     exchange_->apply_reaction(gs, dtg);
     exchange_->deposit_void_fraction(particles_, eps_work_, time_);
   } else {
     eps_work_ = gas_->eps_g;
   }
   gs.step(dtg, eps_work_);
+  gas_clock_.due = true;
   guards().check_gas(gs, dtg, time_);
 }
 
@@ -211,6 +221,7 @@ void Simulation::save_state(OutArchive& a) const {
     a.put(gas_->u); a.put(gas_->v); a.put(gas_->w); a.put(gas_->p); a.put(gas_->eps_g);
     a.put(solver_->time());
     a.put(substep_);
+    if (lagged()) a.put(static_cast<std::uint8_t>(gas_clock_.due));
     exchange_->save_state(a);
   }
 }
@@ -277,6 +288,11 @@ void Simulation::load_state(InArchive& a) {
     a.get(gt);
     a.get(substep_);
     if (!std::isfinite(gt) || substep_ >= substeps_) throw ArchiveError("its gas clock is inconsistent");
+    if (lagged()) {
+      std::uint8_t due = 0;
+      a.get(due);
+      gas_clock_.due = due != 0;
+    }
     exchange_->load_state(a);
     solver_->set_time(gt);
     gas_->refresh();
