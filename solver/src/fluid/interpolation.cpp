@@ -110,10 +110,10 @@ Vec3 VectorInterpolator::lagrange2(Vec3 x) const {
 
 Vec3 VectorInterpolator::at(Vec3 x) const {
   if (scheme_ == InterpolationScheme::paper_lagrange2) return lagrange2(x);
-  return at(stencils(x));
+  return sample(stencils(x));
 }
 
-Vec3 VectorInterpolator::at(const Stencils& s) const {
+Vec3 VectorInterpolator::sample(const Stencils& s) const {
   const double wz = grid_->two_d() ? 0.0 : trilinear(*w_, s, 2);
   return {trilinear(*u_, s, 0), trilinear(*v_, s, 1), wz};
 }

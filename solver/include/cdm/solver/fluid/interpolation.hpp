@@ -50,7 +50,7 @@ class VectorInterpolator {
   /// The field at @p x.
   Vec3 at(Vec3 x) const;
   /// The field at the point of @p s (trilinear scheme only).
-  Vec3 at(const Stencils& s) const;
+  Vec3 sample(const Stencils& s) const;
   InterpolationScheme scheme() const { return scheme_; }
 
  private:
