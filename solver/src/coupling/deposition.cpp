@@ -45,13 +45,22 @@ void Deposition::stencil(Vec3 x, Stencil& s) const {
         i0[a] = static_cast<int>(std::floor(f[a]));
         t[a] = f[a] - i0[a];
       }
+      // The folded neighbours along each axis, combined by the array strides.
+      const std::size_t base = g.at(0, 0, 0);
+      const std::size_t sy = g.at(0, 1, 0) - base, sz = g.at(0, 0, 1) - base;
+      std::size_t o[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+      for (int d = 0; d < 2; ++d) {
+        o[0][d] = static_cast<std::size_t>(fold(0, i0[0] + d));
+        o[1][d] = static_cast<std::size_t>(fold(1, i0[1] + d)) * sy;
+        if (dims == 3) o[2][d] = static_cast<std::size_t>(fold(2, i0[2] + d)) * sz;
+      }
       const int kz = dims == 3 ? 2 : 1;
       for (int dk = 0; dk < kz; ++dk)
         for (int dj = 0; dj < 2; ++dj)
           for (int di = 0; di < 2; ++di) {
             const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dims == 3 ? (dk ? t[2] : 1 - t[2]) : 1.0);
             if (w == 0.0) continue;
-            s.add(g.at(fold(0, i0[0] + di), fold(1, i0[1] + dj), dims == 3 ? fold(2, i0[2] + dk) : 0), w);
+            s.add(base + o[0][di] + o[1][dj] + o[2][dk], w);
           }
       return;
     }
