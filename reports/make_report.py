@@ -1291,7 +1291,40 @@ class Report:
             self.guarded(f"{c}: work-precision", self.work_precision_plot, c, conv)
         elif c in self.CONV_NOTE:
             self.p(self.CONV_NOTE[c])
+        self.guarded(f"{c}: coupling per gas step", self.evaluation_table, c, rows, conv)
         self.error_table(c, rows)
+
+    GAS_STEP = "_gas_step"
+
+    def evaluation_table(self, case, rows, conv):
+        """Each variant run with coupling.drag_evaluation = "gas_step" (named VARIANT_gas_step)
+        beside VARIANT: the main error and the solver wall time at every dt, both modes."""
+        lagged = {r["variant"] for r in rows if r["variant"].endswith(self.GAS_STEP)}
+        if not lagged:
+            return
+        quantity = conv["quantity"] if conv else None
+        m = self.meta
+        key = lambda r: (r["variant"], r["integrator"], r["dt_divisor[-]"], r["quantity"], r["norm"])
+        by = {key(r): r for r in rows}
+        out = []
+        for r in rows:
+            if r["variant"] not in lagged or r["dt_divisor[-]"] == "all":
+                continue
+            if quantity and r["quantity"] != quantity:
+                continue
+            base = by.get((r["variant"][:-len(self.GAS_STEP)],) + key(r)[1:])
+            if not base:
+                continue
+            out.append([base["variant"], m.dt_label(r["dt_divisor[-]"]), r["quantity"], r["norm"],
+                        f'{num(base["error"]):.4g}', base["wall[s]"], f'{num(r["error"]):.4g}', r["wall[s]"],
+                        r["tolerance"], r["pass"]])
+        if out:
+            self.h(3, "Coupling evaluated once per gas step: accuracy against cost")
+            self.p("coupling.drag_evaluation = \"every_step\" (the default) against \"gas_step\" (gas velocity, "
+                   "ε_g, ∇P and the drag coefficient evaluated at the first particle step of each gas step, the "
+                   "reaction deposited once per gas step): the error and the solver wall time of each run.")
+            self.table(["variant", "dt", "quantity", "norm", "error, every step", "wall [s]", "error, per gas step",
+                        "wall [s]", "tolerance (gas step)", "pass"], out)
 
     @staticmethod
     def read_summary(path):

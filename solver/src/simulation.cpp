@@ -45,10 +45,15 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
                                                     spec_.coupling_method, deposition, spec_.two_way,
                                                     spec_.gas_velocity);
     if (spec_.gas_velocity == coupling::SlipVelocity::superficial) gas_->enable_superficial_velocity();
+    if (lagged()) d->evaluate_per_gas_step(gas_clock_);
     drag_ = d.get();
     modules_.push_back(std::move(d));
   }
-  if (spec_.pressure_gradient) modules_.push_back(std::make_unique<coupling::PressureGradientModule>(*gas_));
+  if (spec_.pressure_gradient) {
+    auto m = std::make_unique<coupling::PressureGradientModule>(*gas_);
+    if (lagged()) m->evaluate_per_gas_step(gas_clock_);
+    modules_.push_back(std::move(m));
+  }
   if (spec_.tracers)  // a tracer moves with the gas from the start
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       const Vec3 u = gas_->velocity_at(particles_.position(i));
@@ -94,6 +99,7 @@ void Simulation::compute_forces(integrators::ForceStart start) {
   const ForceModule* applied = start == integrators::ForceStart::weight ? gravity_ : nullptr;
   for (auto& m : modules_)
     if (m.get() != applied) m->add_forces(particles_, spec_.dt);
+  gas_clock_.due = false;  // the gas was evaluated at the particles (if lagged)
   forces_valid_ = true;
 }
 
@@ -120,9 +126,9 @@ void Simulation::step() {
   time_ = static_cast<double>(steps_) * spec_.dt;
   check_state(nonfinite);
   if (solver_) {
-    // The implicit drag gathers each particle's impulse over the gas step and deposits
-    // it at the gas step, where the particles' K are deposited (implicit_drag.hpp).
-    if (exchange_->two_way() && !implicit_drag_) exchange_->deposit_impulses(particles_);
+    // The impulses are gathered over the gas step and deposited at the gas step when the
+    // drag is evaluated once per gas step or the gas takes it implicitly (implicit_drag.hpp).
+    if (exchange_->two_way() && !implicit_drag_ && !lagged()) exchange_->deposit_impulses(particles_);
     if (++substep_ == substeps_) {
       substep_ = 0;
       gas_step();
@@ -168,10 +174,10 @@ void Simulation::gas_step() {
   const double dtg = spec_.gas_dt;
   gs.clear_force();
   if (exchange_->two_way()) {
-    if (implicit_drag_) {
-      exchange_->deposit_impulses(particles_);
-      implicit_drag_->prepare(particles_, *exchange_, gs);
-    }
+    // Gathered over the gas step (evaluated once per gas step, or for the implicit drag):
+    // the impulses deposited where the particles are now.
+    if (implicit_drag_ || lagged()) exchange_->deposit_impulses(particles_);
+    if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs);
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
     exchange_->deposit_void_fraction(particles_, eps_work_, time_);
@@ -180,6 +186,7 @@ void Simulation::gas_step() {
   }
   gs.step(dtg, eps_work_);
   if (implicit_drag_) exchange_->add_to_balance(implicit_drag_->give_back(particles_, *gas_, gs, dtg));
+  gas_clock_.due = true;
   guards().check_gas(gs, dtg, time_);
 }
 
@@ -221,6 +228,7 @@ void Simulation::save_state(OutArchive& a) const {
     a.put(gas_->u); a.put(gas_->v); a.put(gas_->w); a.put(gas_->p); a.put(gas_->eps_g);
     a.put(solver_->time());
     a.put(substep_);
+    if (lagged()) a.put(static_cast<std::uint8_t>(gas_clock_.due));
     exchange_->save_state(a);
     if (implicit_drag_) implicit_drag_->save_state(a);
   }
@@ -288,6 +296,11 @@ void Simulation::load_state(InArchive& a) {
     a.get(gt);
     a.get(substep_);
     if (!std::isfinite(gt) || substep_ >= substeps_) throw ArchiveError("its gas clock is inconsistent");
+    if (lagged()) {
+      std::uint8_t due = 0;
+      a.get(due);
+      gas_clock_.due = due != 0;
+    }
     exchange_->load_state(a);
     if (implicit_drag_) implicit_drag_->load_state(a);
     solver_->set_time(gt);

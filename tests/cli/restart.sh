@@ -22,6 +22,14 @@ susp="$src/verification/cases/suspension/scene.toml"
 susp_args=(--set integrator.dt=5e-5 --set integrator.end_time=0.006 --set 'output={interval=0.0005, checkpoint_interval=0.003}' -q)
 mkdir -p "$work/coupled"
 restart_matches "coupled (gas included)" "$susp" "$work/coupled" 61 "${susp_args[@]}"
+# The same with the gas evaluated once per gas step: the cached drag coefficients, gas
+# velocities and pressure-gradient forces are restored too (the relaxed and the explicit
+# drag update keep them in different places).
+mkdir -p "$work/lagged" "$work/lagged_explicit"
+restart_matches "coupled, evaluated per gas step" "$susp" "$work/lagged" 61 "${susp_args[@]}" \
+  --set 'coupling.drag_evaluation="gas_step"'
+restart_matches "coupled, evaluated per gas step, explicit drag" "$susp" "$work/lagged_explicit" 61 "${susp_args[@]}" \
+  --set 'coupling.drag_evaluation="gas_step"' --set 'drag.update="explicit"'
 
 # Refused checkpoints: truncated, one byte flipped, another scene.
 head -c 1000 "$work/half.cdmck" > "$work/trunc.cdmck"

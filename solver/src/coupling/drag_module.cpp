@@ -9,6 +9,14 @@
 
 namespace cdm::coupling {
 
+namespace {
+/// The explicit drag K slip on particle i, kept per particle for the reaction with @p two_way.
+void add_explicit(ParticleStore& p, std::size_t i, double k, Vec3 slip, bool two_way) {
+  p.fx[i] += k * slip.x; p.fy[i] += k * slip.y; p.fz[i] += k * slip.z;
+  if (two_way) { p.dfx[i] = k * slip.x; p.dfy[i] = k * slip.y; p.dfz[i] = k * slip.z; }
+}
+}  // namespace
+
 std::string DragModule::name() const { return std::string("drag_") + to_string(law_) + "_" + to_string(update_); }
 
 double DragModule::void_fraction_at(Vec3 x) const {
@@ -27,10 +35,23 @@ void DragModule::add_forces(ParticleStore& p, double /*dt*/) {
     add_cell_average(p);
     return;
   }
+  if (!clock_) {
+    evaluate(p, false);
+    return;
+  }
+  const bool relax = update_ != DragUpdate::explicit_force;
+  if (clock_->due || (!relax && k_.size() != p.size())) evaluate(p, !relax);
+  if (!relax) add_cached_explicit(p);
+}
+
+void DragModule::evaluate(ParticleStore& p, bool cache) {
   const std::size_t n = p.size();
   const fluid::GasField& gas = *gas_;
   const double rho = gas.density(), mu = gas.viscosity();
   const bool relax = update_ != DragUpdate::explicit_force;
+  if (cache) {
+    k_.resize(n); ugx_.resize(n); ugy_.resize(n); ugz_.resize(n);
+  }
   const double rate = parallel_max(n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
     const double eps = void_fraction_at(x);
@@ -44,14 +65,42 @@ void DragModule::add_forces(ParticleStore& p, double /*dt*/) {
     if (relax) {
       p.drag_k[i] = k;
       p.ugx[i] = ug.x; p.ugy[i] = ug.y; p.ugz[i] = ug.z;
+    } else if (cache) {
+      k_[i] = k;
+      ugx_[i] = ug.x; ugy_[i] = ug.y; ugz_[i] = ug.z;
     } else {
-      p.fx[i] += k * slip.x; p.fy[i] += k * slip.y; p.fz[i] += k * slip.z;
-      if (two_way_) { p.dfx[i] = k * slip.x; p.dfy[i] = k * slip.y; p.dfz[i] = k * slip.z; }
+      add_explicit(p, i, k, slip, two_way_);
     }
     const double r = p.inv_mass[i] * k;  // 1/τ_p: the max is the smallest τ_p
     return std::isfinite(r) ? r : 0.0;
   });
   tau_min_ = rate > 0.0 ? 1.0 / rate : std::numeric_limits<double>::infinity();
+}
+
+void DragModule::add_cached_explicit(ParticleStore& p) const {
+  parallel_for(p.size(), [&](std::size_t i) {
+    add_explicit(p, i, k_[i], Vec3{ugx_[i], ugy_[i], ugz_[i]} - p.velocity(i), two_way_);
+  });
+}
+
+void DragModule::save_state(OutArchive& a) const {
+  if (!clock_) return;  // nothing carried between steps
+  a.put(tau_min_);
+  a.put(k_); a.put(ugx_); a.put(ugy_); a.put(ugz_);
+}
+
+void DragModule::load_state(InArchive& a) {
+  if (!clock_) return;
+  a.get(tau_min_);
+  for (auto* v : {&k_, &ugx_, &ugy_, &ugz_}) a.get(*v);
+  for (auto* v : {&ugx_, &ugy_, &ugz_})
+    if (v->size() != k_.size()) throw ArchiveError("the cached drag arrays differ in length");
+}
+
+void DragModule::permute(const std::vector<std::uint32_t>& from) {
+  std::vector<double> tmp;
+  for (auto* v : {&k_, &ugx_, &ugy_, &ugz_})
+    if (v->size() == from.size()) permute_array(*v, from, tmp);
 }
 
 void DragModule::add_cell_average(ParticleStore& p) {
@@ -118,12 +167,45 @@ double DragModule::relaxation_time_at_rest(const ParticleStore& p) const {
 
 void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
   const std::size_t n = p.size();
-  parallel_for(n, [&](std::size_t i) {
+  auto force = [&](std::size_t i) {  // V_p ∇P
     const double d = 2.0 * p.radius[i];
     const double vol = std::numbers::pi * d * d * d / 6.0;
     const Vec3 gp = gas_->pressure_gradient_at(p.position(i));
-    p.fx[i] -= vol * gp.x; p.fy[i] -= vol * gp.y; p.fz[i] -= vol * gp.z;
-  });
+    return Vec3{vol * gp.x, vol * gp.y, vol * gp.z};
+  };
+  if (!clock_) {
+    parallel_for(n, [&](std::size_t i) {
+      const Vec3 f = force(i);
+      p.fx[i] -= f.x; p.fy[i] -= f.y; p.fz[i] -= f.z;
+    });
+    return;
+  }
+  if (clock_->due || fx_.size() != n) {
+    fx_.resize(n); fy_.resize(n); fz_.resize(n);
+    parallel_for(n, [&](std::size_t i) {
+      const Vec3 f = force(i);
+      fx_[i] = f.x; fy_[i] = f.y; fz_[i] = f.z;
+    });
+  }
+  parallel_for(n, [&](std::size_t i) { p.fx[i] -= fx_[i]; p.fy[i] -= fy_[i]; p.fz[i] -= fz_[i]; });
+}
+
+void PressureGradientModule::save_state(OutArchive& a) const {
+  if (!clock_) return;
+  a.put(fx_); a.put(fy_); a.put(fz_);
+}
+
+void PressureGradientModule::load_state(InArchive& a) {
+  if (!clock_) return;
+  for (auto* v : {&fx_, &fy_, &fz_}) a.get(*v);
+  if (fy_.size() != fx_.size() || fz_.size() != fx_.size())
+    throw ArchiveError("the cached pressure-gradient arrays differ in length");
+}
+
+void PressureGradientModule::permute(const std::vector<std::uint32_t>& from) {
+  std::vector<double> tmp;
+  for (auto* v : {&fx_, &fy_, &fz_})
+    if (v->size() == from.size()) permute_array(*v, from, tmp);
 }
 
 }  // namespace cdm::coupling

@@ -36,25 +36,44 @@ void VectorInterpolator::update(const std::vector<double>& u, const std::vector<
       }
 }
 
-double VectorInterpolator::trilinear(const std::vector<double>& a, Staggering s, Vec3 x) const {
+VectorInterpolator::Stencils VectorInterpolator::stencils(Vec3 x) const {
   const StaggeredGrid& g = *grid_;
   const double xs[3] = {x.x, x.y, x.z};
-  int i0[3] = {0, 0, 0};
-  double t[3] = {0, 0, 0};
+  // Along each axis a component sits on the faces (offset 0) or at the centres (offset
+  // ½): two fractional coordinates per axis serve all three components.
+  int i0[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  double t[2][3] = {{0, 0, 0}, {0, 0, 0}};
   const int dims = g.dims();
   for (int d = 0; d < dims; ++d) {
-    const double f = (xs[d] - g.lo(d)) * g.inv_h(d) - StaggeredGrid::offset(s, d);
-    i0[d] = static_cast<int>(std::floor(f));
-    t[d] = f - i0[d];
+    const double b = (xs[d] - g.lo(d)) * g.inv_h(d);
+    for (int c = 0; c < 2; ++c) {
+      const double f = b - (c == 0 ? 0.0 : 0.5);
+      i0[c][d] = static_cast<int>(std::floor(f));
+      t[c][d] = f - i0[c][d];
+    }
   }
+  Stencils s;
+  for (int comp = 0; comp < 3; ++comp) {
+    int i[3];
+    for (int d = 0; d < 3; ++d) {
+      const int c = StaggeredGrid::offset(static_cast<Staggering>(comp), d) == 0.0 ? 0 : 1;
+      i[d] = i0[c][d];
+      s.t[comp][d] = t[c][d];
+    }
+    s.base[comp] = g.at(i[0], i[1], i[2]);
+  }
+  return s;
+}
+
+double VectorInterpolator::trilinear(const std::vector<double>& a, const Stencils& s, int comp) const {
   // The 8 (2D: 4) samples from one base index and the array strides.
-  const std::size_t base = g.at(i0[0], i0[1], i0[2]);
-  const std::size_t sy = g.at(0, 1, 0) - g.at(0, 0, 0), sz = g.at(0, 0, 1) - g.at(0, 0, 0);
-  const double* p = a.data() + base;
+  const double* t = s.t[comp];
+  const double* p = a.data() + s.base[comp];
+  const std::size_t sy = sy_, sz = sz_;
   const double x00 = (1 - t[0]) * p[0] + t[0] * p[1];
   const double x10 = (1 - t[0]) * p[sy] + t[0] * p[sy + 1];
   const double y0 = (1 - t[1]) * x00 + t[1] * x10;
-  if (dims == 2) return y0;
+  if (grid_->dims() == 2) return y0;
   const double x01 = (1 - t[0]) * p[sz] + t[0] * p[sz + 1];
   const double x11 = (1 - t[0]) * p[sz + sy] + t[0] * p[sz + sy + 1];
   const double y1 = (1 - t[1]) * x01 + t[1] * x11;
@@ -91,8 +110,12 @@ Vec3 VectorInterpolator::lagrange2(Vec3 x) const {
 
 Vec3 VectorInterpolator::at(Vec3 x) const {
   if (scheme_ == InterpolationScheme::paper_lagrange2) return lagrange2(x);
-  const double wz = grid_->two_d() ? 0.0 : trilinear(*w_, Staggering::w, x);
-  return {trilinear(*u_, Staggering::u, x), trilinear(*v_, Staggering::v, x), wz};
+  return sample(stencils(x));
+}
+
+Vec3 VectorInterpolator::sample(const Stencils& s) const {
+  const double wz = grid_->two_d() ? 0.0 : trilinear(*w_, s, 2);
+  return {trilinear(*u_, s, 0), trilinear(*v_, s, 1), wz};
 }
 
 }  // namespace cdm::fluid

@@ -73,6 +73,13 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
     rd.fail_value("coupling.gas_drag", *c.get("gas_drag"),
                   "\"explicit\" with drag.update = \"explicit\" (the implicit drag on the gas needs each particle's "
                   "drag coefficient, kept by drag.update = \"exponential\" or \"implicit\")");
+  spec.drag_evaluation = rd.keyword(c, "drag_evaluation", "coupling", coupling::drag_evaluation_keywords,
+                                    coupling::DragEvaluation::every_step);
+  if (spec.drag_evaluation == coupling::DragEvaluation::gas_step &&
+      spec.coupling_method == coupling::CouplingMethod::cell_average)
+    rd.fail_value("coupling.drag_evaluation", *c.get("drag_evaluation"),
+                  "\"every_step\" with coupling.method = \"cell_average\" (the per-gas-step evaluation caches each "
+                  "particle's own drag coefficient and gas velocity, which the interpolate method gives)");
   if (!spec.two_way) {
     for (const char* k : {"method", "kernel", "kernel_width", "gas_velocity", "gas_drag"})
       rd.reject_unused(c, k, "coupling", "coupling.mode is \"one_way\" (the particles do not act on the gas)");

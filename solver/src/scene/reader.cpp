@@ -22,7 +22,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"gas", {"dimension", "lower", "upper", "cells", "boundaries", "density", "viscosity", "interpolation", "field",
                "dt", "advection", "pressure_solver", "pressure_tolerance", "initial_velocity", "mean_pressure_gradient"}},
       {"gas.boundaries.*", {"type", "velocity", "pressure"}},
-      {"coupling", {"mode", "method", "kernel", "kernel_width", "gas_velocity", "gas_drag"}},
+      {"coupling", {"mode", "method", "kernel", "kernel_width", "gas_velocity", "gas_drag", "drag_evaluation"}},
       {"gas.boundaries", {"x_lower", "x_upper", "y_lower", "y_upper", "z_lower", "z_upper"}},
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},

@@ -101,6 +101,7 @@ struct SceneSpec {
   coupling::Kernel kernel = coupling::Kernel::trilinear;
   double kernel_width = 0.0;         // gaussian σ [m]
   coupling::SlipVelocity gas_velocity = coupling::SlipVelocity::interstitial;  // "interpolate" only
+  coupling::DragEvaluation drag_evaluation = coupling::DragEvaluation::every_step;
 
   std::vector<Material> materials;
   PairTable pairs;

@@ -100,6 +100,8 @@ class Simulation : private integrators::StepHost {
   /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);
   RunGuards guards() const;
+  /// The gas is evaluated at the particles once per gas step (coupling.drag_evaluation).
+  bool lagged() const { return spec_.drag_evaluation == coupling::DragEvaluation::gas_step; }
   /// The run guards on the state at time() (run_guards.hpp); @p nonfinite: the
   /// integrator's own finiteness check (1 found, 0 none), or -1 to check here.
   void check_state(double nonfinite = -1.0) const;
@@ -120,6 +122,7 @@ class Simulation : private integrators::StepHost {
   std::unique_ptr<coupling::ImplicitDrag> implicit_drag_;  // coupling.gas_drag = "implicit"
   std::unique_ptr<integrators::Integrator> integrator_;
   std::uint64_t substeps_ = 1, substep_ = 0;
+  coupling::GasStepClock gas_clock_;  // coupling.drag_evaluation = "gas_step": evaluation due
   std::vector<double> eps_work_;  // ε_g handed to the gas step
   double time_ = 0.0;
   std::uint64_t steps_ = 0, total_steps_ = 0;

@@ -40,18 +40,73 @@ enum class CouplingMethod {
 inline constexpr Keywords<CouplingMethod, 2> coupling_method_keywords{{{"interpolate", CouplingMethod::interpolate}, {"cell_average", CouplingMethod::cell_average}}};
 inline const char* to_string(CouplingMethod m) { return keyword_of(coupling_method_keywords, m); }
 
+/// The cells and weights of one particle, computed once and visited for every quantity
+/// deposited or averaged there. Fixed-size: no allocation per particle.
+/// When the gas is evaluated at the particles (coupling.drag_evaluation).
+enum class DragEvaluation {
+  every_step,  // every DEM step: gas velocity, ε_g, ∇P and K at the particle; reaction deposited
+  gas_step     // at the first DEM step of each gas step; K(u_g − v) with the particle's current
+               // v and the cached −V_p∇P at every step; the reaction deposited once per gas step
+};
+inline constexpr Keywords<DragEvaluation, 2> drag_evaluation_keywords{{{"every_step", DragEvaluation::every_step}, {"gas_step", DragEvaluation::gas_step}}};
+inline const char* to_string(DragEvaluation e) { return keyword_of(drag_evaluation_keywords, e); }
+
+/// Shared by the gas-particle force modules when they evaluate the gas once per gas step:
+/// @c due is set at each gas step and cleared once the modules have evaluated.
+struct GasStepClock {
+  bool due = true;
+};
+
+class Stencil {
+ public:
+  static constexpr int max_local = 8;  // cell: 1, trilinear: 8 (2D: 4)
+  static constexpr int max_axis = 64;  // gaussian: samples per axis
+
+  /// Visit the (padded cell index, weight) pairs: f(index, w).
+  template <class F>
+  void for_each(F&& f) const {
+    if (!separable_) {
+      for (int k = 0; k < count_; ++k) f(idx_[k], w_[k]);
+      return;
+    }
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j) {
+        const double wjk = wa_[1][j] * wa_[2][k];
+        const std::size_t row = base_ + off_[1][j] + off_[2][k];
+        for (int i = 0; i < n_[0]; ++i) f(row + off_[0][i], (wa_[0][i] * wjk) * inv_);
+      }
+  }
+
+ private:
+  friend class Deposition;
+  void add(std::size_t i, double w) { idx_[count_] = i; w_[count_] = w; ++count_; }
+
+  bool separable_ = false;
+  // Local kernels: the pairs.
+  int count_ = 0;
+  std::size_t idx_[max_local];
+  double w_[max_local];
+  // Gaussian: the product of per-axis weights wa_ at per-axis offsets off_ from base_,
+  // times the normalisation inv_.
+  int n_[3] = {0, 0, 0};
+  std::size_t base_ = 0;
+  std::size_t off_[3][max_axis];
+  double wa_[3][max_axis];
+  double inv_ = 1.0;
+};
+
 class Deposition {
  public:
   Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double width);
 
+  /// The stencil of the particle at @p x.
+  void stencil(Vec3 x, Stencil& s) const;
   /// Visit the (cell index, weight) pairs of the particle at @p x: f(padded index, w).
-  /// Thread-safe (the weights go to per-thread buffers); f must not call back into it.
   template <class F>
   void for_each_weight(Vec3 x, F&& f) const {
-    thread_local std::vector<std::size_t> idx;
-    thread_local std::vector<double> w;
-    weights(x, idx, w);
-    for (std::size_t k = 0; k < idx.size(); ++k) f(idx[k], w[k]);
+    Stencil s;
+    stencil(x, s);
+    s.for_each(f);
   }
   /// Kernel-weighted average of a cell-centred array at @p x.
   double average(const std::vector<double>& cells, Vec3 x) const;
@@ -59,10 +114,13 @@ class Deposition {
   double width() const { return sigma_; }
 
  private:
-  void weights(Vec3 x, std::vector<std::size_t>& idx, std::vector<double>& w) const;
-  /// Map a cell index along @p axis into the domain (wrap or reflect); false if it leaves
-  /// a non-periodic axis by more than the grid (never for the stencils used).
-  int fold(int axis, int i) const;
+  /// Map a cell index along @p axis into the domain (wrap or reflect).
+  int fold(int axis, int i) const {
+    const int n = grid_->n(axis);
+    return i >= 0 && i < n ? i : fold_outside(axis, i);
+  }
+  int fold_outside(int axis, int i) const;
+  void holding_cell(const double f[3], Stencil& s) const;
 
   const fluid::StaggeredGrid* grid_;
   Kernel kernel_;

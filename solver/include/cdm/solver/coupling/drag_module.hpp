@@ -43,6 +43,13 @@ class DragModule final : public ForceModule {
         two_way_(two_way), superficial_(slip == SlipVelocity::superficial) {}
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
+  /// Evaluate the gas at the particles only when @p clock is due, and in between apply
+  /// K (u_g − v) with the K and u_g of that evaluation (coupling.drag_evaluation =
+  /// "gas_step"; the interpolate method only).
+  void evaluate_per_gas_step(const GasStepClock& clock) { clock_ = &clock; }
+  void save_state(OutArchive& a) const override;
+  void load_state(InArchive& a) override;
+  void permute(const std::vector<std::uint32_t>& from) override;
 
   /// Smallest particle relaxation time m/K seen in the last evaluation [s].
   double min_relaxation_time() const { return tau_min_; }
@@ -55,6 +62,11 @@ class DragModule final : public ForceModule {
  private:
   double void_fraction_at(Vec3 x) const;
   void add_cell_average(ParticleStore& p);
+  /// Evaluate K and u_g at every particle; store them (relaxed update, or @p cache for the
+  /// explicit update of a per-gas-step evaluation) or add the explicit force.
+  void evaluate(ParticleStore& p, bool cache);
+  /// The explicit force K (u_g − v) from the cached K and u_g.
+  void add_cached_explicit(ParticleStore& p) const;
 
   const fluid::GasField* gas_;
   DragLaw law_;
@@ -65,6 +77,8 @@ class DragModule final : public ForceModule {
   bool two_way_;
   bool superficial_;  // gas velocity at the particle = interpolated flux / particle's ε_g
   std::vector<double> cell_vol_, cell_vx_, cell_vy_, cell_vz_;  // cell-average method
+  const GasStepClock* clock_ = nullptr;          // set: evaluate once per gas step
+  std::vector<double> k_, ugx_, ugy_, ugz_;      // K and u_g of that evaluation (explicit update)
   double tau_min_ = std::numeric_limits<double>::infinity();
 };
 
@@ -73,9 +87,16 @@ class PressureGradientModule final : public ForceModule {
   explicit PressureGradientModule(const fluid::GasField& gas) : gas_(&gas) {}
   std::string name() const override { return "pressure_gradient"; }
   void add_forces(ParticleStore& p, double dt) override;
+  /// Evaluate ∇P at the particles only when @p clock is due; apply that force in between.
+  void evaluate_per_gas_step(const GasStepClock& clock) { clock_ = &clock; }
+  void save_state(OutArchive& a) const override;
+  void load_state(InArchive& a) override;
+  void permute(const std::vector<std::uint32_t>& from) override;
 
  private:
   const fluid::GasField* gas_;
+  const GasStepClock* clock_ = nullptr;
+  std::vector<double> fx_, fy_, fz_;  // V_p ∇P of the last evaluation (per gas step)
 };
 
 }  // namespace cdm::coupling

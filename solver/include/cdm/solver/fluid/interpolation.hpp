@@ -31,7 +31,17 @@ inline const char* to_string(InterpolationScheme s) { return keyword_of(interpol
 
 class VectorInterpolator {
  public:
-  VectorInterpolator(const StaggeredGrid& grid, InterpolationScheme scheme) : grid_(&grid), scheme_(scheme) {}
+  VectorInterpolator(const StaggeredGrid& grid, InterpolationScheme scheme)
+      : grid_(&grid), scheme_(scheme), sy_(grid.at(0, 1, 0) - grid.at(0, 0, 0)), sz_(grid.at(0, 0, 1) - grid.at(0, 0, 0)) {}
+
+  /// The trilinear stencils of the three staggered components at a point: base sample
+  /// and fractions along each axis. The same for every field of the grid's staggering,
+  /// so one evaluation serves the velocity and the pressure gradient.
+  struct Stencils {
+    std::size_t base[3];
+    double t[3][3];
+  };
+  Stencils stencils(Vec3 x) const;
 
   /// Take the face arrays (ghosts filled). The arrays must outlive the interpolator's
   /// use; the paper scheme averages them to the corners here, once per update.
@@ -39,14 +49,17 @@ class VectorInterpolator {
 
   /// The field at @p x.
   Vec3 at(Vec3 x) const;
+  /// The field at the point of @p s (trilinear scheme only).
+  Vec3 sample(const Stencils& s) const;
   InterpolationScheme scheme() const { return scheme_; }
 
  private:
-  double trilinear(const std::vector<double>& a, Staggering s, Vec3 x) const;
+  double trilinear(const std::vector<double>& a, const Stencils& s, int comp) const;
   Vec3 lagrange2(Vec3 x) const;
 
   const StaggeredGrid* grid_;
   InterpolationScheme scheme_;
+  std::size_t sy_, sz_;  // array strides along y and z
   const std::vector<double>* u_ = nullptr;
   const std::vector<double>* v_ = nullptr;
   const std::vector<double>* w_ = nullptr;
