@@ -35,7 +35,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
-      {"output", {"interval", "particles", "vtk", "checkpoint_interval"}},
+      {"output", {"interval", "particles", "vtk", "vtk_format", "checkpoint_interval"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
   return s;
@@ -81,6 +81,7 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"coupling.kernel", names(coupling::kernel_keywords)},
       {"coupling.gas_velocity", names(coupling::slip_velocity_keywords)},
       {"integrator.scheme", names(integrator_keywords)},
+      {"output.vtk_format", names(vtk::encoding_keywords)},
   };
   return s;
 }
