@@ -7,7 +7,7 @@
 set -euo pipefail
 pkgs=(cmake g++ make pkg-config
       libeigen3-dev libsundials-dev libgsl-dev libgtest-dev
-      libtomlplusplus-dev libcli11-dev
+      libtomlplusplus-dev libcli11-dev zlib1g-dev
       libhypre-dev libopenmpi-dev openmpi-bin
       python3-matplotlib python3-vtk9 chromium
       clang libclang-rt-14-dev)

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "cdm/solver/checkpoint.hpp"
@@ -33,7 +34,10 @@ void TableWriter::row(const std::vector<double>& v) {
   if (v.size() != ncol_) throw std::logic_error("table '" + path_ + "': row has the wrong number of columns");
   if (!f_) return;
   bool ok = true;
-  for (std::size_t k = 0; k < v.size(); ++k) ok = ok && std::fprintf(f_, k ? " %.16e" : "%.16e", v[k]) >= 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const bool integer = k < integer_.size() && integer_[k];
+    ok = ok && (k == 0 || std::fputc(' ', f_) != EOF) && std::fprintf(f_, integer ? "%.0f" : "%.16e", v[k]) >= 0;
+  }
   if (!ok || std::fputs("\n", f_) < 0) throw_output_error(path_, "write", errno);
 }
 
@@ -60,9 +64,19 @@ namespace {
 std::vector<std::string> particle_columns(bool rot) {
   std::vector<std::string> c = {"t[s]", "id[-]", "x[m]", "y[m]", "z[m]", "vx[m/s]", "vy[m/s]", "vz[m/s]"};
   if (rot) c.insert(c.end(), {"wx[rad/s]", "wy[rad/s]", "wz[rad/s]"});
+  c.insert(c.end(), {"radius[m]", "material[-]"});
   return c;
 }
 
+/// The particle table's header line: the scene, dt to the last bit, the material names.
+std::string particle_comment(const Simulation& sim) {
+  char dt[40];
+  std::snprintf(dt, sizeof dt, "%.17g", sim.dt());
+  std::string s = "cdm particle table: scene " + sim.spec().file + ", dt = " + dt + " s, materials:";
+  for (std::size_t m = 0; m < sim.spec().materials.size(); ++m)
+    s += (m ? ", " : " ") + std::to_string(m) + " " + sim.spec().materials[m].name;
+  return s;
+}
 }  // namespace
 
 /// Where a restarted run continues the table at @p path: the checkpoint's length, or
@@ -94,11 +108,14 @@ bool SampleSchedule::due(const Simulation& sim) {
 
 ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim,
                                              std::optional<std::uint64_t> resume_at)
-    : table_(path, particle_columns(sim.particles().has_rotation()),
-             {"cdm particle table: scene " + sim.spec().file + ", dt = " + std::to_string(sim.dt()) + " s"},
+    : table_(path, particle_columns(sim.particles().has_rotation()), {particle_comment(sim)},
              table_resume_point(path, sim, resume_at)),
       schedule_(sim, sim.spec().output_interval),
-      rot_(sim.particles().has_rotation()) {}
+      rot_(sim.particles().has_rotation()) {
+  std::vector<bool> integer(rot_ ? 13 : 10, false);
+  integer[1] = integer.back() = true;  // id and material
+  table_.set_integer_columns(integer);
+}
 
 long long output_sample(const Simulation& sim, double interval) {
   if (interval <= sim.dt()) return static_cast<long long>(sim.steps());
@@ -109,13 +126,15 @@ void ParticleTableObserver::operator()(const Simulation& sim) {
   if (!schedule_.due(sim)) return;
   const bool last = sim.steps() == sim.total_steps();
   const ParticleStore& p = sim.particles();
-  std::vector<double> r(rot_ ? 11 : 8);
+  std::vector<double> r(rot_ ? 13 : 10);
   for (std::size_t k = 0; k < p.size(); ++k) {  // by identity, whatever order the store keeps
     const std::size_t i = p.slot_of(k);
     r[0] = sim.time(); r[1] = static_cast<double>(k);
     r[2] = p.x[i]; r[3] = p.y[i]; r[4] = p.z[i];
     r[5] = p.vx[i]; r[6] = p.vy[i]; r[7] = p.vz[i];
     if (rot_) { r[8] = p.wx[i]; r[9] = p.wy[i]; r[10] = p.wz[i]; }
+    r[r.size() - 2] = p.radius[i];
+    r.back() = p.material[i];
     table_.row(r);
   }
   if (last) table_.flush();

@@ -18,7 +18,7 @@ def check(cond, what):
         fails.append(what)
 
 
-# The particle table: t id x y z vx vy vz, one row per particle per sample.
+# The particle table: t id x y z vx vy vz radius material, one row per particle per sample.
 rows = [list(map(float, l.split())) for l in open(f"{out}/particles.dat") if not l.startswith("#")]
 times = sorted({r[0] for r in rows})
 
@@ -40,12 +40,18 @@ for (ts, fname), t in zip(entries, times):
     rad = vtk_to_numpy(pd.GetPointData().GetArray("radius"))
     tfile = vtk_to_numpy(pd.GetFieldData().GetArray("TIME"))[0]
     check(abs(tfile - t) <= 1e-15 * max(1.0, t), f"{fname}: TIME {tfile} vs {t}")
+    mat = vtk_to_numpy(pd.GetPointData().GetArray("material"))
+    names = pd.GetFieldData().GetAbstractArray("material_names")
+    check(names is not None and names.GetNumberOfValues() == 1 and names.GetValue(0) == "glass",
+          f"{fname}: material_names")
+    check(pd.GetPointData().GetArray("contact_force") is None, f"{fname}: contact_force without contacts")
     for k, row in enumerate(table):
         check(int(ids[k]) == int(row[1]), f"{fname}: id {ids[k]} vs {row[1]}")
         for c in range(3):
             check(abs(pts[k][c] - row[2 + c]) <= 1e-15 * abs(row[2 + c]) + 1e-300, f"{fname}: particle {k} position")
             check(abs(vel[k][c] - row[5 + c]) <= 1e-15 * abs(row[5 + c]) + 1e-300, f"{fname}: particle {k} velocity")
-        check(abs(rad[k] - 5.0e-5) < 1e-20, f"{fname}: radius {rad[k]}")
+        check(rad[k] == 5.0e-5 and rad[k] == row[8], f"{fname}: radius {rad[k]}")
+        check(mat[k] == row[9] == 0, f"{fname}: material {mat[k]} vs {row[9]}")
 
 # The gas: 8 x 12 cells on [0, 0.01] x [0, 0.02], depth 1e-4; u on x-faces, v on y-faces.
 U, kx, ky, rho = 0.05, 628.3185307179587, 314.1592653589793, 1.2
@@ -54,7 +60,7 @@ hx, hy = lx / nx, ly / ny
 gcoll = open(f"{out}/gas.pvd").read()
 gentries = re.findall(r'timestep="([^"]+)" part="0" file="([^"]+)"', gcoll)
 check(len(gentries) == len(times), f"gas.pvd lists {len(gentries)} files")
-for ts, fname in gentries:
+for (ts, fname), t in zip(gentries, times):
     r = vtk.vtkXMLImageDataReader()
     r.SetFileName(f"{out}/{fname}")
     r.Update()
@@ -65,6 +71,17 @@ for ts, fname in gentries:
     check(abs(sp[0] - hx) < 1e-18 and abs(sp[1] - hy) < 1e-18 and abs(sp[2] - 1e-4) < 1e-18, f"{fname}: spacing {sp}")
     vel = vtk_to_numpy(img.GetCellData().GetArray("velocity"))
     pres = vtk_to_numpy(img.GetCellData().GetArray("pressure"))
+    # Solids velocity: the particles (all of one radius) binned by centre, mean per cell.
+    solids = vtk_to_numpy(img.GetCellData().GetArray("solids_velocity"))
+    want = {}
+    for row in (r for r in rows if r[0] == t):
+        c = int(math.floor(row[2] / hx)) % nx + nx * (int(math.floor(row[3] / hy)) % ny)
+        want.setdefault(c, []).append(row[5:8])
+    for c in range(nx * ny):
+        vs = want.get(c, [[0.0, 0.0, 0.0]])
+        mean = [sum(v[a] for v in vs) / len(vs) for a in range(3)]
+        check(all(abs(solids[c][a] - mean[a]) <= 1e-15 * abs(mean[a]) + 1e-300 for a in range(3)),
+              f"{fname}: cell {c} solids_velocity {solids[c]} vs {mean}")
     for j in range(ny):
         for i in range(nx):
             c = i + nx * j

@@ -10,6 +10,7 @@
 
 #include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/io/durable_file.hpp"
+#include "cdm/solver/io/output_fields.hpp"
 #include "cdm/solver/output.hpp"
 #include "cdm/solver/simulation.hpp"
 
@@ -19,67 +20,82 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void time_field(std::FILE* f, double t) {
-  std::fprintf(f, "    <FieldData>\n      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">%.16e</DataArray>\n    </FieldData>\n", t);
+/// Field data: the time TIME [s], and the names @p materials when there are any.
+void field_data(vtk::XmlFile& f, double t, const std::vector<Material>& materials = {}) {
+  f.open("<FieldData>");
+  f.array("TIME", 1, std::vector<double>{t});
+  std::vector<std::string> names;
+  for (const Material& m : materials) names.push_back(m.name);
+  if (!names.empty()) f.strings("material_names", names);
+  f.close("</FieldData>");
 }
 
+/// @p n tuples of @p components values, tuple k filled by get(k, v).
 template <class Get>
-void array(std::FILE* f, const char* name, int components, std::size_t n, Get&& get, const char* indent) {
-  std::fprintf(f, "%s<DataArray type=\"Float64\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"ascii\">\n", indent, name,
-               components);
-  for (std::size_t i = 0; i < n; ++i) {
-    double v[3] = {0, 0, 0};
-    get(i, v);
-    std::fprintf(f, "%s ", indent);
-    for (int c = 0; c < components; ++c) std::fprintf(f, c ? " %.16e" : "%.16e", v[c]);
-    std::fputc('\n', f);
-  }
-  std::fprintf(f, "%s</DataArray>\n", indent);
+std::vector<double> tuples(std::size_t n, int components, Get&& get) {
+  std::vector<double> out(n * static_cast<std::size_t>(components));
+  for (std::size_t k = 0; k < n; ++k) get(k, out.data() + k * static_cast<std::size_t>(components));
+  return out;
 }
 
 }  // namespace
 
-void write_particles_vtp(const std::string& path, const Simulation& sim) {
+void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
   const ParticleStore& p = sim.particles();
   const std::size_t n = p.size();
   // Points in identity order (p.slot_of), whatever order the store keeps them in.
-  AtomicFile af(path);
-  std::FILE* f = af.get();
-  std::fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
-  std::fprintf(f, "  <PolyData>\n");
-  time_field(f, sim.time());
-  std::fprintf(f, "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"%zu\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n", n, n);
-  std::fprintf(f, "      <Points>\n");
-  array(f, "position", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s]; }, "        ");
-  std::fprintf(f, "      </Points>\n      <Verts>\n");
-  std::fprintf(f, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-  for (std::size_t i = 0; i < n; ++i) std::fprintf(f, "%zu\n", i);
-  std::fprintf(f, "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-  for (std::size_t i = 0; i < n; ++i) std::fprintf(f, "%zu\n", i + 1);
-  std::fprintf(f, "        </DataArray>\n      </Verts>\n");
-  std::fprintf(f, "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-  array(f, "id", 1, n, [&](std::size_t i, double* v) { v[0] = static_cast<double>(i); }, "        ");
-  array(f, "radius", 1, n, [&](std::size_t i, double* v) { v[0] = p.radius[p.slot_of(i)]; }, "        ");
-  array(f, "velocity", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.vx[s]; v[1] = p.vy[s]; v[2] = p.vz[s]; }, "        ");
+  vtk::XmlFile f(encoding, "PolyData");
+  field_data(f, sim.time(), sim.spec().materials);
+  f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+         "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
+  f.open("<Points>");
+  f.array("position", 3, tuples(n, 3, [&](std::size_t k, double* v) {
+    const std::size_t s = p.slot_of(k);
+    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
+  }));
+  f.close("</Points>");
+  f.open("<Verts>");
+  std::vector<std::int64_t> ids(n), offsets(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    ids[k] = static_cast<std::int64_t>(k);
+    offsets[k] = static_cast<std::int64_t>(k + 1);
+  }
+  f.array("connectivity", 1, ids);
+  f.array("offsets", 1, offsets);
+  f.close("</Verts>");
+  f.open("<PointData Scalars=\"radius\" Vectors=\"velocity\">");
+  f.array("id", 1, ids);
+  std::vector<std::int32_t> material(n);
+  for (std::size_t k = 0; k < n; ++k) material[k] = p.material[p.slot_of(k)];
+  f.array("material", 1, material);
+  f.array("radius", 1, tuples(n, 1, [&](std::size_t k, double* v) { v[0] = p.radius[p.slot_of(k)]; }));
+  f.array("velocity", 3, tuples(n, 3, [&](std::size_t k, double* v) {
+    const std::size_t s = p.slot_of(k);
+    v[0] = p.vx[s]; v[1] = p.vy[s]; v[2] = p.vz[s];
+  }));
   if (p.has_rotation())
-    array(f, "angular_velocity", 3, n, [&](std::size_t i, double* v) { const std::size_t s = p.slot_of(i); v[0] = p.wx[s]; v[1] = p.wy[s]; v[2] = p.wz[s]; },
-          "        ");
-  std::fprintf(f, "      </PointData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n");
-  af.commit();
+    f.array("angular_velocity", 3, tuples(n, 3, [&](std::size_t k, double* v) {
+      const std::size_t s = p.slot_of(k);
+      v[0] = p.wx[s]; v[1] = p.wy[s]; v[2] = p.wz[s];
+    }));
+  if (sim.contact()) f.array("contact_force", 3, contact_forces(sim));
+  f.close("</PointData>");
+  f.close("</Piece>");
+  f.write(path);
 }
 
-void write_gas_vti(const std::string& path, const Simulation& sim) {
+void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
   const fluid::GasField& gas = *sim.gas();
   const fluid::StaggeredGrid& g = gas.grid();
   const int nx = g.n(0), ny = g.n(1), nz = g.n(2);
   const std::size_t nc = g.cell_count();
-  AtomicFile af(path);
-  std::FILE* f = af.get();
-  std::fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
-  std::fprintf(f, "  <ImageData WholeExtent=\"0 %d 0 %d 0 %d\" Origin=\"%.16e %.16e %.16e\" Spacing=\"%.16e %.16e %.16e\">\n",
-               nx, ny, nz, g.lo(0), g.lo(1), g.lo(2), g.h(0), g.h(1), g.h(2));
-  time_field(f, sim.time());
-  std::fprintf(f, "    <Piece Extent=\"0 %d 0 %d 0 %d\">\n      <CellData Vectors=\"velocity\">\n", nx, ny, nz);
+  char geometry[320];
+  std::snprintf(geometry, sizeof geometry, "WholeExtent=\"0 %d 0 %d 0 %d\" Origin=\"%.16e %.16e %.16e\" Spacing=\"%.16e %.16e %.16e\"",
+                nx, ny, nz, g.lo(0), g.lo(1), g.lo(2), g.h(0), g.h(1), g.h(2));
+  vtk::XmlFile f(encoding, "ImageData", geometry);
+  field_data(f, sim.time());
+  f.open("<Piece Extent=\"0 " + std::to_string(nx) + " 0 " + std::to_string(ny) + " 0 " + std::to_string(nz) + "\">");
+  f.open("<CellData Vectors=\"velocity\">");
   // VTK orders cells with x fastest, then y, then z.
   auto ijk = [&](std::size_t c, int& i, int& j, int& k) {
     i = static_cast<int>(c % static_cast<std::size_t>(nx));
@@ -87,27 +103,29 @@ void write_gas_vti(const std::string& path, const Simulation& sim) {
     k = static_cast<int>(c / (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)));
   };
   const double c_t = gas.time_factor();
-  array(f, "velocity", 3, nc, [&](std::size_t c, double* v) {
+  f.array("velocity", 3, tuples(nc, 3, [&](std::size_t c, double* v) {
     int i, j, k;
     ijk(c, i, j, k);
     v[0] = c_t * 0.5 * (gas.u[g.at(i, j, k)] + gas.u[g.at(i + 1, j, k)]);
     v[1] = c_t * 0.5 * (gas.v[g.at(i, j, k)] + gas.v[g.at(i, j + 1, k)]);
     v[2] = g.two_d() ? 0.0 : c_t * 0.5 * (gas.w[g.at(i, j, k)] + gas.w[g.at(i, j, k + 1)]);
-  }, "        ");
+  }));
   if (gas.has_pressure())
-    array(f, "pressure", 1, nc, [&](std::size_t c, double* v) {
+    f.array("pressure", 1, tuples(nc, 1, [&](std::size_t c, double* v) {
       int i, j, k;
       ijk(c, i, j, k);
       v[0] = gas.p[g.at(i, j, k)];
-    }, "        ");
+    }));
   if (gas.has_void_fraction())
-    array(f, "gas_volume_fraction", 1, nc, [&](std::size_t c, double* v) {
+    f.array("gas_volume_fraction", 1, tuples(nc, 1, [&](std::size_t c, double* v) {
       int i, j, k;
       ijk(c, i, j, k);
       v[0] = gas.eps_g[g.at(i, j, k)];
-    }, "        ");
-  std::fprintf(f, "      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n");
-  af.commit();
+    }));
+  if (sim.particles().size()) f.array("solids_velocity", 3, solids_velocity(sim));
+  f.close("</CellData>");
+  f.close("</Piece>");
+  f.write(path);
 }
 
 namespace {
@@ -128,7 +146,7 @@ std::vector<std::pair<double, std::string>> read_collection(const std::string& p
 }  // namespace
 
 VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume)
-    : dir_(out_dir), interval_(sim.spec().output_interval) {
+    : dir_(out_dir), interval_(sim.spec().output_interval), encoding_(sim.spec().output_vtk_format) {
   make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
   last_ = resume ? resume->last : output_sample(sim, interval_);
@@ -168,12 +186,12 @@ void VtkObserver::operator()(const Simulation& sim) {
 void VtkObserver::write(const Simulation& sim, long long k) {
   char name[64];
   std::snprintf(name, sizeof name, "vtk/particles_%06lld.vtp", k);
-  write_particles_vtp((fs::path(dir_) / name).string(), sim);
+  write_particles_vtp((fs::path(dir_) / name).string(), sim, encoding_);
   particle_files_.emplace_back(sim.time(), name);
   write_collection((fs::path(dir_) / "particles.pvd").string(), particle_files_);
   if (sim.gas()) {
     std::snprintf(name, sizeof name, "vtk/gas_%06lld.vti", k);
-    write_gas_vti((fs::path(dir_) / name).string(), sim);
+    write_gas_vti((fs::path(dir_) / name).string(), sim, encoding_);
     gas_files_.emplace_back(sim.time(), name);
     write_collection((fs::path(dir_) / "gas.pvd").string(), gas_files_);
   }

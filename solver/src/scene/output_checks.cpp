@@ -11,6 +11,7 @@ void read_output_and_checks(const Reader& rd, SceneSpec& spec) {
     rd.check_keys(*o, "output", "output");
     spec.output_particles = rd.boolean(*o, "particles", "output").value_or(true);
     spec.output_vtk = rd.boolean(*o, "vtk", "output").value_or(false);
+    spec.output_vtk_format = rd.keyword(*o, "vtk_format", "output", vtk::encoding_keywords, vtk::Encoding::binary);
     spec.output_interval = rd.positive(*o, "interval", "output", Dim::time, true);
     spec.checkpoint_interval = rd.positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
     spec.log_interval = rd.positive(*o, "log_interval", "output", Dim::time, false, 0.0);

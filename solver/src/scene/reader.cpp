@@ -35,7 +35,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
-      {"output", {"interval", "particles", "vtk", "checkpoint_interval", "log_interval"}},
+      {"output", {"interval", "particles", "vtk", "vtk_format", "checkpoint_interval", "log_interval"}},
       {"monitors[]", {"name", "type", "point", "axis", "position", "from", "to", "threshold", "bin"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
@@ -86,6 +86,7 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"integrator.scheme", names(integrator_keywords)},
       {"monitors[].type", names(monitor_keywords)},
       {"monitors[].axis", {"x", "y", "z"}},
+      {"output.vtk_format", names(vtk::encoding_keywords)},
   };
   return s;
 }

@@ -1,11 +1,12 @@
 #pragma once
 /// @file output.hpp
 /// @brief Plain whitespace-separated tables: a '#' header naming each column with its
-/// unit, then full-precision rows (%.16e).
+/// unit, then full-precision rows (%.16e; integer columns as integers).
 #include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/io/durable_file.hpp"
@@ -24,6 +25,8 @@ class TableWriter {
   ~TableWriter();
   TableWriter(const TableWriter&) = delete;
   TableWriter& operator=(const TableWriter&) = delete;
+  /// Print the columns marked true as integers (their values are whole numbers).
+  void set_integer_columns(std::vector<bool> integer) { integer_ = std::move(integer); }
   void row(const std::vector<double>& values);
   void flush();
   /// Flush and fsync the rows written so far; returns the table's length in bytes.
@@ -35,6 +38,7 @@ class TableWriter {
   std::FILE* f_ = nullptr;
   std::size_t ncol_;
   std::string path_;
+  std::vector<bool> integer_;  // columns printed as integers
 };
 
 class Simulation;
@@ -66,7 +70,8 @@ std::optional<std::uint64_t> table_resume_point(const std::string& path, const S
                                                 std::optional<std::uint64_t> recorded);
 
 /// Writes every particle's state at the scene's output interval: one row per particle
-/// per sample (t id x y z vx vy vz [wx wy wz]). A sample is taken at the first step
+/// per sample (t id x y z vx vy vz [wx wy wz] radius material; id and material, an
+/// index into the materials the header names, as integers). A sample is taken at the first step
 /// whose time reaches each multiple k·interval, and at the last step. After a restart
 /// the rows continue the table the first run wrote: the table is cut back to the
 /// length the checkpoint recorded (@p resume_at) and the rows appended, so a restarted

@@ -18,6 +18,7 @@
 #include "cdm/solver/materials.hpp"
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
+#include "cdm/solver/io/vtk_xml.hpp"
 #include "cdm/solver/walls.hpp"
 
 namespace cdm {
@@ -128,6 +129,7 @@ struct SceneSpec {
   double output_interval = 0.0;  // [s] between rows of the particle table
   bool output_particles = true;
   bool output_vtk = false;  // VTK files (particles, and the gas) at the output interval
+  vtk::Encoding output_vtk_format = vtk::Encoding::binary;
   double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
   double log_interval = 0.0;  // [s] between rows of log.dat and the monitors' tables; 0 = no log
   std::vector<MonitorSpec> monitors;

@@ -1,17 +1,23 @@
 #pragma once
 /// @file vtk_writer.hpp
-/// @brief VTK output that ParaView opens: VTK XML files (ASCII, full precision) and a
+/// @brief VTK output that ParaView opens: VTK XML files (vtk_xml.hpp: zlib-compressed
+/// appended binary by default, or ASCII; every value Float64 at full precision) and a
 /// ParaView collection (.pvd) per series.
-///  - particles: PolyData (.vtp), one vertex per particle, point data id, radius [m],
-///    velocity [m/s] (and angular_velocity [rad/s] with rotation);
+///  - particles: PolyData (.vtp), one vertex per particle in identity order, point data
+///    id (Int64), material (Int32, an index into the field data material_names), radius
+///    [m], velocity [m/s], angular_velocity [rad/s] (with rotation) and contact_force [N]
+///    (with contacts; see contact_forces in output_fields.hpp);
 ///  - gas: ImageData (.vti), one VTK cell per grid cell, cell data velocity [m/s] (face
-///    values averaged to the cell centre), and pressure [Pa] / gas_volume_fraction [-]
-///    when the scene carries them.
+///    values averaged to the cell centre), pressure [Pa] / gas_volume_fraction [-] when
+///    the scene carries them, and solids_velocity [m/s] (volume-weighted mean particle
+///    velocity per cell, zero without particles) when there are particles.
 /// Every file holds its simulated time as field data TIME [s].
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "cdm/solver/io/vtk_xml.hpp"
 
 namespace cdm {
 
@@ -44,13 +50,15 @@ class VtkObserver {
 
   std::string dir_;
   double interval_;
+  vtk::Encoding encoding_;
   long long last_ = -1;
   std::vector<std::pair<double, std::string>> particle_files_, gas_files_;
 };
 
 /// The particles alone, as one .vtp file (used by the observer; handy in tests).
-void write_particles_vtp(const std::string& path, const Simulation& sim);
+void write_particles_vtp(const std::string& path, const Simulation& sim,
+                         vtk::Encoding encoding = vtk::Encoding::binary);
 /// The gas cell data, as one .vti file.
-void write_gas_vti(const std::string& path, const Simulation& sim);
+void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding = vtk::Encoding::binary);
 
 }  // namespace cdm

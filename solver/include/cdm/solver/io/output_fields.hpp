@@ -1,0 +1,26 @@
+#pragma once
+/// @file output_fields.hpp
+/// @brief Quantities the outputs write that the simulation does not keep as such,
+/// computed from its state without changing it.
+#include <vector>
+
+namespace cdm {
+
+class Simulation;
+
+/// The total contact force [N] on each particle (particle–particle and particle–wall),
+/// x y z per particle in identity order; empty without contacts. The simulation adds
+/// contact forces into the same array as every other force, so they are evaluated
+/// afresh here, on copies of the particles and of the contact module (its lists and
+/// tangential history), at the state the outputs write: positions and velocities at
+/// time(), the tangential springs as the last step left them, not advanced (Δt = 0).
+/// The forces of the last step were evaluated at the same positions with velocities one
+/// kick earlier, so the two differ by the damping of that velocity change.
+std::vector<double> contact_forces(const Simulation& sim);
+
+/// The solids velocity [m/s] in each gas cell: the volume-weighted mean velocity of the
+/// particles whose centres lie in the cell, x y z per cell with x fastest, then y, then
+/// z (VTK's order); zero in cells without particles.
+std::vector<double> solids_velocity(const Simulation& sim);
+
+}  // namespace cdm

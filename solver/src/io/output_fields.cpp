@@ -1,0 +1,53 @@
+#include "cdm/solver/io/output_fields.hpp"
+
+#include <cmath>
+
+#include "cdm/solver/simulation.hpp"
+
+namespace cdm {
+
+std::vector<double> contact_forces(const Simulation& sim) {
+  if (!sim.contact()) return {};
+  ParticleStore p = sim.particles();
+  ContactModule probe = *sim.contact();
+  p.clear_forces();
+  probe.add_forces(p, 0.0);
+  std::vector<double> f(3 * p.size());
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const std::size_t s = p.slot_of(k);
+    f[3 * k] = p.fx[s]; f[3 * k + 1] = p.fy[s]; f[3 * k + 2] = p.fz[s];
+  }
+  return f;
+}
+
+std::vector<double> solids_velocity(const Simulation& sim) {
+  const fluid::StaggeredGrid& g = sim.gas()->grid();
+  const ParticleStore& p = sim.particles();
+  const int n[3] = {g.n(0), g.n(1), g.n(2)};
+  const std::size_t nc = g.cell_count();
+  std::vector<double> mv(3 * nc, 0.0), vol(nc, 0.0);
+  for (std::size_t s = 0; s < p.size(); ++s) {
+    const Vec3 x = sim.gas()->wrap(p.position(s));
+    const double c[3] = {x.x, x.y, x.z};
+    std::size_t cell = 0, stride = 1;
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      // A 2D grid has one layer of cells whatever z is.
+      const double q = a == 2 && g.two_d() ? 0.0 : std::floor((c[a] - g.lo(a)) / g.h(a));
+      inside = inside && q >= 0.0 && q < n[a];  // false for NaN too
+      cell += stride * (inside ? static_cast<std::size_t>(q) : 0);
+      stride *= static_cast<std::size_t>(n[a]);
+    }
+    if (!inside) continue;
+    // Weights r³: the volume up to a factor common to all particles.
+    const double w = p.radius[s] * p.radius[s] * p.radius[s];
+    vol[cell] += w;
+    mv[3 * cell] += w * p.vx[s]; mv[3 * cell + 1] += w * p.vy[s]; mv[3 * cell + 2] += w * p.vz[s];
+  }
+  for (std::size_t c = 0; c < nc; ++c)
+    if (vol[c] > 0.0)
+      for (int a = 0; a < 3; ++a) mv[3 * c + a] /= vol[c];
+  return mv;
+}
+
+}  // namespace cdm
