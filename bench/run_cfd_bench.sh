@@ -58,7 +58,7 @@ run_one() {  # code problem rep -> appends a line of summarise_cfd.py's runs fil
   echo "$code $prob r$rep $(cut -d' ' -f1 /proc/loadavg)" >> "$out/load.txt"
   if [ "$code" = cdm ]; then
     /usr/bin/time -f "%U %S" -o "$dir/time.txt" "$cdm" run "$here/scenes/$scene" -o "$dir" -q -j 1 \
-      --set "integrator.end_time=$t" --set "output.interval=$t" --set output.vtk=true --set output.particles=true \
+      --set "integrator.end_time=$t" --set "output.interval=$t" --set output.vtk=true --set 'output.vtk_format="ascii"' --set output.particles=true \
       > "$dir/log.txt"
     cpu=$(awk '{printf "%.2f", $1 + $2}' "$dir/time.txt")
     # "loop time X s for S steps of N particles on 1 thread(s): ..."
