@@ -17,3 +17,8 @@ for fmt in binary ascii; do
   "$cdm" run "$work/settle2k.toml" -o "$work/$fmt" -q --set output.vtk=true --set "output.vtk_format=\"$fmt\"" >> "$work/run.log"
 done
 /usr/bin/python3 "$src/tests/vtk/check_vtk_settle.py" "$work/binary" "$work/ascii"
+
+# The same bed with the contacts written (force chains): read back and checked against
+# the particle frames.
+"$cdm" run "$work/settle2k.toml" -o "$work/contacts" -q --set output.vtk=true --set output.contacts=true >> "$work/run.log"
+/usr/bin/python3 "$src/tests/vtk/check_vtk_contacts.py" "$work/contacts"

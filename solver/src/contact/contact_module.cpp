@@ -31,6 +31,7 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   if (u.rebuilt || damping_stale_) tabulate_damping(p);
   if (record_) {
     fn_pair_.resize(list_.size());
+    fv_pair_.resize(6 * list_.size());
     // The wall loop writes only the candidates' entries: the others are not in contact.
     const std::size_t nw = list_.walls().size();
     if (u.walls_listed) fn_wall_.assign(p.size() * nw, -1.0);
@@ -173,6 +174,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     Vec3* const HIST = list_.pair_history();
     std::uint8_t* const TOUCH = list_.pair_touch();
     double* const FN = fn_pair_.data();
+    double* const FV = fv_pair_.data();
     // η_n per material pair when every free particle has one mass (tabulate_damping).
     const double* const ETA_N = eta_n_common_.empty() ? nullptr : eta_n_common_.data();
     const std::size_t nmat = pairs_.size();
@@ -267,8 +269,13 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         contact::TangentialSlot slot;
         if constexpr (Friction) slot = {HIST + k, TOUCH + k};
         const contact::ContactForce c = resolve(pp, m_eff, eta_n, r_star, {overlap, eta, vrel, vrel_step}, slot);
-        if constexpr (record) FN[k] = c.normal_magnitude;
         const Vec3 f = c.total, ft = c.tangential;
+        if constexpr (record) {
+          FN[k] = c.normal_magnitude;
+          double* const fv = FV + 6 * static_cast<std::size_t>(k);
+          fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
+          fv[3] = ft.x; fv[4] = ft.y; fv[5] = ft.z;
+        }
         FX[i] += f.x; FY[i] += f.y; FZ[i] += f.z;
         FX[j] -= f.x; FY[j] -= f.y; FZ[j] -= f.z;
         if constexpr (Friction) {

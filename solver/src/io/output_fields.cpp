@@ -20,6 +20,32 @@ std::vector<double> contact_forces(const Simulation& sim) {
   return f;
 }
 
+ContactNetwork contact_network(const Simulation& sim) {
+  ContactNetwork net;
+  if (!sim.contact()) return net;
+  ParticleStore p = sim.particles();
+  ContactModule probe = *sim.contact();
+  probe.set_recording(true);
+  p.clear_forces();
+  probe.add_forces(p, 0.0);
+  const VerletList& list = probe.list();
+  const std::vector<double>& fn = probe.pair_normal_force();
+  const std::vector<double>& fv = probe.pair_force();
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    if (fn[k] < 0.0) continue;
+    const std::size_t i = list.pair_i()[k], j = list.pair_j()[k];
+    net.pairs.push_back(static_cast<std::int64_t>(p.id_of(i)));
+    net.pairs.push_back(static_cast<std::int64_t>(p.id_of(j)));
+    for (int a = 0; a < 3; ++a) {
+      net.normal.push_back(fv[6 * k + a] - fv[6 * k + 3 + a]);
+      net.tangential.push_back(fv[6 * k + 3 + a]);
+    }
+    const Vec3 d = list.periodic_box().min_image(p.position(j) - p.position(i));
+    net.overlap.push_back(p.radius[i] + p.radius[j] - norm(d));
+  }
+  return net;
+}
+
 std::vector<double> solids_velocity(const Simulation& sim) {
   const fluid::StaggeredGrid& g = sim.gas()->grid();
   const ParticleStore& p = sim.particles();

@@ -84,6 +84,37 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   f.write(path);
 }
 
+void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
+  const ParticleStore& p = sim.particles();
+  const std::size_t n = p.size();
+  const ContactNetwork net = contact_network(sim);
+  const std::size_t nc = net.overlap.size();
+  vtk::XmlFile f(encoding, "PolyData");
+  field_data(f, sim.time());
+  f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
+         std::to_string(nc) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
+  f.open("<Points>");
+  f.array("position", 3, tuples(n, 3, [&](std::size_t k, double* v) {
+    const std::size_t s = p.slot_of(k);
+    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
+  }));
+  f.close("</Points>");
+  f.open("<Lines>");
+  std::vector<std::int64_t> offsets(nc);
+  for (std::size_t c = 0; c < nc; ++c) offsets[c] = static_cast<std::int64_t>(2 * (c + 1));
+  f.array("connectivity", 1, net.pairs);
+  f.array("offsets", 1, offsets);
+  f.close("</Lines>");
+  f.open("<CellData Vectors=\"normal_force\">");
+  f.array("particles", 2, net.pairs);
+  f.array("normal_force", 3, net.normal);
+  f.array("tangential_force", 3, net.tangential);
+  f.array("overlap", 1, net.overlap);
+  f.close("</CellData>");
+  f.close("</Piece>");
+  f.write(path);
+}
+
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
   const fluid::GasField& gas = *sim.gas();
   const fluid::StaggeredGrid& g = gas.grid();
@@ -146,7 +177,8 @@ std::vector<std::pair<double, std::string>> read_collection(const std::string& p
 }  // namespace
 
 VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume)
-    : dir_(out_dir), interval_(sim.spec().output_interval), encoding_(sim.spec().output_vtk_format) {
+    : dir_(out_dir), interval_(sim.spec().output_interval), encoding_(sim.spec().output_vtk_format),
+      contacts_(sim.spec().output_contacts) {
   make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
   last_ = resume ? resume->last : output_sample(sim, interval_);
@@ -166,6 +198,7 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
   };
   reload("particles.pvd", resume->particle_frames, particle_files_);
   if (sim.gas()) reload("gas.pvd", resume->gas_frames, gas_files_);
+  if (contacts_) reload("contacts.pvd", resume->particle_frames, contact_files_);  // written with each particle frame
 }
 
 VtkMark VtkObserver::sync() const {
@@ -189,6 +222,12 @@ void VtkObserver::write(const Simulation& sim, long long k) {
   write_particles_vtp((fs::path(dir_) / name).string(), sim, encoding_);
   particle_files_.emplace_back(sim.time(), name);
   write_collection((fs::path(dir_) / "particles.pvd").string(), particle_files_);
+  if (contacts_) {
+    std::snprintf(name, sizeof name, "vtk/contacts_%06lld.vtp", k);
+    write_contacts_vtp((fs::path(dir_) / name).string(), sim, encoding_);
+    contact_files_.emplace_back(sim.time(), name);
+    write_collection((fs::path(dir_) / "contacts.pvd").string(), contact_files_);
+  }
   if (sim.gas()) {
     std::snprintf(name, sizeof name, "vtk/gas_%06lld.vti", k);
     write_gas_vti((fs::path(dir_) / name).string(), sim, encoding_);

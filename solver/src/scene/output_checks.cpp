@@ -12,6 +12,11 @@ void read_output_and_checks(const Reader& rd, SceneSpec& spec) {
     spec.output_particles = rd.boolean(*o, "particles", "output").value_or(true);
     spec.output_vtk = rd.boolean(*o, "vtk", "output").value_or(false);
     spec.output_vtk_format = rd.keyword(*o, "vtk_format", "output", vtk::encoding_keywords, vtk::Encoding::binary);
+    spec.output_contacts = rd.boolean(*o, "contacts", "output").value_or(false);
+    if (spec.output_contacts && !spec.output_vtk)
+      rd.fail_value("output.contacts", *o->get("contacts"), "false unless output.vtk = true (the contacts are VTK files)");
+    if (spec.output_contacts && !spec.normal_contact)
+      rd.fail_value("output.contacts", *o->get("contacts"), "false: the scene has no contacts (modules.normal_contact)");
     spec.output_interval = rd.positive(*o, "interval", "output", Dim::time, true);
     spec.checkpoint_interval = rd.positive(*o, "checkpoint_interval", "output", Dim::time, false, 0.0);
     spec.log_interval = rd.positive(*o, "log_interval", "output", Dim::time, false, 0.0);

@@ -35,7 +35,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
-      {"output", {"interval", "particles", "vtk", "vtk_format", "checkpoint_interval", "log_interval"}},
+      {"output", {"interval", "particles", "vtk", "vtk_format", "contacts", "checkpoint_interval", "log_interval"}},
       {"monitors[]", {"name", "type", "point", "axis", "position", "from", "to", "threshold", "bin"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };

@@ -130,6 +130,7 @@ struct SceneSpec {
   bool output_particles = true;
   bool output_vtk = false;  // VTK files (particles, and the gas) at the output interval
   vtk::Encoding output_vtk_format = vtk::Encoding::binary;
+  bool output_contacts = false;  // per-contact VTK files (force chains) with the particle frames
   double checkpoint_interval = 0.0;  // [s] of simulated time between checkpoints; 0 = none
   double log_interval = 0.0;  // [s] between rows of log.dat and the monitors' tables; 0 = no log
   std::vector<MonitorSpec> monitors;

@@ -75,6 +75,12 @@ class ContactModule final : public ForceModule {
 
   /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
+  /// The force on the pair's first particle i from its second j, and its tangential part
+  /// [N], per listed pair: 6 values (total x y z, tangential x y z), valid where
+  /// pair_normal_force() is not -1 (recording on).
+  const std::vector<double>& pair_force() const { return fv_pair_; }
+  /// Recording on or off (e.g. on a copy that evaluates the contacts for output).
+  void set_recording(bool on) { record_ = on; }
   /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
   const std::vector<double>& wall_normal_force() const { return fn_wall_; }
 
@@ -116,6 +122,7 @@ class ContactModule final : public ForceModule {
   std::vector<double> eta_n_common_;
   bool damping_stale_ = true;
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
+  std::vector<double> fv_pair_;               // record_: total and tangential force per pair
   StepVelocities step_;                       // see set_step_velocities
   Prefetch prefetch_ = Prefetch::automatic;
   bool prefetched_ = false;

@@ -2,6 +2,7 @@
 /// @file output_fields.hpp
 /// @brief Quantities the outputs write that the simulation does not keep as such,
 /// computed from its state without changing it.
+#include <cstdint>
 #include <vector>
 
 namespace cdm {
@@ -17,6 +18,17 @@ class Simulation;
 /// The forces of the last step were evaluated at the same positions with velocities one
 /// kick earlier, so the two differ by the damping of that velocity change.
 std::vector<double> contact_forces(const Simulation& sim);
+
+/// The particle–particle contacts at the state the outputs write, evaluated like
+/// contact_forces(): per contact the identities of its two particles (i, j), the force
+/// on i from j split into its normal and tangential parts [N], and the overlap
+/// r_i + r_j − |x_j − x_i| [m]; in the order of the Verlet list.
+struct ContactNetwork {
+  std::vector<std::int64_t> pairs;  ///< i j per contact
+  std::vector<double> normal, tangential;  ///< x y z per contact
+  std::vector<double> overlap;
+};
+ContactNetwork contact_network(const Simulation& sim);
 
 /// The solids velocity [m/s] in each gas cell: the volume-weighted mean velocity of the
 /// particles whose centres lie in the cell, x y z per cell with x fastest, then y, then

@@ -7,6 +7,11 @@
 ///    id (Int64), material (Int32, an index into the field data material_names), radius
 ///    [m], velocity [m/s], angular_velocity [rad/s] (with rotation) and contact_force [N]
 ///    (with contacts; see contact_forces in output_fields.hpp);
+///  - contacts (output.contacts): PolyData (.vtp), the particles as points and one line
+///    per particle–particle contact between the two centres (force chains), cell data
+///    particles (the two ids, Int64), normal_force and tangential_force [N] (on the
+///    first particle from the second) and overlap [m] (see contact_network in
+///    output_fields.hpp);
 ///  - gas: ImageData (.vti), one VTK cell per grid cell, cell data velocity [m/s] (face
 ///    values averaged to the cell centre), pressure [Pa] / gas_volume_fraction [-] when
 ///    the scene carries them, and solids_velocity [m/s] (volume-weighted mean particle
@@ -30,9 +35,10 @@ struct VtkMark {
   std::uint64_t particle_frames = 0, gas_frames = 0;
 };
 
-/// Writes OUTDIR/vtk/particles_<k>.vtp (and gas_<k>.vti with a gas) at every output
+/// Writes OUTDIR/vtk/particles_<k>.vtp (and gas_<k>.vti with a gas, contacts_<k>.vtp
+/// with output.contacts) at every output
 /// sample of the scene (the same samples as the particle table), and keeps
-/// OUTDIR/particles.pvd (and gas.pvd) listing them. After a restart it continues the
+/// OUTDIR/particles.pvd (and gas.pvd, contacts.pvd) listing them. After a restart it continues the
 /// collections the first run wrote, cut back to the frames the checkpoint recorded
 /// (@p resume); without them in OUTDIR it starts new collections. Every file is written
 /// atomically (temporary file, fsync, rename); failures throw OutputError.
@@ -51,13 +57,17 @@ class VtkObserver {
   std::string dir_;
   double interval_;
   vtk::Encoding encoding_;
+  bool contacts_;
   long long last_ = -1;
-  std::vector<std::pair<double, std::string>> particle_files_, gas_files_;
+  std::vector<std::pair<double, std::string>> particle_files_, gas_files_, contact_files_;
 };
 
 /// The particles alone, as one .vtp file (used by the observer; handy in tests).
 void write_particles_vtp(const std::string& path, const Simulation& sim,
                          vtk::Encoding encoding = vtk::Encoding::binary);
+/// The particle–particle contacts, as one .vtp file of lines.
+void write_contacts_vtp(const std::string& path, const Simulation& sim,
+                        vtk::Encoding encoding = vtk::Encoding::binary);
 /// The gas cell data, as one .vti file.
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding = vtk::Encoding::binary);
 
