@@ -38,6 +38,17 @@ std::vector<double> tuples(std::size_t n, int components, Get&& get) {
   return out;
 }
 
+/// The particles' centres as the points, in identity order (p.slot_of), whatever order
+/// the store keeps them in.
+void particle_points(vtk::XmlFile& f, const ParticleStore& p) {
+  f.open("<Points>");
+  f.array("position", 3, tuples(p.size(), 3, [&](std::size_t k, double* v) {
+    const std::size_t s = p.slot_of(k);
+    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
+  }));
+  f.close("</Points>");
+}
+
 }  // namespace
 
 void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
@@ -48,12 +59,7 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   field_data(f, sim.time(), sim.spec().materials);
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
          "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
-  f.open("<Points>");
-  f.array("position", 3, tuples(n, 3, [&](std::size_t k, double* v) {
-    const std::size_t s = p.slot_of(k);
-    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
-  }));
-  f.close("</Points>");
+  particle_points(f, p);
   f.open("<Verts>");
   std::vector<std::int64_t> ids(n), offsets(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -93,12 +99,7 @@ void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Enc
   field_data(f, sim.time());
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
          std::to_string(nc) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
-  f.open("<Points>");
-  f.array("position", 3, tuples(n, 3, [&](std::size_t k, double* v) {
-    const std::size_t s = p.slot_of(k);
-    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
-  }));
-  f.close("</Points>");
+  particle_points(f, p);
   f.open("<Lines>");
   std::vector<std::int64_t> offsets(nc);
   for (std::size_t c = 0; c < nc; ++c) offsets[c] = static_cast<std::int64_t>(2 * (c + 1));
