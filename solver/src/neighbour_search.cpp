@@ -41,31 +41,32 @@ void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::v
     }
 }
 
-void CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
-                                   const PeriodicBox& box) {
+bool CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                                   const PeriodicBox& box, std::size_t limit) {
   std::vector<std::vector<ContactPair>> chunks;
-  find_contacts(p, margin, chunks, box);
+  const bool whole = find_contacts(p, margin, chunks, box, 0, limit);
   out.clear();
   if (chunks.size() == 1) {
     out.swap(chunks[0]);
-    return;
+    return whole;
   }
   std::size_t total = 0;
   for (const auto& c : chunks) total += c.size();
   out.reserve(total);
   for (const auto& c : chunks) out.insert(out.end(), c.begin(), c.end());
+  return whole;
 }
 
-void CellListSearch::find_contacts(const ParticleStore& p, double margin,
+bool CellListSearch::find_contacts(const ParticleStore& p, double margin,
                                    std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
-                                   std::size_t expected) {
+                                   std::size_t expected, std::size_t limit) {
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
   if (!threads) {  // one chunk; with threads, one per thread (sized in the parallel region)
     chunks.resize(1);
     chunks[0].clear();
   }
-  if (n < 2) return;
+  if (n < 2) return true;
   double lo[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                   std::numeric_limits<double>::max()};
   double hi[3] = {-lo[0], -lo[1], -lo[2]};
@@ -163,9 +164,13 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin,
   };
   if (!threads) {
     chunks[0].reserve(expected);
-    for (std::size_t i = 0; i < n; ++i) row(i, chunks[0]);
-    return;
+    for (std::size_t i = 0; i < n; ++i) {
+      row(i, chunks[0]);
+      if (chunks[0].size() > limit) return false;
+    }
+    return true;
   }
+  bool whole = true;
   // Each thread lists the rows of its own particles (thread_range) into its chunk: the
   // chunks in thread order are the rows in order, whatever the thread count.
 #pragma omp parallel
@@ -181,8 +186,16 @@ void CellListSearch::find_contacts(const ParticleStore& p, double margin,
     }
     const auto [i0, i1] = thread_range(n);
     chunks[t].reserve(expected / nt + 64);
-    for (std::size_t i = i0; i < i1; ++i) row(i, chunks[t]);
+    for (std::size_t i = i0; i < i1; ++i) {
+      row(i, chunks[t]);
+      if (chunks[t].size() > limit) {
+#pragma omp atomic write
+        whole = false;
+        break;
+      }
+    }
   }
+  return whole;
 }
 
 }  // namespace cdm

@@ -142,6 +142,23 @@ allow_initial_overlap = true
                       {"particles[1].position", "particles[0]", "distinct centres"});
 }
 
+TEST(SceneLimits, AParticlePileIsRefusedWithoutListingItsPairs) {
+  // A lattice whose spacing is a twentieth of the diameter: ~1.4e6 overlapping pairs.
+  // Allowed overlaps are listed only up to 32 per particle on average, then refused.
+  expect_text_refused(R"(
+[[lattices]]
+material = "ball"
+radius = 1.0
+origin = [0.0, 50.0, 0.0]
+spacing = [0.1, 0.1, 0.1]
+count = [20, 20, 20]
+
+[checks]
+allow_initial_overlap = true
+)",
+                      {"8001 particles overlap in more than 256032 pairs", "expected a packing", "lattice spacing"});
+}
+
 TEST(SceneLimits, RandomBlocksClearEveryEarlierParticle) {
   // Two blocks in one box, the second of larger particles, beside a listed particle:
   // each new centre clears every earlier particle, so nothing overlaps.

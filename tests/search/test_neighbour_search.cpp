@@ -103,6 +103,31 @@ TEST(NeighbourSearch, DegenerateLayouts) {
   expect_same(a, b);
 }
 
+TEST(NeighbourSearch, ALimitStopsTheListingEarlyAndSaysSo) {
+  // A pile: 2000 particles within a diameter of one another, ~2e6 pairs. With a limit
+  // each run of particles stops once its pairs exceed it, serially and in threads.
+  cdm::ParticleStore pile;
+  for (int i = 0; i < 2000; ++i) pile.add({1e-5 * (i % 7), 1e-5 * (i % 11), 1e-5 * (i % 13)}, {}, 1e-3, 2500.0, 0);
+  cdm::CellListSearch cl;
+  std::vector<cdm::ContactPair> all, cut;
+  EXPECT_TRUE(cl.find_contacts(pile, 0.0, all));
+  EXPECT_EQ(all.size(), 2000u * 1999u / 2u);
+  const int threads_before = omp_get_max_threads();
+  for (int nt : {1, 2, 3}) {
+    omp_set_num_threads(nt);
+    EXPECT_FALSE(cl.find_contacts(pile, 0.0, cut, {}, 5000)) << nt << " threads";
+    EXPECT_GT(cut.size(), 5000u) << nt << " threads";
+    EXPECT_LT(cut.size(), 3u * (5000u + 2000u)) << nt << " threads: each run stops within a row of its limit";
+    // The list's first pair is the whole list's first pair: a refusal names the same one.
+    EXPECT_EQ(cut.front().i, all.front().i);
+    EXPECT_EQ(cut.front().j, all.front().j);
+    EXPECT_FALSE(cl.find_contacts(pile, 0.0, cut, {}, 0));
+    EXPECT_TRUE(cl.find_contacts(pile, 0.0, cut, {}, all.size()));
+    EXPECT_EQ(cut.size(), all.size());
+  }
+  omp_set_num_threads(threads_before);
+}
+
 TEST(NeighbourSearch, WallContactsMatchBruteForce) {
   // Particles inside a unit-ish box, some pushed against each of six walls.
   cdm::ParticleStore p = random_packing(10000, 7, 0.05, 0.5e-3, 2e-3);

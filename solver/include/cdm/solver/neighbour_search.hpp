@@ -5,6 +5,7 @@
 /// reference the tests compare it with. Both return pairs i < j sorted by (i, j).
 /// With a PeriodicBox, distances are to the nearest image along its periodic axes
 /// (particles must lie inside the box along those axes).
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,14 +28,18 @@ class AllPairsSearch {
 
 class CellListSearch {
  public:
-  void find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
-                     const PeriodicBox& box = {});
+  /// @return false when the list was cut short: a run of particles stops listing once
+  /// its pairs exceed @p limit (so @p out holds more than @p limit pairs, the first rows
+  /// of each run), which keeps a degenerate input (thousands of particles piled at one
+  /// point) from listing millions of pairs before a check refuses it.
+  bool find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                     const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
   /// The same pairs in @p chunks, which concatenated in order are @p out above: above
   /// the parallel threshold each thread lists the pairs of its own run of particles i
   /// (thread_range) into a chunk of its own (so the list is built in parallel and never
   /// copied whole). @p expected: about how many pairs to expect in all (capacity).
-  void find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
-                     const PeriodicBox& box = {}, std::size_t expected = 0);
+  bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+                     const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX);
 
  private:
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
