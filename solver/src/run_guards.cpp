@@ -13,7 +13,7 @@ double explicit_drag_step_limit(IntegratorScheme s) {
   return s == IntegratorScheme::velocity_verlet ? 1.0 : 2.0;
 }
 
-void RunGuards::check(double time, std::uint64_t step, double nonfinite) const {
+void RunGuards::check(double time, std::uint64_t step, double nonfinite, bool gas_read) const {
   const ParticleStore& p = p_;
   const std::size_t n = p.size();
   // |sum| is finite exactly when every value is (barring overflow near 1e308).
@@ -51,9 +51,17 @@ void RunGuards::check(double time, std::uint64_t step, double nonfinite) const {
     cause(os);
     throw SimulationError(os.str());
   }
-  if (gas_) {
-    // A particle must stay in the gas domain along every axis that is not periodic.
-    const double out = parallel_max(n, [&](std::size_t i) { return gas_->contains(p.position(i)) ? 0.0 : 1.0; });
+  if (gas_ && gas_read) {
+    // A particle must stay in the gas domain along every axis that is not periodic
+    // (GasField::contains, with the bounds read once).
+    const fluid::StaggeredGrid& g = gas_->grid();
+    const double lo[3] = {g.lo(0), g.lo(1), g.lo(2)};
+    const double hi[3] = {g.lo(0) + g.length(0), g.lo(1) + g.length(1), g.lo(2) + g.length(2)};
+    const double out = parallel_max(n, [&](std::size_t i) {
+      const bool in = p.x[i] >= lo[0] && p.x[i] <= hi[0] && p.y[i] >= lo[1] && p.y[i] <= hi[1] && p.z[i] >= lo[2] &&
+                      p.z[i] <= hi[2];
+      return in ? 0.0 : 1.0;
+    });
     if (out != 0.0) {
       std::ostringstream os;
       os << "particle(s) left the gas domain at t = " << time << " s (step " << step << "):";

@@ -124,13 +124,17 @@ void Simulation::step() {
   const double nonfinite = integrator_->step(*this, {time_, t_new});
   ++steps_;
   time_ = static_cast<double>(steps_) * spec_.dt;
-  check_state(nonfinite);
+  // Evaluated once per gas step, the gas reads the particles' positions at the first
+  // sub-step (the drag and ∇P at the particles) and at the gas step (the deposits) only.
+  const bool gas_read = !lagged() || substep_ == 0 || substep_ + 1 == substeps_;
+  guards().check(time_, steps_, nonfinite, gas_read);
   if (solver_) {
     // The impulses are gathered over the gas step and deposited at the gas step when the
     // drag is evaluated once per gas step or the gas takes it implicitly (implicit_drag.hpp).
     if (exchange_->two_way() && !implicit_drag_ && !lagged()) exchange_->deposit_impulses(particles_);
     if (++substep_ == substeps_) {
       substep_ = 0;
+      complete_step();  // the gas step reads the particles' state at the step's end
       gas_step();
     }
   }

@@ -8,12 +8,33 @@ namespace cdm::integrators {
 
 using verlet::VerletArrays;
 
+namespace {
+/// Whether the final kick of a step can wait for the next step's pass: nothing may read
+/// the particles' velocities or impulses between a step's force evaluation and its final
+/// kick. With a gas the reaction is then deposited only at the gas step (which completes
+/// the step first), not after every step; and the pass has no exponential drag kick.
+bool can_defer(const SceneSpec& s, bool gas) {
+  if (!gas) return true;
+  const bool deposit_every_step =
+      s.two_way && !s.implicit_gas_drag && s.drag_evaluation == coupling::DragEvaluation::every_step;
+  return !deposit_every_step && s.drag_update != coupling::DragUpdate::exponential;
+}
+
+/// verlet_pass's kick for the scene's drag.
+verlet::DragKick drag_kick(const SceneSpec& s, bool gas) {
+  if (!gas || !s.drag) return verlet::DragKick::none;
+  if (s.drag_update == coupling::DragUpdate::implicit)
+    return s.two_way ? verlet::DragKick::implicit_impulse : verlet::DragKick::implicit;
+  return s.two_way ? verlet::DragKick::explicit_impulse : verlet::DragKick::none;
+}
+}  // namespace
+
 VelocityVerlet::VelocityVerlet(const IntegratorParts& parts)
     : p_(parts.particles), gas_(parts.gas), contact_(parts.contact), dt_(parts.spec.dt),
       box_(parts.spec.periodic), g_(parts.spec.g), gravity_(parts.gravity),
-      // Without a gas nothing reads the particles' velocities between a step's force
-      // evaluation and its final kick, so that kick can wait for the next step.
-      deferred_(parts.gas == nullptr), kick_(parts.particles, parts.spec.drag_update) {
+      deferred_(can_defer(parts.spec, parts.gas != nullptr)),
+      drag_kick_(static_cast<int>(drag_kick(parts.spec, parts.gas != nullptr))),
+      kick_(parts.particles, parts.spec.drag_update) {
   // The contacts move positions with the half-step velocities.
   if (contact_) contact_->set_step_velocities({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
 }
@@ -47,7 +68,7 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   host.ensure_forces();
   hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
   if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
-  if (deferred_) return step_deferred(host);
+  if (deferred_) return step_deferred(host, times);
   const PeriodicBox box = box_;
   const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
   const Kick& kick = kick_;
@@ -60,7 +81,7 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   return final_kick();
 }
 
-double VelocityVerlet::step_deferred(StepHost& host) {
+double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   ParticleStore& p = p_;
   const std::size_t n = p.size();
   const double dt = dt_;
@@ -73,8 +94,8 @@ double VelocityVerlet::step_deferred(StepHost& host) {
   // here (as complete() lets the simulation check it) before this step moves on from
   // it. The same pass measures how far the particles have moved since the contact list
   // was built (as ContactModule would in a pass of its own). One reduction carries
-  // both: the squared displacement, or +inf for a state that is not finite. Without a
-  // gas there is no drag: the kick is the plain one (verlet_pass).
+  // both: the squared displacement, or +inf for a state that is not finite. The kick is
+  // the plain one, or with a drag the one Kick gives (verlet_pass's DragKick).
   // The displacement is measured exactly (reading the build positions) only when the
   // module's bound on it nears half the skin; otherwise the pass returns this step's
   // largest drift, which the module adds to that bound.
@@ -99,17 +120,31 @@ double VelocityVerlet::step_deferred(StepHost& host) {
     a.one_mass = p.mass[0];
     a.one_inv_inertia = rot ? p.inv_inertia[0] : 0.0;
   }
+  // The drag's share of the kicks (the kick Kick would give, DragKick).
+  const auto dk = static_cast<verlet::DragKick>(drag_kick_);
+  if (dk == verlet::DragKick::implicit || dk == verlet::DragKick::implicit_impulse) {
+    a.drag_k = p.drag_k.data();
+    a.ug[0] = p.ugx.data(); a.ug[1] = p.ugy.data(); a.ug[2] = p.ugz.data();
+    a.mass = p.mass.data();
+  }
+  if (dk == verlet::DragKick::explicit_impulse) { a.df[0] = p.dfx.data(); a.df[1] = p.dfy.data(); a.df[2] = p.dfz.data(); }
+  if (dk == verlet::DragKick::explicit_impulse || dk == verlet::DragKick::implicit_impulse) {
+    a.j[0] = p.jx.data(); a.j[1] = p.jy.data(); a.j[2] = p.jz.data();
+  }
   // One contiguous range per thread, about the particles whose forces the same
   // thread's part of the pair loop wrote (VerletList::thread_slabs).
   const double worst = parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
-    return verlet::with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>() {
-      return verlet::verlet_pass<Pending, Rot, Wrap, Measure, Grav, One>(a, box, dt, i0, i1);
-    }, pending, rot, wrap, measure, grav, one);
+    return verlet::with_drag_kick(dk, [&]<verlet::DragKick D>() {
+      return verlet::with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>() {
+        return verlet::verlet_pass<Pending, Rot, Wrap, Measure, Grav, One, D>(a, box, dt, i0, i1);
+      }, pending, rot, wrap, measure, grav, one);
+    });
   });
   kick_pending_ = false;
   if (worst == not_finite) host.fail_not_finite();  // names the state at t (the clock is still at t)
   if (measure) contact_->list().set_displacement(worst);
   else if (listed) contact_->list().add_drift(worst);
+  if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(grav ? ForceStart::weight : ForceStart::zeroed);
   kick_pending_ = true;
   return 0.0;  // checked when the step is completed (complete(), or the next step)

@@ -2,7 +2,7 @@
 /// @file verlet_kernels.hpp
 /// @brief Velocity Verlet's per-particle arithmetic, inlined into the loops of
 /// velocity_verlet.cpp (only that file includes this one): the first half of a step and
-/// the final kick per particle, and the one fused pass per step without a gas, with
+/// the final kick per particle, and the one fused pass per step (deferred final kick), with
 /// the compile-time flags that fold its branches away.
 #include <algorithm>
 #include <cmath>
@@ -32,7 +32,19 @@ struct VerletArrays {
   // Where every particle has the same 1/m, 1/I and m (bit for bit): those values, which
   // verlet_pass then reads instead of three arrays (24 of its 360 bytes per particle).
   double one_inv_mass = 0.0, one_inv_inertia = 0.0, one_mass = 0.0;
+  // The drag's part of verlet_pass's kick (DragKick): the drag coefficient K and the gas
+  // velocity u_g of a relaxed drag, the explicit drag force F_d, and the two-way impulse
+  // accumulator J, per axis (ParticleStore's drag_k, ugx..., dfx..., jx...).
+  const double* drag_k = nullptr;
+  const double *ug[3] = {nullptr, nullptr, nullptr}, *df[3] = {nullptr, nullptr, nullptr};
+  double* j[3] = {nullptr, nullptr, nullptr};
 };
+
+/// The kick of verlet_pass (Kick's arithmetic, kick.hpp): the plain one; the plain one
+/// with the explicit drag's impulse τ F_d added to J (two-way); the drag relaxed
+/// implicitly (backward Euler over the kick), without or with its impulse
+/// m Δv − τ F added to J.
+enum class DragKick { none, explicit_impulse, implicit, implicit_impulse };
 
 inline VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vector<double>& hvy,
                            std::vector<double>& hvz, std::vector<double>& hwx, std::vector<double>& hwy,
@@ -44,7 +56,7 @@ inline VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, st
 }
 
 // Velocity Verlet per particle, for the two passes with a gas and the final kick (the
-// one pass per step without a gas, verlet_pass, does the same arithmetic axis by axis);
+// one pass per step with the final kick deferred, verlet_pass, does the same arithmetic axis by axis);
 // inline always, so that @p rot and @p wrap fold away where they are constants. @p kick
 // is the integrator's Kick (kick.hpp).
 
@@ -110,36 +122,85 @@ decltype(auto) with_flags(F&& f, bool b, Rest... rest) {
   return b ? with_flags<Fixed..., true>(f, rest...) : with_flags<Fixed..., false>(f, rest...);
 }
 
+/// f.template operator()<D>() for the run-time @p d (one instantiation per DragKick).
+template <class F>
+decltype(auto) with_drag_kick(DragKick d, F&& f) {
+  switch (d) {
+    case DragKick::explicit_impulse: return f.template operator()<DragKick::explicit_impulse>();
+    case DragKick::implicit: return f.template operator()<DragKick::implicit>();
+    case DragKick::implicit_impulse: return f.template operator()<DragKick::implicit_impulse>();
+    case DragKick::none: break;
+  }
+  return f.template operator()<DragKick::none>();
+}
+
 /// One axis of the one pass per step (verlet_pass) for particles [i0, i1): for axis @p A
 /// of position @p X, predicted velocity @p V, force @p F and half-step velocity @p HV,
 /// the final kick of the last step if @p Pending, the half kick, drift (wrapped with
 /// @p Wrap), predicted velocity, and the force set to the weight's component m @p g
-/// (with @p Grav) or zeroed. Particle i's term of the squared displacement since the
+/// (with @p Grav) or zeroed. The kicks are @p D's (DragKick), from VerletArrays' drag
+/// arrays for axis A; the final and half kicks carry the drag impulse, the prediction
+/// does not. Particle i's term of the squared displacement since the
 /// build (@p Measure, from @p X0) or of this step's drift goes to @p d2[i - i0], set by
 /// the first axis (@p First) and added to by the others, so d2 sums x² + y² + z² in the
 /// order a single expression would. The same sum carries the finiteness check of the
 /// state at t: each term comes with s − s for s = x + v at t, +0 where s is finite (the
 /// sum unchanged, to the bit) and NaN where it is not. With @p One every particle has
 /// VerletArrays' one_inv_mass and one_mass.
-template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, bool One>
+template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, bool One, DragKick D>
 [[gnu::always_inline]] inline void verlet_axis(const VerletArrays& a, double* __restrict X, double* __restrict V,
                                                double* __restrict F, double* __restrict HV,
                                                const double* __restrict X0, double g, const PeriodicBox& box, double dt,
                                                std::size_t i0, std::size_t i1, double* __restrict d2) {
+  constexpr bool relaxed = D == DragKick::implicit || D == DragKick::implicit_impulse;
+  constexpr bool impulse = D == DragKick::explicit_impulse || D == DragKick::implicit_impulse;
   const double h = 0.5 * dt;
   const double* __restrict const IM = a.inv_mass;
   const double* __restrict const M = a.mass;
+  const double* __restrict const K = a.drag_k;
+  const double* __restrict const UG = a.ug[A];
+  const double* __restrict const DF = a.df[A];
+  double* __restrict const J = a.j[A];
   for (std::size_t i = i0; i < i1; ++i) {
-    const double c = h * (One ? a.one_inv_mass : IM[i]);  // PlainKick's factor
+    const double im = One ? a.one_inv_mass : IM[i];
     const double f = F[i];
-    double v = Pending ? HV[i] + c * f : V[i];  // v(t)
-    const double s = X[i] + v;
-    v += c * f;  // half kick
-    HV[i] = v;
-    double x = X[i] + dt * v;
-    if constexpr (Wrap) x = box.wrap(x, A);
-    X[i] = x;
-    V[i] = v + c * f;  // predicted v(t+Δt)
+    double v, s, x, jj = 0.0;
+    if constexpr (impulse) jj = J[i];
+    if constexpr (relaxed) {
+      // dv/dt = a + λ (u_g − v), λ = K/m, over h with a, λ, u_g frozen (Kick::relaxed).
+      const double lam = im * K[i];
+      const double c = 1.0 / (1.0 + lam * h);
+      const double acc = im * f, ug = UG[i];
+      const double m = One ? a.one_mass : M[i];
+      auto kick = [&](double v0, bool with_impulse) {
+        const double v1 = c * (v0 + h * (acc + lam * ug));
+        if (impulse && with_impulse) jj += m * (v1 - v0) - h * f;
+        return v1;
+      };
+      v = Pending ? kick(HV[i], true) : V[i];  // v(t)
+      s = X[i] + v;
+      v = kick(v, true);  // half kick
+      HV[i] = v;
+      x = X[i] + dt * v;
+      if constexpr (Wrap) x = box.wrap(x, A);
+      X[i] = x;
+      V[i] = kick(v, false);  // predicted v(t+Δt)
+    } else {
+      const double c = h * im;  // PlainKick's factor
+      if constexpr (impulse) {
+        if constexpr (Pending) jj += h * DF[i];
+        jj += h * DF[i];
+      }
+      v = Pending ? HV[i] + c * f : V[i];  // v(t)
+      s = X[i] + v;
+      v += c * f;  // half kick
+      HV[i] = v;
+      x = X[i] + dt * v;
+      if constexpr (Wrap) x = box.wrap(x, A);
+      X[i] = x;
+      V[i] = v + c * f;  // predicted v(t+Δt)
+    }
+    if constexpr (impulse) J[i] = jj;
     F[i] = Grav ? 0.0 + (One ? a.one_mass : M[i]) * g : 0.0;
     const double e = Measure ? box.min_image(x - X0[i], A) : dt * v;
     // A NaN e (a NaN force met this step) is left out: it says nothing of the state at t,
@@ -198,7 +259,7 @@ inline double* pass_scratch(std::size_t n) {
   return static_cast<double*>(m.p);
 }
 
-/// Particles [i0, i1) of the one pass per step without a gas (VelocityVerlet::step): the
+/// Particles [i0, i1) of the one pass per step, final kick deferred (VelocityVerlet::step): the
 /// state at t, completed by the last step's final kick if @p Pending, checked for
 /// finite values, then the first half of the step (the forces set to the weight with
 /// @p Grav). Returns the largest squared displacement since the contact list's build
@@ -215,7 +276,7 @@ inline double* pass_scratch(std::size_t n) {
 /// at t to be finite (through the squared displacement, verlet_axis), where
 /// verlet_state_finite asks their sum: the same answer short of overflow (itself a
 /// blow-up).
-template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>
+template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One, DragKick D>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 32768;
   // Each particle's squared displacement (NaN if its state is not finite), per block.
@@ -223,9 +284,9 @@ double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std
   double worst = 0.0;
   for (std::size_t b0 = i0; b0 < i1; b0 += block) {
     const std::size_t b1 = std::min(i1, b0 + block);
-    verlet_axis<0, true, Pending, Wrap, Measure, Grav, One>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, d2);
-    verlet_axis<1, false, Pending, Wrap, Measure, Grav, One>(a, a.y, a.vy, a.fy, a.hvy, a.y0, a.g.y, box, dt, b0, b1, d2);
-    verlet_axis<2, false, Pending, Wrap, Measure, Grav, One>(a, a.z, a.vz, a.fz, a.hvz, a.z0, a.g.z, box, dt, b0, b1, d2);
+    verlet_axis<0, true, Pending, Wrap, Measure, Grav, One, D>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, d2);
+    verlet_axis<1, false, Pending, Wrap, Measure, Grav, One, D>(a, a.y, a.vy, a.fy, a.hvy, a.y0, a.g.y, box, dt, b0, b1, d2);
+    verlet_axis<2, false, Pending, Wrap, Measure, Grav, One, D>(a, a.z, a.vz, a.fz, a.hvz, a.z0, a.g.z, box, dt, b0, b1, d2);
     if constexpr (Rot) {
       verlet_spin_axis<Pending, One>(a, a.wx, a.tx, a.hwx, dt, b0, b1, d2);
       verlet_spin_axis<Pending, One>(a, a.wy, a.ty, a.hwy, dt, b0, b1, d2);

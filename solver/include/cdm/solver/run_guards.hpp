@@ -37,8 +37,9 @@ class RunGuards {
   /// Throws SimulationError if the particles' state at @p time (after @p step steps) is
   /// not finite, a particle left the gas domain, or an overlap reached its bound.
   /// @p nonfinite: the integrator's own finiteness check (1 found, 0 none), or −1 to
-  /// check here.
-  void check(double time, std::uint64_t step, double nonfinite = -1.0) const;
+  /// check here. @p gas_read: whether the gas read (or is about to read) the particles'
+  /// positions at this step; the gas domain is checked only then.
+  void check(double time, std::uint64_t step, double nonfinite = -1.0, bool gas_read = true) const;
   /// Throws SimulationError if the gas state is not finite or its Courant number above
   /// 1 after a gas step of @p dtg ending at @p time.
   void check_gas(const fluid::GasSolver& solver, double dtg, double time) const;

@@ -15,9 +15,11 @@ namespace cdm::integrators {
 ///
 /// Outside the contacts the step is memory-bound, so every pass over the particles
 /// saved is a stream of the whole state saved. Where nothing but the particles reads
-/// the velocities between steps (no gas), the final kick of a step is left pending and
+/// the velocities between steps, the final kick of a step is left pending and
 /// done in the same pass as the next step's first half (complete() does it alone when
-/// the state is read in between): one pass per step. Otherwise two passes, each fused:
+/// the state is read in between): one pass per step. With a gas that holds where the
+/// drag's reaction is deposited once per gas step (the gas step completes the step
+/// first). Otherwise two passes, each fused:
 /// (half kick, drift, predicted velocity and spin, then the forces zeroed once read)
 /// and (final kick and spin, and the finiteness check). Both orders do the same
 /// arithmetic per particle: the results are identical.
@@ -32,8 +34,8 @@ class VelocityVerlet final : public Integrator {
   void permute(const std::vector<std::uint32_t>& from) override;
 
  private:
-  /// The one fused pass per step without a gas.
-  double step_deferred(StepHost& host);
+  /// The one fused pass per step where nothing reads the velocities between steps.
+  double step_deferred(StepHost& host, StepTimes times);
   /// The final half kick for every particle, into the store; 1 if the state is then
   /// not finite, else 0.
   double final_kick();
@@ -45,7 +47,8 @@ class VelocityVerlet final : public Integrator {
   PeriodicBox box_;
   Vec3 g_;        // [m/s^2], applied in the pass where a gravity module is built
   bool gravity_;
-  bool deferred_; // no gas: the final kick waits for the next step or a read
+  bool deferred_; // the final kick waits for the next step or a read
+  int drag_kick_; // verlet::DragKick of the fused pass
   Kick kick_;
   bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   // Whether every particle has the same m, 1/m and 1/I (ParticleStore::same_mass): 1 yes,
