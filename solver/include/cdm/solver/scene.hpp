@@ -106,7 +106,7 @@ struct SceneSpec {
 
   std::vector<Material> materials;
   PairTable pairs;
-  std::vector<PlaneWall> walls;
+  std::vector<Wall> walls;
   /// Axes along which particles wrap and interact through the faces: from `[periodic]`,
   /// or those of a gas whose boundaries are periodic.
   PeriodicBox periodic;

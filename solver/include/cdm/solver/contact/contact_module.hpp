@@ -42,7 +42,7 @@ struct OverlapRecord {
 class ContactModule final : public ForceModule {
  public:
   /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
-  ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0,
+  ContactModule(PairTable pairs, std::vector<Wall> walls, bool with_friction, double skin = 0.0,
                 bool record_normal_forces = false);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
@@ -66,7 +66,10 @@ class ContactModule final : public ForceModule {
   void set_prefetch(Prefetch p) { prefetch_ = p; }
   /// Whether the last evaluation prefetched.
   bool prefetched() const { return prefetched_; }
-  const std::vector<PlaneWall>& walls() const { return list_.walls(); }
+  /// The walls where they stand at the time set by set_time().
+  const std::vector<Wall>& walls() const { return list_.walls(); }
+  /// The time [s] of the positions the next evaluation sees (where moving walls are).
+  void set_time(double t) { list_.set_time(t); }
   const PairTable& pairs() const { return pairs_; }
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
