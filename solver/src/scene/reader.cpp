@@ -14,7 +14,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
-            "periodic", "neighbour_list", "monitors"}},
+            "periodic", "neighbour_list", "monitors",
+            "meshes"}},
       {"periodic", {"x", "y", "z"}},
       {"neighbour_list", {"sort_interval"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
@@ -32,6 +33,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"materials[]", {"name", "density", "youngs_modulus", "poisson_ratio", "fixed"}},
       {"contacts[]", {"pair", "model", "kn", "en", "damping", "kt_factor", "etat_factor", "mu", "rolling_mu"}},
       {"walls[]", {"name", "point", "normal", "material"}},
+      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},

@@ -21,6 +21,8 @@ void check_elastic_constants_used(const Reader& rd, const SceneSpec& spec);
 // walls_periodic.cpp
 void read_walls(const Reader& rd, SceneSpec& spec);
 void read_periodic(const Reader& rd, SceneSpec& spec);
+// meshes.cpp
+void read_meshes(const Reader& rd, SceneSpec& spec);
 // gas.cpp, prescribed_field.cpp, coupling.cpp
 void read_gas(const Reader& rd, SceneSpec& spec);
 void read_prescribed_field(const Reader& rd, const toml::table& gt, SceneSpec& spec);
