@@ -9,8 +9,11 @@
 namespace cdm {
 
 namespace {
-/// Two distances equal to within rounding: the same point seen from two triangles.
-constexpr double tie = 1e-9;
+/// Two closest points this close, relative to the radius, are the same point seen from two
+/// triangles (rounding moves a closest point by ~1e-16 of the coordinates; where two
+/// triangles' distances tie to rounding their closest points may lie ~1e-8 d apart, the
+/// distance being flat to second order at its minimum).
+constexpr double same = 1e-7;
 /// Largest number of grid cells (4 Mi: 16 MiB of cell starts).
 constexpr double max_cells = 4.0 * 1024 * 1024;
 }  // namespace
@@ -94,6 +97,14 @@ void MeshContacts::build_grid(double reach) {
   visit([&](std::size_t cell, std::uint32_t t) { cell_tris_[fill[cell]++] = t; });
 }
 
+bool MeshContacts::adjacent(std::uint32_t a, std::uint32_t b) const {
+  const auto& u = tri_v_[a];
+  const auto& v = tri_v_[b];
+  for (std::uint32_t x : u)
+    if (x == v[0] || x == v[1] || x == v[2]) return true;
+  return false;
+}
+
 bool MeshContacts::contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const {
   const auto& ids = f == MeshFeature::edge ? tri_e_[t] : tri_v_[t];
   return ids[0] == id || ids[1] == id || ids[2] == id;
@@ -138,20 +149,29 @@ void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Co
     ++nt;
   }
   auto at = [&](std::size_t k) -> const Touch& { return k < 64 ? touch[k] : more[k - 64]; };
+  // Ranks the candidates (faces first, then nearer, then lower index: a strict order, so
+  // no two can remove each other and the best of a region always stays).
+  auto before = [](const Touch& b, const Touch& a) {
+    const bool bf = b.feature == MeshFeature::face, af = a.feature == MeshFeature::face;
+    if (bf != af) return bf;
+    if (b.distance != a.distance) return b.distance < a.distance;
+    return b.triangle < a.triangle;
+  };
+  const double same_point = same * r;
   for (std::size_t k = 0; k < nt; ++k) {
     const Touch& a = at(k);
     bool keep = true;
-    if (a.feature != MeshFeature::face) {
-      // Not a local minimum if a triangle containing its edge or vertex is nearer, or as
-      // near and a face or of lower index (the same point, counted once).
-      for (std::size_t j = 0; j < nt && keep; ++j) {
-        if (j == k) continue;
-        const Touch& b = at(j);
-        if (!contains(b.triangle, a.feature, a.feature_id)) continue;
-        if (b.distance < a.distance * (1.0 - tie) ||
-            (b.distance <= a.distance * (1.0 + tie) && (b.feature == MeshFeature::face || b.triangle < a.triangle)))
-          keep = false;
-      }
+    for (std::size_t j = 0; j < nt && keep; ++j) {
+      if (j == k) continue;
+      const Touch& b = at(j);
+      if (!before(b, a)) continue;
+      // The same point seen from an adjacent triangle: counted once.
+      if (adjacent(a.triangle, b.triangle) && dot(b.point - a.point, b.point - a.point) <= same_point * same_point)
+        keep = false;
+      // An edge or vertex that a better-ranked triangle contains is no local minimum (or
+      // the same one): from it the distance decreases, or stays, into that triangle.
+      else if (a.feature != MeshFeature::face && contains(b.triangle, a.feature, a.feature_id))
+        keep = false;
     }
     if (!keep) continue;
     Contact c;

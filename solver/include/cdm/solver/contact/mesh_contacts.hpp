@@ -13,9 +13,11 @@
 /// when it is a local minimum of |X - q| over the mesh. A face point always is (the
 /// distance grows in every direction within the face). An edge or vertex point f is not
 /// when another triangle that contains f is nearer: the distance over a triangle is
-/// convex, so from f it decreases into that triangle. Triangles reporting the same point
-/// (equal distances to within 1e-9, rounding) count once: a face among them is kept, else
-/// the one of lowest index. So a flat mesh, however finely tessellated, gives exactly the
+/// convex, so from f it decreases into that triangle. Adjacent triangles reporting the same
+/// point (to 1e-7 of the radius: rounding) count once. Both tests defer only to a
+/// better-ranked triangle (faces first, then the nearer, then the lower index), a strict
+/// order, so two candidates never remove each other and every touching region keeps its
+/// best. So a flat mesh, however finely tessellated, gives exactly the
 /// plane's single contact, on a face, an edge or a vertex; a convex edge or corner gives
 /// one contact at its closest point; a concave corner gives one contact per face. (LIGGGHTS
 /// marks edges and corners between coplanar triangles inactive beforehand instead; the
@@ -96,6 +98,7 @@ class MeshContacts {
     Vec3 point, eta;
   };
   bool contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const;
+  bool adjacent(std::uint32_t a, std::uint32_t b) const;  // share a vertex
   std::uint64_t fingerprint() const;
 
   std::vector<TriangleMesh> meshes_;
