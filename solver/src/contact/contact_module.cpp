@@ -415,7 +415,7 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
   // m* = m_i and R* = R_i; each particle only touches its own force.
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
-  mesh_->update(p, threads);
+  mesh_->update(p, threads, list_.builds(), list_.skin());
   std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
   const long first = -1 - static_cast<long>(list_.walls().size());
   auto mesh_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {

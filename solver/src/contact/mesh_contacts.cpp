@@ -16,6 +16,27 @@ namespace {
 constexpr double same = 1e-7;
 /// Largest number of grid cells (4 Mi: 16 MiB of cell starts).
 constexpr double max_cells = 4.0 * 1024 * 1024;
+/// range(i0, i1, out) appends what particles [i0, i1) give to @p out; with @p threads
+/// each thread takes its share of the particles (thread_range, as the integrator's pass)
+/// into its own buffer, and the buffers are joined in thread order, which is particle
+/// order: the result is the one a single thread makes.
+template <class T, class Range>
+void in_particle_order(std::size_t n, bool threads, Range& range, std::vector<T>& out) {
+  if (!threads) {
+    range(0, n, out);
+    return;
+  }
+  std::vector<std::vector<T>> part;
+#pragma omp parallel
+  {
+#pragma omp single
+    part.resize(thread_id().second);
+    const auto [i0, i1] = thread_range(n);
+    range(i0, i1, part[thread_id().first]);
+  }
+  for (auto& v : part) out.insert(out.end(), v.begin(), v.end());
+}
+
 }  // namespace
 
 MeshContacts::MeshContacts(std::vector<TriangleMesh> meshes) : meshes_(std::move(meshes)) {
@@ -110,19 +131,41 @@ bool MeshContacts::contains(std::uint32_t t, MeshFeature f, std::uint32_t id) co
   return ids[0] == id || ids[1] == id || ids[2] == id;
 }
 
-void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out) const {
+std::pair<const std::uint32_t*, const std::uint32_t*> MeshContacts::cell_triangles(Vec3 x) const {
   const long ix = static_cast<long>(std::floor((x.x - lo_.x) / h_));
   const long iy = static_cast<long>(std::floor((x.y - lo_.y) / h_));
   const long iz = static_cast<long>(std::floor((x.z - lo_.z) / h_));
-  if (!(ix >= 0 && ix < nx_ && iy >= 0 && iy < ny_ && iz >= 0 && iz < nz_)) return;  // NaN too
+  if (!(ix >= 0 && ix < nx_ && iy >= 0 && iy < ny_ && iz >= 0 && iz < nz_)) return {nullptr, nullptr};  // NaN too
   const std::size_t cell = static_cast<std::size_t>((iz * ny_ + iy) * nx_ + ix);
-  // The triangles the sphere touches, in triangle order.
-  Touch touch[64];
-  std::vector<Touch> more;  // past 64 (a sphere far larger than the triangles)
-  std::size_t nt = 0;
-  for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-    const std::uint32_t t = cell_tris_[k];
+  return {cell_tris_.data() + cell_start_[cell], cell_tris_.data() + cell_start_[cell + 1]};
+}
+
+double MeshContacts::distance(Vec3 x, std::uint32_t t) const {
+  const auto& c = corner_[t];
+  const Vec3 q = closest_point_on_triangle(x, c[0], c[1], c[2]).point;
+  return norm(q - x);
+}
+
+void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out) const {
+  const auto [t0, t1] = cell_triangles(x);
+  find_among(x, r, particle, t0, t1, out);
+}
+
+void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const std::uint32_t* t0,
+                              const std::uint32_t* t1, std::vector<Contact>& out) const {
+  if (t0 == t1) return;  // most particles: no candidate
+  // The triangles the sphere touches, in triangle order (one buffer per thread, reused:
+  // no allocation once it has grown).
+  thread_local std::vector<Touch> touch;
+  touch.clear();
+  for (const std::uint32_t* tp = t0; tp != t1; ++tp) {
+    const std::uint32_t t = *tp;
     const auto& c = corner_[t];
+    // The plane's distance bounds the triangle's from below: most candidates beside a
+    // contact lie in other planes and end here.
+    const Vec3 n = normal_[t];
+    const double s = dot(x - c[0], n);
+    if (!(std::abs(s) < r)) continue;
     const TrianglePoint cp = closest_point_on_triangle(x, c[0], c[1], c[2]);
     Touch h;
     h.triangle = t;
@@ -130,8 +173,6 @@ void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Co
     h.point = cp.point;
     if (cp.feature == MeshFeature::face) {
       // The plane's distance and normal, as a plane wall computes them.
-      const Vec3 n = normal_[t];
-      const double s = dot(x - c[0], n);
       h.distance = std::abs(s);
       h.eta = s >= 0.0 ? -n : n;
       h.feature_id = t;
@@ -144,11 +185,10 @@ void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Co
       h.feature_id = cp.feature == MeshFeature::edge ? tri_e_[t][idx] : tri_v_[t][idx];
     }
     if (!(h.distance < r)) continue;
-    if (nt < 64) touch[nt] = h;
-    else more.push_back(h);
-    ++nt;
+    touch.push_back(h);
   }
-  auto at = [&](std::size_t k) -> const Touch& { return k < 64 ? touch[k] : more[k - 64]; };
+  const std::size_t nt = touch.size();
+  auto at = [&](std::size_t k) -> const Touch& { return touch[k]; };
   // Ranks the candidates (faces first, then nearer, then lower index: a strict order, so
   // no two can remove each other and the best of a region always stays).
   auto before = [](const Touch& b, const Touch& a) {
@@ -185,11 +225,37 @@ void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Co
   }
 }
 
-void MeshContacts::update(const ParticleStore& p, bool threads) {
+void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool threads) {
   const std::size_t n = p.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p.radius[i]);
-  if (rmax > reach_) build_grid(rmax);
+  if (rmax + margin > reach_) build_grid(rmax + margin);
+  cand_start_.assign(n + 1, 0);
+  // Particles [i0, i1): their counts in cand_start_[i + 1], their triangles appended to out.
+  auto range = [&](std::size_t i0, std::size_t i1, std::vector<std::uint32_t>& out) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const Vec3 x = p.position(i);
+      const double reach = p.radius[i] + margin;
+      const auto [t0, t1] = cell_triangles(x);
+      const std::size_t before = out.size();
+      for (const std::uint32_t* t = t0; t != t1; ++t)
+        if (distance(x, *t) < reach) out.push_back(*t);
+      cand_start_[i + 1] = static_cast<std::uint32_t>(out.size() - before);
+    }
+  };
+  cand_.clear();
+  in_particle_order(n, threads, range, cand_);
+  for (std::size_t i = 0; i < n; ++i) cand_start_[i + 1] += cand_start_[i];
+  listed_ = true;
+}
+
+void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin) {
+  const std::size_t n = p.size();
+  // The candidates hold while no particle has moved more than the margin since they
+  // were listed: listed again whenever the Verlet list was built (it is built before any
+  // particle moves half its skin, the margin here).
+  if (!listed_ || builds != builds_ || cand_start_.size() != n + 1) list_candidates(p, margin, threads);
+  builds_ = builds;
   std::swap(prev_, contacts_);
   contacts_.clear();
   // The contacts of particles [i0, i1), with the history of their previous contacts.
@@ -199,7 +265,8 @@ void MeshContacts::update(const ParticleStore& p, bool threads) {
     std::uint64_t used = 0;
     for (std::size_t i = i0; i < i1; ++i) {
       const std::size_t first = out.size();
-      find(p.position(i), p.radius[i], static_cast<std::uint32_t>(i), out);
+      find_among(p.position(i), p.radius[i], static_cast<std::uint32_t>(i), cand_.data() + cand_start_[i],
+                 cand_.data() + cand_start_[i + 1], out);
       while (prev != prev_.end() && prev->particle < i) ++prev;
       auto prev_end = prev;
       while (prev_end != prev_.end() && prev_end->particle == i) ++prev_end;
@@ -224,20 +291,7 @@ void MeshContacts::update(const ParticleStore& p, bool threads) {
       }
     }
   };
-  if (!threads) {
-    range(0, n, contacts_);
-    return;
-  }
-  std::vector<std::vector<Contact>> part;
-#pragma omp parallel
-  {
-#pragma omp single
-    part.resize(thread_id().second);
-    const auto [i0, i1] = thread_range(n);
-    range(i0, i1, part[thread_id().first]);
-  }
-  // Thread order is particle order: the list is the one a single thread makes.
-  for (auto& v : part) contacts_.insert(contacts_.end(), v.begin(), v.end());
+  in_particle_order(n, threads, range, contacts_);
 }
 
 std::uint64_t MeshContacts::fingerprint() const {
@@ -282,6 +336,7 @@ void MeshContacts::load_state(InArchive& a) {
   }
   for (std::size_t k = 1; k < contacts_.size(); ++k)
     if (contacts_[k].particle < contacts_[k - 1].particle) throw ArchiveError("its mesh contact record is corrupted");
+  listed_ = false;
 }
 
 void MeshContacts::permute(const std::vector<std::uint32_t>& from) {
@@ -290,6 +345,7 @@ void MeshContacts::permute(const std::vector<std::uint32_t>& from) {
   for (Contact& c : contacts_) c.particle = c.particle < to.size() ? to[c.particle] : c.particle;
   std::stable_sort(contacts_.begin(), contacts_.end(),
                    [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  listed_ = false;
 }
 
 }  // namespace cdm

@@ -35,14 +35,17 @@
 /// neighbour keeps its history; the force law projects it onto the new tangent plane.
 ///
 /// Search. A uniform grid of cells over the meshes' bounding box lists, per cell, the
-/// triangles that come within the reach (the largest radius) of any point of the cell;
-/// a particle tests the triangles of the cell holding its centre. The grid is built once
-/// (again only if a larger particle appears). Chosen over a bounding-volume tree (such
+/// triangles that come within the reach (the largest radius and the Verlet skin) of any
+/// point of the cell. When the Verlet list is built, each particle lists, from the cell
+/// holding its centre, the triangles within its radius + skin; until the next build it
+/// tests only those (most particles none). The grid is built once (again only if a
+/// larger particle appears). Chosen over a bounding-volume tree (such
 /// as CGAL's AABB tree): a particle's query is one cell lookup and a short list, without
 /// a tree descent per particle and step, and the static grid is read-only, so threads
 /// share it; large triangles are listed only in the cells they come near.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
@@ -69,8 +72,11 @@ class MeshContacts {
 
   /// The contacts at the particles' current positions, history carried from the last
   /// call (see the file's comment); in particle order, each particle's in triangle order.
-  /// Threads split the particles as the integrator's pass does when @p threads.
-  void update(const ParticleStore& p, bool threads);
+  /// Threads split the particles as the integrator's pass does when @p threads. Each
+  /// particle tests its candidates: the triangles within its radius + @p margin [m] when
+  /// they were listed, listed again when @p builds (the Verlet list's build count)
+  /// changes; the Verlet list is built before any particle moves @p margin / 2.
+  void update(const ParticleStore& p, bool threads, std::size_t builds, double margin);
   std::vector<Contact>& contacts() { return contacts_; }
   const std::vector<Contact>& contacts() const { return contacts_; }
 
@@ -84,6 +90,7 @@ class MeshContacts {
   void permute(const std::vector<std::uint32_t>& from);
 
   /// The contacts of one particle at @p x with radius @p r, geometry only (no history).
+  /// The grid must reach r (build_grid).
   void find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out) const;
   /// Lists the triangles within @p reach of every point of each cell (reach: the largest
   /// particle radius). Called by update when a particle exceeds the current reach.
@@ -97,6 +104,13 @@ class MeshContacts {
     double distance;
     Vec3 point, eta;
   };
+  /// find() among the triangles [t0, t1) (in increasing order).
+  void find_among(Vec3 x, double r, std::uint32_t particle, const std::uint32_t* t0, const std::uint32_t* t1,
+                  std::vector<Contact>& out) const;
+  /// The triangles the cell holding @p x lists (none outside the grid).
+  std::pair<const std::uint32_t*, const std::uint32_t*> cell_triangles(Vec3 x) const;
+  double distance(Vec3 x, std::uint32_t t) const;  // from x to triangle t [m]
+  void list_candidates(const ParticleStore& p, double margin, bool threads);
   bool contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const;
   bool adjacent(std::uint32_t a, std::uint32_t b) const;  // share a vertex
   std::uint64_t fingerprint() const;
@@ -112,6 +126,11 @@ class MeshContacts {
   double h_ = 0.0, reach_ = -1.0;
   long nx_ = 0, ny_ = 0, nz_ = 0;
   std::vector<std::uint32_t> cell_start_, cell_tris_;
+
+  // Per particle i, the triangles cand_[cand_start_[i] .. cand_start_[i + 1]) it may touch.
+  std::vector<std::uint32_t> cand_start_, cand_;
+  bool listed_ = false;
+  std::size_t builds_ = 0;
 
   std::vector<Contact> contacts_, prev_;  // this evaluation's and the last's
 };
