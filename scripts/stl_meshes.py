@@ -136,9 +136,10 @@ def bench():
 
 
 def hopper():
-    """A conical hopper: a cone from radius 0.06 m at z = 0.1 down to an outlet of radius
-    0.012 m at z = 0, above a cylinder wall up to z = 0.25; 96 segments around."""
-    segs, rings_cone, rings_cyl = 96, 12, 15
+    """A conical hopper for examples/hopper: a cone from an outlet of radius 12 mm at z = 0
+    up to radius 60 mm at z = 0.1 m (a 64-degree cone, 25.6 degrees from the vertical),
+    under a cylinder up to z = 0.25 m; 64 segments around, 6,144 triangles, binary."""
+    segs, rings_cone, rings_cyl = 64, 12, 36
     r_top, r_out, h_cone, h_cyl = 0.06, 0.012, 0.1, 0.15
     tris = []
 
@@ -155,7 +156,7 @@ def hopper():
             tris += [(a, b, c), (a, c, d)]
     d = os.path.join(ROOT, "examples", "hopper")
     os.makedirs(d, exist_ok=True)
-    write_ascii(os.path.join(d, "hopper.stl"), tris, "hopper")
+    write_binary(os.path.join(d, "hopper.stl"), tris, exact=False)
 
 
 if __name__ == "__main__":
