@@ -88,7 +88,7 @@ void RunGuards::check(double time, std::uint64_t step, double nonfinite, bool ga
       const std::size_t k = p.id_of(static_cast<std::size_t>(w.partner));
       os << "particle " << k << " (" << particle_source(spec_, k) << ")";
     }
-    else os << "wall '" << contact_->walls()[static_cast<std::size_t>(-1 - w.partner)].name << "'";
+    else os << contact_->wall_name(w.partner);
     os << ". Likely cause: the normal spring is too soft to stop the particle within its radius at this impact "
           "speed (raise kn), or the time step is too large";
     cause(os);

@@ -34,6 +34,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
                                              spec_.tangential == TangentialModel::spring_coulomb, spec_.verlet_skin, rolling);
     contact_ = c.get();
     contact_->set_periodic_box(spec_.periodic);
+    if (!spec_.meshes.empty()) contact_->set_meshes(spec_.meshes);
     modules_.push_back(std::move(c));
     // Rolling resistance acts through the contacts just evaluated, so it runs after them.
     if (rolling) modules_.push_back(std::make_unique<RollingResistanceModule>(*contact_));

@@ -52,6 +52,12 @@ ThermoSample thermo_sample(const Simulation& sim) {
         ++s.contacts;
         s.max_overlap_ratio = std::max(s.max_overlap_ratio, overlap / p.radius[i]);
       }
+    // Mesh contacts as the last force evaluation found them (one per touching region).
+    if (const MeshContacts* m = c->meshes())
+      for (const MeshContacts::Contact& mc : m->contacts()) {
+        ++s.contacts;
+        s.max_overlap_ratio = std::max(s.max_overlap_ratio, mc.overlap / p.radius[mc.particle]);
+      }
   }
   if (const fluid::GasField* gas = sim.gas(); gas && gas->has_pressure()) {
     s.has_gas = true;

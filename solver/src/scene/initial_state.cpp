@@ -2,6 +2,7 @@
 /// @brief Checks of the initial state: particles inside the gas domain, the periods and the walls, and apart.
 #include "sections.hpp"
 
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 
 #include <algorithm>
@@ -76,6 +77,27 @@ void check_initial_state(const Reader& rd, const SceneSpec& spec) {
            << (d < 0.0 ? "" : " and clear of the wall (or checks.allow_initial_overlap = true)");
         throw SceneError(os.str());
       }
+    }
+  }
+  // A particle touching a mesh only when the scene says the initial overlap is intended
+  // (which side of an open mesh is inside is not defined, so only the touching is checked).
+  if (!spec.meshes.empty() && !spec.allow_initial_overlap && !spec.particles.empty()) {
+    MeshContacts meshes(spec.meshes);
+    double rmax = 0.0;
+    for (const auto& p : spec.particles) rmax = std::max(rmax, p.radius);
+    meshes.build_grid(rmax);
+    std::vector<MeshContacts::Contact> touch;
+    for (std::size_t i = 0; i < spec.particles.size(); ++i) {
+      const ParticleSpec& p = spec.particles[i];
+      meshes.find(p.position, p.radius, static_cast<std::uint32_t>(i), touch);
+      if (touch.empty()) continue;
+      const MeshContacts::Contact& c = touch.front();
+      std::ostringstream os;
+      os << rd.file() << ": key '" << particle_source(spec, i) << ".position' = [" << p.position.x << ", "
+         << p.position.y << ", " << p.position.z << "] (SI) lies across mesh '"
+         << spec.meshes[meshes.mesh_of(c.triangle)].name << "' (centre distance " << c.lever << " m, radius "
+         << p.radius << " m): expected a particle clear of the mesh (or checks.allow_initial_overlap = true)";
+      throw SceneError(os.str());
     }
   }
   // Overlaps between particles matter only when a contact model acts between them.

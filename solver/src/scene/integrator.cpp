@@ -126,6 +126,11 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
         consider(pp, m_min[a], r_min[a], spec.materials[a].name + "-wall '" + w.name + "'");
         if (pp.law == ContactLaw::hertz_mindlin) rayleigh(a);
       }
+      for (const auto& m : spec.meshes) {
+        const PairParams& pp = need(static_cast<int>(a), m.material, "mesh '" + m.name + "' can touch particles of material '" + spec.materials[a].name + "'");
+        consider(pp, m_min[a], r_min[a], spec.materials[a].name + "-mesh '" + m.name + "'");
+        if (pp.law == ContactLaw::hertz_mindlin) rayleigh(a);
+      }
     }
   }
   spec.t_col_min = std::isfinite(t_col) ? t_col : 0.0;

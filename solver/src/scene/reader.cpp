@@ -14,7 +14,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
-            "periodic", "neighbour_list", "monitors"}},
+            "periodic", "neighbour_list", "monitors",
+            "meshes"}},
       {"periodic", {"x", "y", "z"}},
       {"neighbour_list", {"sort_interval"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
@@ -34,6 +35,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"walls[]", {"name", "type", "point", "normal", "material", "axis", "radius", "radius_start", "radius_end",
                    "length", "caps", "side", "motion"}},
       {"walls[].motion", motion_keys()},
+      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},

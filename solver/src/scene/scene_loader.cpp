@@ -40,6 +40,7 @@ SceneSpec load(const std::string& file, const toml::table& root) {
   read_contacts(rd, spec);
   check_elastic_constants_used(rd, spec);
   read_walls(rd, spec);
+  read_meshes(rd, spec);
   read_gas(rd, spec);
   read_periodic(rd, spec);
   // Every scalar before the particles are placed: a bad one is refused before a large

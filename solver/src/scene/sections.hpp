@@ -31,6 +31,8 @@ Vec3 unit_vector(const Reader& rd, const toml::table& t, const std::string& key,
 WallMotion read_motion(const Reader& rd, const toml::table& t, const std::string& key, const std::string& path,
                        const std::string& schema_path);
 void read_periodic(const Reader& rd, SceneSpec& spec);
+// meshes.cpp
+void read_meshes(const Reader& rd, SceneSpec& spec);
 // gas.cpp, prescribed_field.cpp, coupling.cpp
 void read_gas(const Reader& rd, SceneSpec& spec);
 void read_prescribed_field(const Reader& rd, const toml::table& gt, SceneSpec& spec);

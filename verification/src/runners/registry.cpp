@@ -21,7 +21,9 @@ namespace cdm::verification {
   KIND(hertz_impact)              \
   KIND(hertz_restitution)         \
   KIND(oblique_impact)            \
-  KIND(rolling_resistance)
+  KIND(rolling_resistance)        \
+  KIND(mesh_vs_walls)             \
+  KIND(mesh_impact)
 
 namespace runners {
 #define CDM_DECLARE_RUNNER(name) RunOutput name(const CaseDef&, const Variant&, const RunConfig&);

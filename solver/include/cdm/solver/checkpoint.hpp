@@ -42,7 +42,7 @@ struct OutputMarks {
   std::vector<std::uint64_t> monitors;          ///< bytes of each monitor's table, in scene order
 };
 
-constexpr std::uint32_t checkpoint_format_version = 5;
+constexpr std::uint32_t checkpoint_format_version = 6;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

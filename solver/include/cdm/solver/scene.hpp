@@ -19,6 +19,7 @@
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
 #include "cdm/solver/io/vtk_xml.hpp"
+#include "cdm/solver/contact/mesh_geometry.hpp"
 #include "cdm/solver/walls.hpp"
 
 namespace cdm {
@@ -107,6 +108,7 @@ struct SceneSpec {
   std::vector<Material> materials;
   PairTable pairs;
   std::vector<Wall> walls;
+  std::vector<TriangleMesh> meshes;  // [[meshes]], placed, in SI
   /// Axes along which particles wrap and interact through the faces: from `[periodic]`,
   /// or those of a gas whose boundaries are periodic.
   PeriodicBox periodic;

@@ -3,9 +3,11 @@
 /// @brief Contacts between particles and with walls: the pair and wall loops over a
 /// Verlet list (verlet_list.hpp), each contact resolved by its pair's force law.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
 #include "cdm/solver/force_module.hpp"
 #include "cdm/solver/materials.hpp"
@@ -17,7 +19,7 @@ namespace cdm {
 struct OverlapRecord {
   double ratio = 0.0;         // overlap / radius of the smaller partner [-]
   std::uint32_t particle = 0; // particle whose radius that is
-  long partner = -1;          // other particle, or -1 - wall index for a wall
+  long partner = -1;          // other particle, or -1 - wall index for a wall (walls, then meshes)
 };
 
 /// Normal contact between particles and with walls, each pair of materials with its own
@@ -70,11 +72,20 @@ class ContactModule final : public ForceModule {
   const std::vector<Wall>& walls() const { return list_.walls(); }
   /// The time [s] of the positions the next evaluation sees (where moving walls are).
   void set_time(double t) { list_.set_time(t); }
+  /// Triangle-mesh walls (mesh_contacts.hpp), resolved after the analytic walls with the
+  /// same laws; an OverlapRecord names mesh m as partner -1 - (walls().size() + m).
+  void set_meshes(std::vector<TriangleMesh> meshes) { mesh_.emplace(std::move(meshes)); }
+  const MeshContacts* meshes() const { return mesh_ ? &*mesh_ : nullptr; }
+  /// The wall or mesh an OverlapRecord's negative partner names ("wall 'x'", "mesh 'y'").
+  std::string wall_name(long partner) const;
   const PairTable& pairs() const { return pairs_; }
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
-  void permute(const std::vector<std::uint32_t>& from) override { list_.permute(from); }
+  void permute(const std::vector<std::uint32_t>& from) override {
+    list_.permute(from);
+    if (mesh_) mesh_->permute(from);
+  }
 
   /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
@@ -110,6 +121,10 @@ class ContactModule final : public ForceModule {
   void dispatch(ParticleStore& p, double dt);
   template <bool Friction, LawsPresent L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
+  /// The mesh contacts (mesh_contacts.hpp), after the plane walls, with the pair loop's laws.
+  template <bool Friction, LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
+  void mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,
+                 StepSpin& step_spin, std::size_t& active, OverlapRecord& worst);
   /// Fills eta_n_common_ when every free particle has the same mass, else empties it.
   void tabulate_damping(const ParticleStore& p);
 
@@ -131,6 +146,7 @@ class ContactModule final : public ForceModule {
   bool prefetched_ = false;
   OverlapRecord worst_;
   std::size_t n_active_ = 0;
+  std::optional<MeshContacts> mesh_;
 };
 
 }  // namespace cdm
