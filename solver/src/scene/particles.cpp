@@ -189,10 +189,12 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
     }
   }
   if (const toml::array* rs = rd.array_of_tables(rd.root(), "random_particles")) read_random_particles(rd, *rs, spec);
-  if (spec.particles.empty() && spec.gas != GasModel::solved)
-    rd.fail_missing("particles", "at least one [[particles]], [[lattices]], [[shells]] or [[random_particles]] entry");
+  if (spec.particles.empty() && spec.gas != GasModel::solved && spec.insertions.empty())
+    rd.fail_missing("particles",
+                    "at least one [[particles]], [[lattices]], [[shells]], [[random_particles]] or [[insertions]] entry");
   double d_max = 0.0;
   for (const auto& ps : spec.particles) d_max = std::max(d_max, 2.0 * ps.radius);
+  for (const auto& in : spec.insertions) d_max = std::max(d_max, 2.0 * in.size.largest());
   spec.verlet_skin = 0.1 * d_max;
 }
 

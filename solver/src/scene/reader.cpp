@@ -14,7 +14,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> s = {
       {"", {"units", "modules", "gravity", "materials", "contacts", "walls", "particles",
             "lattices", "shells", "random_particles", "gas", "drag", "coupling", "integrator", "output", "checks",
-            "periodic", "neighbour_list", "monitors"}},
+            "periodic", "neighbour_list", "monitors", "insertions", "outlets"}},
       {"periodic", {"x", "y", "z"}},
       {"neighbour_list", {"sort_interval"}},
       {"modules", {"gravity", "normal_contact", "tangential", "rolling_resistance", "gas", "drag", "pressure_gradient",
@@ -27,7 +27,12 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"gas.field", {"type", "amplitude", "period", "wavenumber", "velocity", "pressure_gradient"}},
       {"drag", {"update", "void_fraction"}},
       {"shells[]", {"material", "radius", "center", "shell_radius", "count", "dimension"}},
-      {"random_particles[]", {"material", "radius", "lower", "upper", "count", "seed", "allow_overlap"}},
+      {"random_particles[]", {"material", "radius", "size", "lower", "upper", "count", "seed", "allow_overlap"}},
+      {"random_particles[].size", {"distribution", "basis", "radii", "fractions", "mean", "std", "median", "sigma", "min", "max"}},
+      {"insertions[]", {"material", "radius", "size", "lower", "upper", "count_rate", "mass_rate", "count", "mass", "start",
+                        "end", "interval", "velocity", "seed"}},
+      {"insertions[].size", {"distribution", "basis", "radii", "fractions", "mean", "std", "median", "sigma", "min", "max"}},
+      {"outlets[]", {"name", "type", "point", "normal", "lower", "upper"}},
       {"gravity", {"g"}},
       {"materials[]", {"name", "density", "youngs_modulus", "poisson_ratio", "fixed"}},
       {"contacts[]", {"pair", "model", "kn", "en", "damping", "kt_factor", "etat_factor", "mu", "rolling_mu"}},
@@ -87,6 +92,11 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"monitors[].type", names(monitor_keywords)},
       {"monitors[].axis", {"x", "y", "z"}},
       {"output.vtk_format", names(vtk::encoding_keywords)},
+      {"random_particles[].size.distribution", names(size_kind_keywords)},
+      {"random_particles[].size.basis", names(size_basis_keywords)},
+      {"insertions[].size.distribution", names(size_kind_keywords)},
+      {"insertions[].size.basis", names(size_basis_keywords)},
+      {"outlets[].type", {"plane", "box"}},
   };
   return s;
 }

@@ -72,6 +72,7 @@ class ContactModule final : public ForceModule {
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
   void permute(const std::vector<std::uint32_t>& from) override { list_.permute(from); }
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override { list_.remap(from, p); }
 
   /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
