@@ -40,3 +40,13 @@ for f in particles.dat outlets.dat; do
   cmp -s "$work/one/$f" "$work/three/$f" || fail "1 and 3 threads give different $f"
 done
 echo "population: 1 and 3 threads bit-identical"
+
+# A particle that leaves the gas domain through an outlet is removed; without the outlet
+# there it stops the run (exit 3).
+drop="$src/tests/cli/scenes/drop_through_outlet.toml"
+"$cdm" run "$drop" -q -o "$work/drop" > /dev/null || fail "a particle leaving through an outlet stopped the run"
+tail -1 "$work/drop/outlets.dat" | awk '{exit !($4 == 1 && $(NF-1) == 0)}' || fail "the outlet did not record the particle"
+"$cdm" run "$drop" -q -o "$work/drop2" --set 'outlets[0].point=[0.0,0.0,-0.01]' > /dev/null 2> "$work/drop2.err"
+rc=$?
+[ $rc -eq 3 ] && grep -q "left the gas domain" "$work/drop2.err" || fail "leaving the gas domain elsewhere: exit $rc, expected 3"
+echo "population: an outlet at the gas domain's face removes, elsewhere leaving it stops the run"
