@@ -219,4 +219,23 @@ TEST(SceneInsertions, RandomBlocksShareAPeriodicBox) {
   }
 }
 
+// A lattice with a size table: radii drawn per site within the cut-offs; sites closer
+// than the largest diameter refused.
+TEST(SceneInsertions, LatticeWithSizes) {
+  const std::string lattice = "[[lattices]]\nmaterial = \"glass\"\norigin = [0.002, 0.002, 0.002]\n"
+                              "spacing = [0.003, 0.003, 0.003]\ncount = [4, 4, 2]\n"
+                              "size = { distribution = \"uniform\", min = 0.0009, max = 0.0014 }\n\n[[insertions]]";
+  const auto s = cdm::load_scene_from_string(replace(base, "[[insertions]]", lattice), "good.toml");
+  ASSERT_EQ(s.particles.size(), 32u);
+  bool differ = false;
+  for (const auto& p : s.particles) {
+    EXPECT_GE(p.radius, 0.0009);
+    EXPECT_LE(p.radius, 0.0014);
+    differ = differ || p.radius != s.particles[0].radius;
+  }
+  EXPECT_TRUE(differ);
+  expect_refused(replace(base, "[[insertions]]", replace(lattice, "spacing = [0.003, 0.003, 0.003]", "spacing = [0.003, 0.0025, 0.003]")),
+                 {"lattices[0].spacing", "largest diameter"});
+}
+
 }  // namespace
