@@ -7,14 +7,15 @@
   - particles and particle_mass equal the rows of particles.dat at that time and the
     mass of their radii (rho pi d^3 / 6, density given), to 1e-12;
   - inserted = min(total, floor(rate * t_event)) with t_event the last insertion event
-    (insertions every INTERVAL, sampled at the same steps), and within one particle of
-    rate * k * INTERVAL, the rate the scene asks for.
-Usage: check_population.py OUTDIR DENSITY RATE INTERVAL TOTAL"""
+    (insertions every INTERVAL from START, sampled at the same steps), and within one
+    particle of rate * k * INTERVAL, the rate the scene asks for.
+Usage: check_population.py OUTDIR DENSITY RATE INTERVAL TOTAL [START]"""
 import math
 import sys
 from collections import defaultdict
 
 out, density, rate, interval, total = sys.argv[1], *map(float, sys.argv[2:6])
+start = float(sys.argv[6]) if len(sys.argv) > 6 else 0.0
 
 
 def fail(msg):
@@ -56,8 +57,8 @@ for r in rows:
     got = samples.get(key, [0, 0.0])
     if got[0] != n or abs(got[1] - m) > 1e-12 * max(m, 1e-300):
         fail("t = %r: particles.dat has %d particles of %r kg, outlets.dat %d of %r" % (t, got[0], got[1], n, m))
-    k = math.floor(t / interval + 1e-9)
-    want = min(total, math.floor(rate * t + 1e-9))
+    k = math.floor((t - start) / interval + 1e-9) if t >= start else 0
+    want = min(total, math.floor(rate * (t - start) + 1e-9)) if t >= start else 0
     if ins != want or abs(ins - min(total, rate * k * interval)) > 1.0 + 1e-9:
         fail("t = %r: %d inserted, expected %d (rate %r/s)" % (t, ins, want, rate))
 print("population: %d rows balanced; %d inserted, %d removed, %d left" % (len(rows), ins, rem, n))

@@ -50,3 +50,9 @@ tail -1 "$work/drop/outlets.dat" | awk '{exit !($4 == 1 && $(NF-1) == 0)}' || fa
 rc=$?
 [ $rc -eq 3 ] && grep -q "left the gas domain" "$work/drop2.err" || fail "leaving the gas domain elsewhere: exit $rc, expected 3"
 echo "population: an outlet at the gas domain's face removes, elsewhere leaving it stops the run"
+
+# The example (examples/bed_fed_from_above) runs as its README says, shortened to its
+# first 0.08 s (the drain working, six insertions), and balances.
+"$cdm" run "$src/examples/bed_fed_from_above/scene.toml" -q -o "$work/example" --set integrator.end_time=0.08 > /dev/null ||
+  fail "the example does not run"
+python3 "$check" "$work/example" 2500 4000 0.005 2000 0.05 || fail "the example's balance"
