@@ -104,7 +104,11 @@ void Simulation::update_population() {
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
   complete_step();  // the state at the step's end, velocities included
-  if (leaving) remap(pop.remove(particles_));
+  if (leaving) {
+    remap(pop.remove(particles_));
+    // The identities shifted: messages name particles by number, not by scene key.
+    spec_.groups.clear();
+  }
   if (due) {
     const std::size_t n0 = particles_.size();
     if (pop.insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) > 0) {
@@ -292,6 +296,8 @@ bool Simulation::load_population(InArchive& a, std::uint64_t n) {
   // The store holds n particles from here: the arrays read next are sized to it.
   for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);
   population_->load_state(a);
+  for (const auto& r : population_->removed())
+    if (r.count) spec_.groups.clear();  // as after the removal (update_population)
   return true;
 }
 

@@ -6,9 +6,9 @@
     (the three sums add the same masses in other orders);
   - particles and particle_mass equal the rows of particles.dat at that time and the
     mass of their radii (rho pi d^3 / 6, density given), to 1e-12;
-  - inserted = min(total, floor(rate * t_event)) with t_event the last insertion event
-    (insertions every INTERVAL from START, sampled at the same steps), and within one
-    particle of rate * k * INTERVAL, the rate the scene asks for.
+  - inserted = min(total, rate * k * INTERVAL) at and after insertion event k (events
+    every INTERVAL from START; rate * INTERVAL a whole number): the rate the scene asks
+    for, at every sample, the last one (not on an event) too.
 Usage: check_population.py OUTDIR DENSITY RATE INTERVAL TOTAL [START]"""
 import math
 import sys
@@ -57,8 +57,7 @@ for r in rows:
     got = samples.get(key, [0, 0.0])
     if got[0] != n or abs(got[1] - m) > 1e-12 * max(m, 1e-300):
         fail("t = %r: particles.dat has %d particles of %r kg, outlets.dat %d of %r" % (t, got[0], got[1], n, m))
-    k = math.floor((t - start) / interval + 1e-9) if t >= start else 0
-    want = min(total, math.floor(rate * (t - start) + 1e-9)) if t >= start else 0
-    if ins != want or abs(ins - min(total, rate * k * interval)) > 1.0 + 1e-9:
+    want = min(total, rate * math.floor((t - start) / interval + 1e-9) * interval) if t >= start else 0
+    if ins != round(want):
         fail("t = %r: %d inserted, expected %d (rate %r/s)" % (t, ins, want, rate))
 print("population: %d rows balanced; %d inserted, %d removed, %d left" % (len(rows), ins, rem, n))

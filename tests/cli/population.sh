@@ -30,6 +30,11 @@ for f in particles.dat outlets.dat checkpoint.cdmck; do
   cmp -s "$work/full/$f" "$work/split/$f" || fail "restarted $f differs from the uninterrupted run's"
 done
 echo "population: restarts at steps 1, 400, 2000 and 4500 bit-identical"
+# The same with the paper's Euler scheme (forces from the step before: the inserted
+# particles' weight), restarted once.
+restart_matches "paper_euler" "$scene" "$work/euler" 1777 "${small[@]}" -q --set 'integrator.scheme="paper_euler"' \
+  --set integrator.end_time=0.015
+python3 "$check" "$work/euler/full" 2500 20000 0.002 300 || fail "mass balance or rate (paper_euler)"
 
 # 4,000 particles and more (threads start at 4,096): one and three threads.
 args=(run "$scene" -q --set integrator.end_time=0.012)
