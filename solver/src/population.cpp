@@ -10,6 +10,16 @@
 
 namespace cdm {
 
+namespace {
+
+/// The last insertion event reached at time @p t: k for start + k·interval (interval > 0).
+std::uint64_t event_index(const InsertionSpec& in, double t) {
+  // Clamped: a tiny interval (many events per step) must not overflow the count.
+  return static_cast<std::uint64_t>(std::clamp(std::floor((t - in.start) / in.interval + 1e-9), 0.0, 0x1p62));
+}
+
+}  // namespace
+
 Population::Population(const SceneSpec& spec)
     : spec_(spec), inserted_(spec.insertions.size()), removed_(spec.outlets.size()) {
   for (const auto& in : spec.insertions) feeds_.push_back({std::mt19937_64(in.seed), 0, false});
@@ -50,7 +60,7 @@ bool Population::insertion_due(double t) const {
     const Feed& f = feeds_[k];
     if (f.done || t < in.start * (1.0 - 1e-12)) continue;
     if (in.interval <= 0.0) return true;
-    const auto e = static_cast<std::uint64_t>(std::floor((t - in.start) / in.interval + 1e-9));
+    const std::uint64_t e = event_index(in, t);
     if (e >= f.next_event) return true;
   }
   return false;
@@ -63,7 +73,7 @@ std::size_t Population::insert(ParticleStore& p, double t, Vec3 g) {
     Feed& f = feeds_[k];
     if (f.done || t < in.start * (1.0 - 1e-12)) continue;
     if (in.interval > 0.0) {
-      const auto e = static_cast<std::uint64_t>(std::floor((t - in.start) / in.interval + 1e-9));
+      const std::uint64_t e = event_index(in, t);
       if (e < f.next_event) continue;
       f.next_event = e + 1;
     }

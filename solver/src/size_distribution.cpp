@@ -1,7 +1,9 @@
 #include "cdm/solver/size_distribution.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace cdm {
 
@@ -23,6 +25,19 @@ double SizeDistribution::number_median() const {
   return basis == SizeBasis::mass ? median * std::exp(-3.0 * sigma * sigma) : median;
 }
 
+void SizeDistribution::set_discrete(std::vector<double> r, std::vector<double> f) {
+  kind = SizeKind::discrete;
+  radii = std::move(r);
+  fractions = std::move(f);
+  cumulative.resize(radii.size());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < radii.size(); ++i) {
+    // By mass the count weight is the mass fraction over r³.
+    sum += basis == SizeBasis::mass ? fractions[i] / (radii[i] * radii[i] * radii[i]) : fractions[i];
+    cumulative[i] = sum;
+  }
+}
+
 double SizeDistribution::sample(std::mt19937_64& rng) const {
   // By mass, a radius drawn by number is kept with probability (min/r)³: the number
   // density becomes the given one divided by r³ (uniform and normal only).
@@ -33,18 +48,11 @@ double SizeDistribution::sample(std::mt19937_64& rng) const {
       case SizeKind::fixed:
         return radius;
       case SizeKind::discrete: {
-        double total = 0.0;
-        auto weight = [&](std::size_t i) {
-          return basis == SizeBasis::mass ? fractions[i] / (radii[i] * radii[i] * radii[i]) : fractions[i];
-        };
-        for (std::size_t i = 0; i < radii.size(); ++i) total += weight(i);
-        const double u = uniform01(rng) * total;
-        double cum = 0.0;
-        for (std::size_t i = 0; i + 1 < radii.size(); ++i) {
-          cum += weight(i);
-          if (u < cum) return radii[i];
-        }
-        return radii.back();
+        // The first radius whose running weight exceeds u (the last one if rounding
+        // leaves u at the total).
+        const double u = uniform01(rng) * cumulative.back();
+        const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), u);
+        return radii[std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()), radii.size() - 1)];
       }
       case SizeKind::uniform:
         r = min + uniform01(rng) * (max - min);

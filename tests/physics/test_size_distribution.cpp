@@ -102,10 +102,8 @@ TEST(SizeDistribution, LognormalByNumberAndByMassWithCutoffs) {
 TEST(SizeDistribution, DiscreteByNumberAndByMass) {
   for (SizeBasis b : {SizeBasis::number, SizeBasis::mass}) {
     SizeDistribution d;
-    d.kind = SizeKind::discrete;
     d.basis = b;
-    d.radii = {1e-3, 2e-3, 3e-3};
-    d.fractions = {0.5, 0.3, 0.2};
+    d.set_discrete({1e-3, 2e-3, 3e-3}, {0.5, 0.3, 0.2});
     std::mt19937_64 rng(7);
     const int n = 300000;
     double count[3] = {0, 0, 0}, mass[3] = {0, 0, 0};

@@ -77,17 +77,18 @@ SizeDistribution read_size(const Reader& rd, const toml::table& t, const std::st
     case SizeKind::discrete: {
       rd.reject_unused(*st, "min", sp, "a discrete distribution draws only the listed radii");
       rd.reject_unused(*st, "max", sp, "a discrete distribution draws only the listed radii");
-      d.radii = positive_list(rd, *st, "radii", sp, Dim::length, false);
-      d.fractions = positive_list(rd, *st, "fractions", sp, Dim::none, true);
-      if (d.fractions.size() != d.radii.size())
+      std::vector<double> radii = positive_list(rd, *st, "radii", sp, Dim::length, false);
+      std::vector<double> fractions = positive_list(rd, *st, "fractions", sp, Dim::none, true);
+      if (fractions.size() != radii.size())
         rd.fail_value(sp + ".fractions", *st->get("fractions"),
-                      "one fraction per radius (" + std::to_string(d.radii.size()) + " radii, " +
-                          std::to_string(d.fractions.size()) + " fractions)");
+                      "one fraction per radius (" + std::to_string(radii.size()) + " radii, " +
+                          std::to_string(fractions.size()) + " fractions)");
       double sum = 0.0;
-      for (double f : d.fractions) sum += f;
+      for (double f : fractions) sum += f;
       if (!(std::abs(sum - 1.0) <= 1e-6))
         rd.fail_value(sp + ".fractions", *st->get("fractions"),
                       "fractions summing to 1 (within 1e-6); they sum to " + number_text(sum));
+      d.set_discrete(std::move(radii), std::move(fractions));
       return d;
     }
     case SizeKind::uniform:

@@ -38,10 +38,12 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     const bool exclusive =
         !rd.boolean(t, "allow_overlap", path).value_or(!spec.normal_contact);
     // Random sequential addition (placement.hpp): a new centre clears every particle
-    // placed before it, of this block, of earlier blocks and listed ones, and the walls.
+    // placed before it, of this block, of earlier blocks and listed ones, and the walls;
+    // along periodic axes their images too where contacts act through the faces (as the
+    // initial-overlap check sees them; without contacts the faces are not looked through).
     double r_max = size.largest();
     for (const auto& p : spec.particles) r_max = std::max(r_max, p.radius);
-    SequentialPlacement placed(r_max, spec.walls, spec.periodic);
+    SequentialPlacement placed(r_max, spec.walls, spec.normal_contact ? spec.periodic : PeriodicBox{});
     if (exclusive)
       for (const auto& p : spec.particles) placed.add(p.position, p.radius);
     spec.groups.push_back({path, spec.particles.size(), count, 0, 0});

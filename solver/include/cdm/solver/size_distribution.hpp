@@ -37,13 +37,17 @@ struct SizeDistribution {
   SizeKind kind = SizeKind::fixed;
   SizeBasis basis = SizeBasis::number;
   double radius = 0.0;               ///< fixed: the one radius [m]
-  std::vector<double> radii;         ///< discrete: the radii [m]
+  std::vector<double> radii;         ///< discrete: the radii [m] (set_discrete)
   std::vector<double> fractions;     ///< discrete: their fractions (of the basis), summing to 1
+  std::vector<double> cumulative;    ///< discrete: the running sums of the count weights
   double mean = 0.0, std_dev = 0.0;  ///< normal: mean and standard deviation of the radius [m]
   double median = 0.0, sigma = 0.0;  ///< log-normal: median radius [m], standard deviation of ln r [-]
   double min = 0.0;                  ///< smallest radius drawn [m] (uniform: the lower end)
   double max = std::numeric_limits<double>::infinity();  ///< largest radius drawn [m]
 
+  /// A discrete distribution of @p r with @p f (of the basis set before): the radii,
+  /// the fractions and the cumulative count weights a draw searches.
+  void set_discrete(std::vector<double> r, std::vector<double> f);
   /// One radius [m].
   double sample(std::mt19937_64& rng) const;
   /// The largest radius that can be drawn [m] (finite for every accepted distribution).
