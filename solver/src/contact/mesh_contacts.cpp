@@ -348,4 +348,22 @@ void MeshContacts::permute(const std::vector<std::uint32_t>& from) {
   listed_ = false;
 }
 
+void MeshContacts::remap(const std::vector<std::uint32_t>& from) {
+  std::size_t n_old = 0;
+  for (const Contact& c : contacts_) n_old = std::max<std::size_t>(n_old, c.particle + std::size_t{1});
+  std::vector<std::uint32_t> to(n_old, new_particle);
+  for (std::size_t k = 0; k < from.size(); ++k)
+    if (from[k] != new_particle && from[k] < n_old) to[from[k]] = static_cast<std::uint32_t>(k);
+  std::size_t kept = 0;
+  for (const Contact& c : contacts_)
+    if (to[c.particle] != new_particle) {
+      contacts_[kept] = c;
+      contacts_[kept++].particle = to[c.particle];
+    }
+  contacts_.resize(kept);
+  std::stable_sort(contacts_.begin(), contacts_.end(),
+                   [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  listed_ = false;
+}
+
 }  // namespace cdm

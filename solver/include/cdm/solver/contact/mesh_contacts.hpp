@@ -88,6 +88,9 @@ class MeshContacts {
   void load_state(InArchive& a);
   /// The particles were reordered: new index k holds old particle from[k].
   void permute(const std::vector<std::uint32_t>& from);
+  /// Particles were removed or added: new index k holds old particle from[k], or is new
+  /// (new_particle). The contacts of removed particles are dropped, the others renumbered.
+  void remap(const std::vector<std::uint32_t>& from);
 
   /// The contacts of one particle at @p x with radius @p r, geometry only (no history).
   /// The grid must reach r (build_grid).

@@ -115,6 +115,10 @@ class VerletList {
   std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const;
   /// The particles were reordered (ForceModule::permute).
   void permute(const std::vector<std::uint32_t>& from);
+  /// Particles were removed or added (ForceModule::remap): the listed pairs of removed
+  /// particles are dropped, the history of the others follows them, and the list is
+  /// built again at the next update (carrying that history over).
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p);
 
   // Listed pairs (i < j) in processing order, slab by slab.
   std::size_t size() const { return pi_.size(); }
