@@ -99,9 +99,26 @@ double SizeDistribution::smallest() const {
 }
 
 double SizeDistribution::kept_fraction() const {
+  // By mass, the mean of (min/r)³ over the density on [min, max]: Simpson's rule in
+  // ln r (1000 intervals), accurate where the range spans decades.
+  auto by_mass = [&](auto density) {
+    if (basis != SizeBasis::mass) return 1.0;
+    const int n = 1000;
+    const double a = std::log(min), h = (std::log(max) - a) / n;
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i <= n; ++i) {
+      const double r = std::exp(a + i * h), q = min / r;
+      const double w = ((i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0)) * r * density(r);  // dr = r d(ln r)
+      num += w * q * q * q;
+      den += w;
+    }
+    return den > 0.0 ? num / den : 0.0;
+  };
+  if (kind == SizeKind::uniform) return by_mass([](double) { return 1.0; });
   if (kind == SizeKind::normal) {
     const double lo = std::fmax(min, 0.0);
-    return standard_normal_cdf((max - mean) / std_dev) - standard_normal_cdf((lo - mean) / std_dev);
+    const double kept = standard_normal_cdf((max - mean) / std_dev) - standard_normal_cdf((lo - mean) / std_dev);
+    return kept * by_mass([&](double r) { const double z = (r - mean) / std_dev; return std::exp(-0.5 * z * z); });
   }
   if (kind == SizeKind::lognormal) {
     const double m = number_median();

@@ -179,6 +179,9 @@ TEST(SceneInsertions, SizeTables) {
                  {"insertions[0].size.min", "smallest radius > 0"});
   expect_refused(with("{ distribution = \"normal\", mean = 0.001, std = 0.0001, min = 0.0015, max = 0.002 }"),
                  {"insertions[0].size.min", "0.1 %"});
+  // By mass, a uniform from 1 µm to 1 cm keeps one draw in about 20,000: refused.
+  expect_refused(with("{ distribution = \"uniform\", basis = \"mass\", min = 0.000001, max = 0.01 }"),
+                 {"insertions[0].size.min", "0.1 %"});
   expect_refused(with("{ distribution = \"lognormal\", median = 0.001, sigma = 0.2, mean = 0.001 }"),
                  {"insertions[0].size.mean", "not used"});
   expect_refused(with("{ distribution = \"gamma\" }"), {"insertions[0].size.distribution", "\"lognormal\""});

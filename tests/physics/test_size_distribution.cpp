@@ -149,6 +149,14 @@ TEST(SizeDistribution, HatchChoateMedianAndKeptFraction) {
   n.min = 0.9;
   n.max = 1.1;
   EXPECT_NEAR(n.kept_fraction(), 0.682689492137086, 1e-12);
+  // By mass, a uniform draw is kept with probability (min/r)³: on [1, 3] its mean is
+  // (1/2)(1 − 1/9)/2 = 2/9.
+  SizeDistribution u;
+  u.kind = SizeKind::uniform;
+  u.basis = SizeBasis::mass;
+  u.min = 1.0;
+  u.max = 3.0;
+  EXPECT_NEAR(u.kept_fraction(), 2.0 / 9.0, 1e-9);
 }
 
 TEST(SizeDistribution, SameSeedSameRadii) {

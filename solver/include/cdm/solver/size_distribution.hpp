@@ -54,8 +54,9 @@ struct SizeDistribution {
   double largest() const;
   /// The smallest radius that can be drawn [m] (> 0 for every accepted distribution).
   double smallest() const;
-  /// The fraction of the untruncated number distribution inside [min, max] (1 for
-  /// fixed, discrete and uniform): the acceptance rate of the cut-offs.
+  /// The fraction of draws sample() keeps: of the untruncated distribution, the share
+  /// inside [min, max], times (by mass, uniform and normal) the mean of (min/r)³ there.
+  /// 1 for fixed and discrete.
   double kept_fraction() const;
   /// The number-weighted distribution's median radius [m] (log-normal: by number).
   double number_median() const;
