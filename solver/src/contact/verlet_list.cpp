@@ -9,7 +9,10 @@ namespace cdm {
 
 VerletList::VerletList(std::vector<Wall> walls, bool with_history, double skin)
     : walls_(std::move(walls)), posed_(walls_), history_(with_history), skin_(skin) {
-  for (const Wall& w : walls_) walls_move_ = walls_move_ || w.motion.moving();
+  for (const Wall& w : walls_) {
+    walls_move_ = walls_move_ || w.motion.moving();
+    still_planes_ = still_planes_ && w.shape == WallShape::plane && !w.motion.moving();
+  }
 }
 
 void VerletList::set_time(double t) {
@@ -88,7 +91,10 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
-      if (!filter || posed_[w].reach_distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
+      const Wall& wall = posed_[w];
+      const Vec3 X{x0_[i], y0_[i], z0_[i]};
+      const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
+      if (!filter || reach < p.radius[i] + skin_) {
         wall_ids_.push_back(static_cast<std::uint32_t>(w));
       } else {  // not listed: not in contact with that wall
         if (history) wall_touch_[i * nw + w] = 0;

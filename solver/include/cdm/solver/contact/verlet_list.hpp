@@ -60,6 +60,8 @@ class VerletList {
   double time() const { return time_; }
   /// Whether any wall moves.
   bool walls_move() const { return walls_move_; }
+  /// Whether every wall is a plane at rest.
+  bool still_planes() const { return still_planes_; }
   /// Particles interact through their nearest images along the box's periodic axes.
   void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   const PeriodicBox& periodic_box() const { return box_; }
@@ -179,6 +181,7 @@ class VerletList {
   std::vector<Wall> walls_;  // as the scene placed them (t = 0)
   std::vector<Wall> posed_;  // at time_
   bool walls_move_ = false;
+  bool still_planes_ = true;
   double time_ = 0.0;         // [s]
   double listed_time_ = 0.0;  // when the wall candidates were listed [s]
   bool history_;
