@@ -118,14 +118,6 @@ void MeshContacts::build_grid(double reach) {
   visit([&](std::size_t cell, std::uint32_t t) { cell_tris_[fill[cell]++] = t; });
 }
 
-bool MeshContacts::adjacent(std::uint32_t a, std::uint32_t b) const {
-  const auto& u = tri_v_[a];
-  const auto& v = tri_v_[b];
-  for (std::uint32_t x : u)
-    if (x == v[0] || x == v[1] || x == v[2]) return true;
-  return false;
-}
-
 bool MeshContacts::contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const {
   const auto& ids = f == MeshFeature::edge ? tri_e_[t] : tri_v_[t];
   return ids[0] == id || ids[1] == id || ids[2] == id;
@@ -205,8 +197,8 @@ void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const st
       if (j == k) continue;
       const Touch& b = at(j);
       if (!before(b, a)) continue;
-      // The same point seen from an adjacent triangle: counted once.
-      if (adjacent(a.triangle, b.triangle) && dot(b.point - a.point, b.point - a.point) <= same_point * same_point)
+      // The same point seen from another triangle: counted once.
+      if (dot(b.point - a.point, b.point - a.point) <= same_point * same_point)
         keep = false;
       // An edge or vertex that a better-ranked triangle contains is no local minimum (or
       // the same one): from it the distance decreases, or stays, into that triangle.

@@ -13,8 +13,8 @@
 /// when it is a local minimum of |X - q| over the mesh. A face point always is (the
 /// distance grows in every direction within the face). An edge or vertex point f is not
 /// when another triangle that contains f is nearer: the distance over a triangle is
-/// convex, so from f it decreases into that triangle. Adjacent triangles reporting the same
-/// point (to 1e-7 of the radius: rounding) count once. Both tests defer only to a
+/// convex, so from f it decreases into that triangle. Triangles reporting the same point
+/// (to 1e-7 of the radius: rounding) count once, whichever mesh they belong to. Both tests defer only to a
 /// better-ranked triangle (faces first, then the nearer, then the lower index), a strict
 /// order, so two candidates never remove each other and every touching region keeps its
 /// best. So a flat mesh, however finely tessellated, gives exactly the
@@ -26,7 +26,10 @@
 /// Contact geometry. On a face the normal is the face's, the distance that of the plane
 /// (dot(X - v0, n), the expression of a plane wall), so a face contact is a plane wall's
 /// contact; on an edge or a vertex the normal is the direction from X to q. Meshes are
-/// two-sided: a particle touches a triangle from either side.
+/// two-sided: a particle touches a triangle from either side. Vertices are welded within
+/// a mesh (mesh_geometry.hpp), not between meshes: where two meshes meet edge to edge, a
+/// sphere within reach of the seam feels the other mesh's border edge as an edge, so a
+/// surface that must be smooth across a seam belongs in one STL file.
 ///
 /// History. The contacts of a particle are matched with those of the last evaluation on
 /// the same mesh: each takes the history of the nearest unused previous contact point
@@ -112,7 +115,6 @@ class MeshContacts {
   double distance(Vec3 x, std::uint32_t t) const;  // from x to triangle t [m]
   void list_candidates(const ParticleStore& p, double margin, bool threads);
   bool contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const;
-  bool adjacent(std::uint32_t a, std::uint32_t b) const;  // share a vertex
   std::uint64_t fingerprint() const;
 
   std::vector<TriangleMesh> meshes_;

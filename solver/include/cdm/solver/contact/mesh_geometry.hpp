@@ -34,9 +34,10 @@ struct TriangleMesh {
 };
 
 /// The mesh of @p corners (three corners per triangle, [m]): vertices welded where their
-/// coordinates are equal to the bit (-0 and +0 alike), edges shared by the triangles
-/// that have both their ends. The corners must be finite and each triangle of non-zero
-/// area (io/stl_reader.hpp checks both).
+/// coordinates differ by at most 1e-10 of the mesh's extent (each coordinate; the first
+/// one read is kept), edges shared by the triangles that have both their ends. A triangle
+/// two of whose corners weld (a sliver that thin) is left out. The corners must be finite
+/// and each triangle of non-zero area (io/stl_reader.hpp checks both).
 TriangleMesh build_triangle_mesh(const std::vector<std::array<Vec3, 3>>& corners);
 
 /// Where the closest point of a triangle lies.
