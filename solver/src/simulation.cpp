@@ -93,7 +93,8 @@ void Simulation::permute(const std::vector<std::uint32_t>& from) {
   for (auto& m : modules_) m->permute(from);
 }
 
-void Simulation::compute_forces(integrators::ForceStart start) {
+void Simulation::compute_forces(double t, integrators::ForceStart start) {
+  if (contact_) contact_->set_time(t);
   sort_if_due();
   // Else the integrator zeroed the forces as it read them, or set them to the weight.
   if (start == integrators::ForceStart::stale) particles_.clear_forces();

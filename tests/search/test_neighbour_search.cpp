@@ -144,9 +144,9 @@ TEST(NeighbourSearch, WallContactsMatchBruteForce) {
       default: p.z[i] = 0.05 - r + pen; break;
     }
   }
-  std::vector<cdm::PlaneWall> walls = {
-      {"x0", {0, 0, 0}, {1, 0, 0}, 2},    {"x1", {0.05, 0, 0}, {-1, 0, 0}, 2}, {"y0", {0, 0, 0}, {0, 1, 0}, 2},
-      {"y1", {0, 0.05, 0}, {0, -1, 0}, 2}, {"z0", {0, 0, 0}, {0, 0, 1}, 2},    {"z1", {0, 0, 0.05}, {0, 0, -1}, 2}};
+  std::vector<cdm::Wall> walls = {
+      cdm::Wall::plane("x0", {0, 0, 0}, {1, 0, 0}, 2),    cdm::Wall::plane("x1", {0.05, 0, 0}, {-1, 0, 0}, 2), cdm::Wall::plane("y0", {0, 0, 0}, {0, 1, 0}, 2),
+      cdm::Wall::plane("y1", {0, 0.05, 0}, {0, -1, 0}, 2), cdm::Wall::plane("z0", {0, 0, 0}, {0, 0, 1}, 2),    cdm::Wall::plane("z1", {0, 0, 0.05}, {0, 0, -1}, 2)};
   std::size_t wall_contacts = 0;
   for (const auto& w : walls)
     for (std::size_t i = 0; i < p.size(); ++i)
@@ -273,7 +273,7 @@ TEST(PeriodicContacts, FixedParticlesActAsInfiniteMass) {
   EXPECT_EQ(c.list().size(), 1u);
   cdm::ParticleStore w;
   w.add({0.0, 0.0019, 0.0}, {0.0, -0.1, 0.0}, 1e-3, 2500.0, 0);
-  cdm::ContactModule cw(linear_table(), {{"floor", {0.0, 0.001, 0.0}, {0.0, 1.0, 0.0}, 0}}, false);
+  cdm::ContactModule cw(linear_table(), {cdm::Wall::plane("floor", {0.0, 0.001, 0.0}, {0.0, 1.0, 0.0}, 0)}, false);
   cw.add_forces(w, 1e-6);
   EXPECT_DOUBLE_EQ(p.fy[1], w.fy[0]);
   EXPECT_DOUBLE_EQ(p.fy[0], -w.fy[0]);
@@ -299,7 +299,7 @@ TEST(PeriodicContacts, CommonMassDampingEqualsPerContactDamping) {
       pp.mu = 0.5;
       pairs.set(a, b, pp);
     }
-  std::vector<cdm::PlaneWall> walls{{"floor", {0, 0, 0}, {0, 0, 1}, 1}};
+  std::vector<cdm::Wall> walls{cdm::Wall::plane("floor", {0, 0, 0}, {0, 0, 1}, 1)};
   cdm::ParticleStore q = p;
   q.mass[0] *= 1.5;  // one free particle of another mass: damping per contact for all
   q.inv_mass[0] = 1.0 / q.mass[0];
@@ -368,7 +368,7 @@ TEST(SpatialSort, OrderIsAPermutationByCellsAndForcesFollowTheParticles) {
       pp.kn = 1e3; pp.en = 0.9; pp.kt_factor = 2.0 / 7.0; pp.etat_factor = 0.5; pp.mu = 0.5;
       pairs.set(a, b, pp);
     }
-  std::vector<PlaneWall> walls{{"floor", {0, 0, 0}, {0, 0, 1}, 0}};
+  std::vector<Wall> walls{cdm::Wall::plane("floor", {0, 0, 0}, {0, 0, 1}, 0)};
   ContactModule plain(pairs, walls, true, 0.1e-3), sorted(pairs, walls, true, 0.1e-3);
   ParticleStore q = p;
   // Two evaluations each (history builds up), then sort q and its module, then more.

@@ -10,7 +10,7 @@
 
 namespace cdm {
 
-ContactModule::ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin,
+ContactModule::ContactModule(PairTable pairs, std::vector<Wall> walls, bool with_friction, double skin,
                              bool record_normal_forces)
     : pairs_(std::move(pairs)), friction_(with_friction), record_(record_normal_forces),
       list_(std::move(walls), with_friction, skin) {
@@ -333,9 +333,11 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     }
   }
 
-  // Particle–wall: the wall is a body of infinite mass at rest; m_eff = m_i. Each
-  // particle only touches its own force, so particles run in parallel.
-  const std::vector<PlaneWall>& walls = list_.walls();
+  // Particle–wall: the wall is a body of infinite mass; m_eff = m_i. Its surface moves
+  // with the wall's motion (walls.hpp), at the time of the positions. Each particle only
+  // touches its own force, so particles run in parallel.
+  const std::vector<Wall>& walls = list_.walls();
+  const double t_wall = list_.time();
   const std::size_t nw = walls.size();
   const std::vector<std::uint32_t>& candidates = list_.wall_candidates();
   const std::vector<std::uint32_t>& wall_begin = list_.wall_begin();
@@ -349,8 +351,18 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const std::size_t ii = i;
       for (std::uint32_t q = wall_begin[c]; q < wall_begin[c + 1]; ++q) {
         const std::size_t w = wall_ids[q];
-        const PlaneWall& wall = walls[w];
-        const double dist = wall.distance(p.position(i));
+        const Wall& wall = walls[w];
+        const Vec3 X = p.position(i);
+        // A plane inline (the common wall, kept as cheap as before), other shapes through
+        // their closest point.
+        WallGap g;
+        if (wall.shape == WallShape::plane) {
+          g.gap = wall.distance(X);
+          g.normal = wall.normal;
+        } else {
+          g = wall.gap(X, p.radius[i]);
+        }
+        const double dist = g.gap;
         const double overlap = p.radius[i] - dist;
         if (overlap <= 0.0) {
           if constexpr (Friction) WTOUCH[ii * nw + w] = 0;
@@ -358,15 +370,17 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
           continue;
         }
         ++my_active;
-        const Vec3 eta = -wall.normal;  // from the particle towards the wall
-        const double Li = dist;         // centre to contact point on the plane
-        Vec3 vrel = p.velocity(i);
+        const Vec3 eta = -g.normal;  // from the particle towards the wall
+        const double Li = dist;      // centre to contact point on the surface
+        // The wall's velocity at the contact point enters the relative velocity.
+        const Vec3 v_wall = wall.motion.moving() ? wall.surface_velocity(X + Li * eta, t_wall) : Vec3{};
+        Vec3 vrel = p.velocity(i) - v_wall;
         if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
         const PairParams& pp = pairs_.get(p.material[i], wall.material);
         Vec3 vrel_step = vrel;
         if constexpr (Friction && L != LawsPresent::linear)
           if (hertz(pp))
-            vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
+            vrel_step = step_velocity(i) - v_wall + cross(Li * step_spin(i), eta);
         // Against a wall R* = R_i and m* = m_i.
         const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
         contact::TangentialSlot slot;

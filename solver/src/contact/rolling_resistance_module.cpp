@@ -13,7 +13,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
   const std::vector<std::uint32_t>& slab_start = list.slab_start();
   const std::vector<double>& fn_pair = c_.pair_normal_force();
   const std::vector<double>& fn_wall = c_.wall_normal_force();
-  const std::vector<PlaneWall>& walls = c_.walls();
+  const std::vector<Wall>& walls = c_.walls();
   const std::size_t n = p.size(), nw = walls.size();
   const bool threads = n > parallel_threshold;
   // The spin the integrator's next kick starts from: ω itself for the first-order
@@ -66,8 +66,11 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       if (fn < 0.0) continue;
       const PairParams& pp = pairs.get(p.material[i], walls[w].material);
       if (pp.rolling_mu == 0.0) continue;
-      // Against a wall: ω_rel = ω_i, R* = R_i, I* = I_i.
-      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i), -walls[w].normal,
+      // Against a wall: ω_rel = ω_i − the wall's spin, R* = R_i, I* = I_i; the normal
+      // that of the contact just evaluated (the same positions and wall).
+      const Wall& wall = walls[w];
+      const Vec3 eta = wall.shape == WallShape::plane ? -wall.normal : -wall.gap(p.position(i), p.radius[i]).normal;
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i) - wall.motion.spin(), eta,
                                              1.0 / p.inv_inertia[i], dt);
       p.add_torque(i, t);
     }

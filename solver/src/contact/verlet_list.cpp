@@ -7,15 +7,31 @@
 
 namespace cdm {
 
-VerletList::VerletList(std::vector<PlaneWall> walls, bool with_history, double skin)
-    : walls_(std::move(walls)), history_(with_history), skin_(skin) {}
+VerletList::VerletList(std::vector<Wall> walls, bool with_history, double skin)
+    : walls_(std::move(walls)), posed_(walls_), history_(with_history), skin_(skin) {
+  for (const Wall& w : walls_) walls_move_ = walls_move_ || w.motion.moving();
+}
+
+void VerletList::set_time(double t) {
+  time_ = t;
+  if (!walls_move_) return;
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    if (walls_[w].motion.moving()) posed_[w] = walls_[w].at(t);
+}
+
+bool VerletList::walls_moved_away() const {
+  if (!walls_move_) return false;
+  for (const Wall& w : walls_)
+    if (!(w.shift_bound(listed_time_, time_) <= 0.5 * skin_)) return true;
+  return false;
+}
 
 VerletList::Update VerletList::update(const ParticleStore& p) {
   Update u;
   if (!built_ || needs_rebuild(p)) {
     rebuild(p);
     u.rebuilt = u.walls_listed = true;
-  } else if (wall_candidates_stale_) {
+  } else if (wall_candidates_stale_ || walls_moved_away()) {
     list_wall_candidates(p);
     u.walls_listed = true;
   }
@@ -49,8 +65,7 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
 }
 
 void VerletList::list_wall_candidates(const ParticleStore& p) {
-  // From the positions at the last build (x0_), so a restart lists exactly what the
-  // build did. A particle moves less than skin/2 before the next build, so one farther
+  // From the positions at the last build (x0_) and the walls where they stand now. A particle moves less than skin/2 before the next build, so one farther
   // than r + skin from a wall cannot reach it: each particle is listed with the walls it
   // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
   // jump, so then every particle is listed with every wall.
@@ -59,18 +74,21 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
   wall_begin_.assign(1, 0);
   wall_ids_.clear();
   wall_candidates_stale_ = false;
+  listed_time_ = time_;
+  // Likewise a surface of revolution, or a plane that turns, with any periodic axis.
   bool filter = skin_ >= 0.0;
-  for (const PlaneWall& w : walls_) {
+  for (const Wall& w : walls_) {
     const double nrm[3] = {w.normal.x, w.normal.y, w.normal.z};
+    const bool fixed_plane = w.shape == WallShape::plane && w.motion.kind != WallMotion::Kind::rotation;
     for (int a = 0; a < 3; ++a)
-      if (box_.on[a] && nrm[a] != 0.0) filter = false;
+      if (box_.on[a] && (nrm[a] != 0.0 || !fixed_plane)) filter = false;
   }
   if (!nw) return;
   const bool history = wall_touch_.size() == n * nw;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
-      if (!filter || walls_[w].distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
+      if (!filter || posed_[w].reach_distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
         wall_ids_.push_back(static_cast<std::uint32_t>(w));
       } else {  // not listed: not in contact with that wall
         if (history) wall_touch_[i * nw + w] = 0;

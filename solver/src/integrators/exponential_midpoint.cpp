@@ -47,12 +47,12 @@ double ExponentialMidpoint::step(StepHost& host, StepTimes times) {
   parallel_for(n, [&](std::size_t i) { advance(i, 0.5 * dt, false); });
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t + 0.5 * dt);
-  host.compute_forces();  // coefficients at mid-step
+  host.compute_forces(times.t + 0.5 * dt);  // coefficients at mid-step
   // The full step starts again from x(t), v(t) (saved above), with mid-step coefficients.
   parallel_for(n, [&](std::size_t i) { advance(i, dt, true); });
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t_new);
-  host.compute_forces();
+  host.compute_forces(times.t_new);
   return -1.0;
 }
 

@@ -24,7 +24,7 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
     });
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t_new);
-  host.compute_forces();
+  host.compute_forces(times.t_new);
   return -1.0;
 }
 

@@ -77,7 +77,7 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   });
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t_new);
-  host.compute_forces(ForceStart::zeroed);
+  host.compute_forces(times.t_new, ForceStart::zeroed);
   return final_kick();
 }
 
@@ -145,7 +145,7 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   if (measure) contact_->list().set_displacement(worst);
   else if (listed) contact_->list().add_drift(worst);
   if (gas_) gas_->set_time(times.t_new);
-  host.compute_forces(grav ? ForceStart::weight : ForceStart::zeroed);
+  host.compute_forces(times.t_new, grav ? ForceStart::weight : ForceStart::zeroed);
   kick_pending_ = true;
   return 0.0;  // checked when the step is completed (complete(), or the next step)
 }

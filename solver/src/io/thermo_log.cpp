@@ -45,9 +45,9 @@ ThermoSample thermo_sample(const Simulation& sim) {
       ++s.contacts;
       s.max_overlap_ratio = std::max(s.max_overlap_ratio, overlap / std::min(p.radius[i], p.radius[j]));
     }
-    for (const PlaneWall& w : c->walls())
+    for (const Wall& w : c->walls())
       for (std::size_t i = 0; i < p.size(); ++i) {
-        const double overlap = p.radius[i] - w.distance(p.position(i));
+        const double overlap = p.radius[i] - w.gap(p.position(i), p.radius[i]).gap;
         if (overlap <= 0.0) continue;
         ++s.contacts;
         s.max_overlap_ratio = std::max(s.max_overlap_ratio, overlap / p.radius[i]);

@@ -6,6 +6,7 @@
 #include "cdm/solver/neighbour_search.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -64,8 +65,10 @@ void check_initial_state(const Reader& rd, const SceneSpec& spec) {
   // only when the scene says the initial overlap is intended.
   for (std::size_t i = 0; i < spec.particles.size(); ++i) {
     const ParticleSpec& p = spec.particles[i];
-    for (const auto& w : spec.walls) {
-      const double d = w.distance(p.position);
+    for (const auto& wall : spec.walls) {
+      const Wall w = wall.at(0.0);
+      // Unsigned beyond a finite surface's faces (a rim), signed on them.
+      const double d = w.gap(p.position, std::numeric_limits<double>::infinity()).gap;
       if (d < 0.0 || (!spec.allow_initial_overlap && d < p.radius)) {
         std::ostringstream os;
         os << rd.file() << ": key '" << particle_source(spec, i) << ".position' = [" << p.position.x << ", " << p.position.y << ", "

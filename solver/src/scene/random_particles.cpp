@@ -4,6 +4,7 @@
 #include "sections.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <random>
@@ -50,9 +51,11 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     };
     if (exclusive)
       for (const auto& p : spec.particles) placed[key(p.position)].emplace_back(p.position, p.radius);
+    std::vector<Wall> walls_t0;
+    for (const auto& w : spec.walls) walls_t0.push_back(w.at(0.0));
     auto clear = [&](Vec3 x) {
-      for (const auto& w : spec.walls)
-        if (w.distance(x) < r) return false;
+      for (const auto& w : walls_t0)
+        if (w.gap(x, std::numeric_limits<double>::infinity()).gap < r) return false;
       const auto [a, b, c] = key(x);
       for (long long da = -1; da <= 1; ++da)
         for (long long db = -1; db <= 1; ++db)

@@ -32,7 +32,9 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"gravity", {"g"}},
       {"materials[]", {"name", "density", "youngs_modulus", "poisson_ratio", "fixed"}},
       {"contacts[]", {"pair", "model", "kn", "en", "damping", "kt_factor", "etat_factor", "mu", "rolling_mu"}},
-      {"walls[]", {"name", "point", "normal", "material"}},
+      {"walls[]", {"name", "type", "point", "normal", "material", "axis", "radius", "radius_start", "radius_end",
+                   "length", "caps", "side", "motion"}},
+      {"walls[].motion", motion_keys()},
       {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material"}},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
@@ -89,6 +91,10 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"monitors[].type", names(monitor_keywords)},
       {"monitors[].axis", {"x", "y", "z"}},
       {"output.vtk_format", names(vtk::encoding_keywords)},
+      {"walls[].type", names(wall_type_keywords)},
+      {"walls[].caps", names(wall_caps_keywords)},
+      {"walls[].side", names(wall_side_keywords)},
+      {"walls[].motion.type", names(wall_motion_keywords)},
   };
   return s;
 }

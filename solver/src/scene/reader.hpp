@@ -24,6 +24,11 @@ enum class Dim {
 
 constexpr std::size_t max_particles = 50'000'000;  // refuse scenes that would allocate without bound
 
+/// The keys of a `motion` table (walls[].motion, and any wall-like block that moves).
+inline std::vector<std::string> motion_keys() {
+  return {"type", "velocity", "amplitude", "frequency", "phase", "origin", "axis", "angular_velocity"};
+}
+
 /// Every table the loader reads and the keys it accepts there ("" is the root, "x[]" the
 /// entries of an array of tables). Keys not listed are errors.
 const std::map<std::string, std::vector<std::string>>& schema();
@@ -33,6 +38,15 @@ const std::map<std::string, std::vector<std::string>>& schema();
 inline constexpr Keywords<bool, 2> units_keywords{{{"SI", false}, {"cgs", true}}};
 inline constexpr Keywords<bool, 2> coupling_mode_keywords{{{"one_way", false}, {"two_way", true}}};
 inline constexpr Keywords<bool, 2> gas_drag_keywords{{{"implicit", true}, {"explicit", false}}};
+/// The shapes a [[walls]] entry takes, and the ends a surface of revolution closes.
+enum class WallType { plane, cylinder, cone };
+inline constexpr Keywords<WallType, 3> wall_type_keywords{
+    {{"plane", WallType::plane}, {"cylinder", WallType::cylinder}, {"cone", WallType::cone}}};
+enum class WallCaps { none, start, end, both };
+inline constexpr Keywords<WallCaps, 4> wall_caps_keywords{
+    {{"none", WallCaps::none}, {"start", WallCaps::start}, {"end", WallCaps::end}, {"both", WallCaps::both}}};
+/// walls[].side: true for particles inside.
+inline constexpr Keywords<bool, 2> wall_side_keywords{{{"inside", true}, {"outside", false}}};
 /// A gas face given by a table (solved gas) rather than a keyword.
 inline bool is_open_face(fluid::BoundaryKind k) {
   return k == fluid::BoundaryKind::velocity_inlet || k == fluid::BoundaryKind::pressure_outlet;

@@ -20,6 +20,16 @@ void read_contacts(const Reader& rd, SceneSpec& spec);
 void check_elastic_constants_used(const Reader& rd, const SceneSpec& spec);
 // walls_periodic.cpp
 void read_walls(const Reader& rd, SceneSpec& spec);
+/// A direction at @p key of @p t, normalised (scaled by its largest component first when
+/// its squared length would underflow or overflow); a zero vector is refused with
+/// @p expected.
+Vec3 unit_vector(const Reader& rd, const toml::table& t, const std::string& key, const std::string& path,
+                 const std::string& expected);
+// motion.cpp
+/// The prescribed motion of the table at @p key of @p t (none when absent), read with the
+/// schema entry @p schema_path (e.g. "walls[].motion").
+WallMotion read_motion(const Reader& rd, const toml::table& t, const std::string& key, const std::string& path,
+                       const std::string& schema_path);
 void read_periodic(const Reader& rd, SceneSpec& spec);
 // meshes.cpp
 void read_meshes(const Reader& rd, SceneSpec& spec);

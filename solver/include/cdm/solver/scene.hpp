@@ -107,7 +107,7 @@ struct SceneSpec {
 
   std::vector<Material> materials;
   PairTable pairs;
-  std::vector<PlaneWall> walls;
+  std::vector<Wall> walls;
   std::vector<TriangleMesh> meshes;  // [[meshes]], placed, in SI
   /// Axes along which particles wrap and interact through the faces: from `[periodic]`,
   /// or those of a gas whose boundaries are periodic.

@@ -87,9 +87,9 @@ class Simulation : private integrators::StepHost {
 
  private:
   // StepHost: what the integrator asks of the simulation.
-  void compute_forces(integrators::ForceStart start = integrators::ForceStart::stale) override;
+  void compute_forces(double t, integrators::ForceStart start = integrators::ForceStart::stale) override;
   void ensure_forces() override {
-    if (!forces_valid_) compute_forces();
+    if (!forces_valid_) compute_forces(time_);
   }
   void fail_not_finite() const override { check_state(1.0); }
 

@@ -44,7 +44,7 @@ struct OverlapRecord {
 class ContactModule final : public ForceModule {
  public:
   /// @p skin [m]: Verlet-list margin; 0 rebuilds every evaluation.
-  ContactModule(PairTable pairs, std::vector<PlaneWall> walls, bool with_friction, double skin = 0.0,
+  ContactModule(PairTable pairs, std::vector<Wall> walls, bool with_friction, double skin = 0.0,
                 bool record_normal_forces = false);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
@@ -68,8 +68,11 @@ class ContactModule final : public ForceModule {
   void set_prefetch(Prefetch p) { prefetch_ = p; }
   /// Whether the last evaluation prefetched.
   bool prefetched() const { return prefetched_; }
-  const std::vector<PlaneWall>& walls() const { return list_.walls(); }
-  /// Triangle-mesh walls (mesh_contacts.hpp), resolved after the plane walls with the
+  /// The walls where they stand at the time set by set_time().
+  const std::vector<Wall>& walls() const { return list_.walls(); }
+  /// The time [s] of the positions the next evaluation sees (where moving walls are).
+  void set_time(double t) { list_.set_time(t); }
+  /// Triangle-mesh walls (mesh_contacts.hpp), resolved after the analytic walls with the
   /// same laws; an OverlapRecord names mesh m as partner -1 - (walls().size() + m).
   void set_meshes(std::vector<TriangleMesh> meshes) { mesh_.emplace(std::move(meshes)); }
   const MeshContacts* meshes() const { return mesh_ ? &*mesh_ : nullptr; }

@@ -5,7 +5,10 @@
 /// The cell-list search collects every pair closer than r_i + r_j + skin, and the list
 /// is rebuilt only once some particle has moved more than skin/2 since the last build:
 /// until then no pair outside the list can touch. Walls likewise: only particles within
-/// r + skin of a wall at the build are tested against the walls until the next build.
+/// r + skin of a wall (Wall::reach_distance) at the build are tested against the walls
+/// until the next build. A moving wall is listed again, from the build positions, once
+/// its surface may have moved skin/2 since it was listed (Wall::shift_bound): a particle
+/// then still comes no closer than its skin/2 of drift, the wall no closer than its own.
 /// Each listed pair (and each particle and wall) has a tangential-history slot beside
 /// it, carried across rebuilds and reorderings, so the force loop does no hashing.
 ///
@@ -36,7 +39,7 @@ class VerletList {
  public:
   /// @p skin [m]: the list's margin; 0 rebuilds at every update. With @p with_history
   /// each listed pair, and each particle and wall, keeps a tangential-history slot.
-  VerletList(std::vector<PlaneWall> walls, bool with_history, double skin);
+  VerletList(std::vector<Wall> walls, bool with_history, double skin);
 
   /// What update() did.
   struct Update {
@@ -49,7 +52,14 @@ class VerletList {
   Update update(const ParticleStore& p);
 
   double skin() const { return skin_; }
-  const std::vector<PlaneWall>& walls() const { return walls_; }
+  /// The walls where they stand at time() (moved by their motion).
+  const std::vector<Wall>& walls() const { return posed_; }
+  /// Set the time [s] of the positions the next update and evaluation see: the moving
+  /// walls are moved there.
+  void set_time(double t);
+  double time() const { return time_; }
+  /// Whether any wall moves.
+  bool walls_move() const { return walls_move_; }
   /// Particles interact through their nearest images along the box's periodic axes.
   void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   const PeriodicBox& periodic_box() const { return box_; }
@@ -159,7 +169,14 @@ class VerletList {
   void rebuild(const ParticleStore& p);
   void list_wall_candidates(const ParticleStore& p);
 
-  std::vector<PlaneWall> walls_;
+  /// Whether a moving wall may have moved skin/2 since the candidates were listed.
+  bool walls_moved_away() const;
+
+  std::vector<Wall> walls_;  // as the scene placed them (t = 0)
+  std::vector<Wall> posed_;  // at time_
+  bool walls_move_ = false;
+  double time_ = 0.0;         // [s]
+  double listed_time_ = 0.0;  // when the wall candidates were listed [s]
   bool history_;
   double skin_;
   CellListSearch search_;

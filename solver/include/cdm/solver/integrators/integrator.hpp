@@ -30,9 +30,10 @@ enum class ForceStart {
 /// The simulation as an integrator sees it.
 class StepHost {
  public:
-  /// Evaluate forces and torques at the particles' present state (every module adds
-  /// its part), starting from @p start.
-  virtual void compute_forces(ForceStart start = ForceStart::stale) = 0;
+  /// Evaluate forces and torques at the particles' present state, which is that of
+  /// time @p t [s] (where moving walls stand), every module adding its part, starting
+  /// from @p start.
+  virtual void compute_forces(double t, ForceStart start = ForceStart::stale) = 0;
   /// Evaluate them unless those of the present state are held already.
   virtual void ensure_forces() = 0;
   /// Report a state found not finite at the present time (throws SimulationError).
