@@ -35,7 +35,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"walls[]", {"name", "type", "point", "normal", "material", "axis", "radius", "radius_start", "radius_end",
                    "length", "caps", "side", "motion"}},
       {"walls[].motion", motion_keys()},
-      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material"}},
+      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material", "motion"}},
+      {"meshes[].motion", motion_keys()},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
@@ -95,6 +96,7 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"walls[].caps", names(wall_caps_keywords)},
       {"walls[].side", names(wall_side_keywords)},
       {"walls[].motion.type", names(wall_motion_keywords)},
+      {"meshes[].motion.type", names(wall_motion_keywords)},
   };
   return s;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cdm/solver/vec3.hpp"
+#include "cdm/solver/walls/wall_motion.hpp"
 
 namespace cdm {
 
@@ -28,6 +29,9 @@ struct TriangleMesh {
   std::vector<std::array<std::uint32_t, 3>> edges;         // edge ids
   std::vector<Vec3> normals;                               // unit, right-handed in the vertex order [-]
   std::uint32_t edge_count = 0;
+  /// Rigid motion of the whole mesh (walls/wall_motion.hpp); the vertices above are its
+  /// place at rest (the scene's), its body frame.
+  WallMotion motion;
 
   std::size_t size() const { return triangles.size(); }
   Vec3 vertex(std::size_t t, int k) const { return vertices[triangles[t][static_cast<std::size_t>(k)]]; }
