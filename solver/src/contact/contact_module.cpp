@@ -445,11 +445,12 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
 template <bool Friction, ContactModule::LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
 void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,
                               StepSpin& step_spin, std::size_t& active, OverlapRecord& worst) {
-  // As a plane wall's contact (above): the mesh is a body of infinite mass at rest,
-  // m* = m_i and R* = R_i; each particle only touches its own force.
+  // As a wall's contact (above): the mesh is a body of infinite mass, m* = m_i and
+  // R* = R_i, its surface moving with the mesh's motion; each particle only touches its
+  // own force.
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
-  mesh_->update(p, threads, list_.builds(), list_.skin());
+  mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time());
   std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
   const long first = -1 - static_cast<long>(list_.walls().size());
   auto mesh_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
@@ -459,12 +460,13 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
       ++my_active;
       const Vec3 eta = c.eta;
       const double Li = c.lever;
-      Vec3 vrel = p.velocity(i);
+      // A moving mesh's surface velocity at the contact point (zero at rest).
+      Vec3 vrel = p.velocity(i) - c.wall_velocity;
       if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
       const PairParams& pp = pairs_.get(p.material[i], mesh_->material_of(c.triangle));
       Vec3 vrel_step = vrel;
       if constexpr (Friction && L != LawsPresent::linear)
-        if (hertz(pp)) vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
+        if (hertz(pp)) vrel_step = step_velocity(i) - c.wall_velocity + cross(Li * step_spin(i), eta);
       const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
       contact::TangentialSlot slot;
       if constexpr (Friction) slot = {&c.delta_t, &c.touching};

@@ -40,7 +40,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"walls[]", {"name", "type", "point", "normal", "material", "axis", "radius", "radius_start", "radius_end",
                    "length", "caps", "side", "motion"}},
       {"walls[].motion", motion_keys()},
-      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material"}},
+      {"meshes[]", {"name", "file", "scale", "offset", "rotation", "material", "motion"}},
+      {"meshes[].motion", motion_keys()},
       {"particles[]", {"material", "radius", "position", "velocity", "angular_velocity"}},
       {"lattices[]", {"material", "radius", "size", "origin", "spacing", "count", "velocity", "velocity_jitter", "seed"}},
       {"lattices[].size", {"distribution", "basis", "radii", "fractions", "mean", "std", "median", "sigma", "min", "max"}},
@@ -108,6 +109,7 @@ const std::map<std::string, std::vector<std::string>>& keyword_schema() {
       {"insertions[].size.distribution", names(size_kind_keywords)},
       {"insertions[].size.basis", names(size_basis_keywords)},
       {"outlets[].type", {"plane", "box"}},
+      {"meshes[].motion.type", names(wall_motion_keywords)},
   };
   return s;
 }
