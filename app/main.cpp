@@ -22,6 +22,7 @@
 
 #include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/io/monitors.hpp"
+#include "cdm/solver/io/population_table.hpp"
 #include "cdm/solver/io/thermo_log.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/output.hpp"
@@ -161,6 +162,10 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   if (spec.log_interval > 0)
     log.emplace((fs::path(out_dir) / "log.dat").string(), sim, ck ? ck->outputs.log : std::optional<std::uint64_t>());
   cdm::MonitorObserver monitors(out_dir, sim, ck ? ck->outputs.monitors : std::vector<std::uint64_t>());
+  std::optional<cdm::PopulationTableObserver> population;
+  if (spec.population_changes())
+    population.emplace((fs::path(out_dir) / "outlets.dat").string(), sim,
+                       ck ? ck->outputs.population : std::optional<std::uint64_t>());
   ck.reset();  // the state is restored; its bytes are not needed any more
   // The outputs are made durable and their lengths recorded in the checkpoint.
   auto checkpoint = [&](const cdm::Simulation& s) {
@@ -169,6 +174,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
     if (vtk) marks.vtk = vtk->sync();
     if (log) marks.log = log->sync();
     marks.monitors = monitors.sync();
+    if (population) marks.population = population->sync();
     cdm::write_checkpoint(ckpt, s, origin, marks);
   };
   Progress progress(!quiet && isatty(STDERR_FILENO));
@@ -186,6 +192,7 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
         if (table) (*table)(s);
         if (vtk) (*vtk)(s);
         monitors(s);
+        if (population) (*population)(s);
         if (log)
           if (const auto row = (*log)(s); row && !quiet) {
             progress.end_line();
@@ -217,9 +224,11 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   if (table) table->close();
   if (log) log->close();
   monitors.close();
+  if (population) population->close();
   if (log) std::cout << "wrote " << (fs::path(out_dir) / "log.dat").string() << "\n";
   for (const auto& m : spec.monitors) std::cout << "wrote " << (fs::path(out_dir) / cdm::monitor_file(m)).string() << "\n";
   if (spec.output_particles) std::cout << "wrote " << (fs::path(out_dir) / "particles.dat").string() << "\n";
+  if (population) std::cout << "wrote " << (fs::path(out_dir) / "outlets.dat").string() << "\n";
   if (spec.output_vtk)
     std::cout << "wrote " << (fs::path(out_dir) / "particles.pvd").string()
               << (sim.gas() ? " and " + (fs::path(out_dir) / "gas.pvd").string() : std::string()) << " (VTK)\n";

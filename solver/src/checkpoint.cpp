@@ -23,6 +23,21 @@ constexpr std::uint64_t max_payload = std::uint64_t{1} << 36;  // 64 GiB: refuse
 
 namespace {
 
+/// outlets.dat's length (format 6), after the other marks.
+void put_population_mark(OutArchive& a, const std::optional<std::uint64_t>& m) {
+  a.put(static_cast<std::uint8_t>(m ? 1 : 0));
+  a.put(m.value_or(0));
+}
+
+std::optional<std::uint64_t> get_population_mark(InArchive& a) {
+  std::uint8_t has = 0;
+  std::uint64_t bytes = 0;
+  a.get(has);
+  a.get(bytes);
+  if (has > 1) throw ArchiveError("its output record is corrupted");
+  return has ? std::optional<std::uint64_t>(bytes) : std::nullopt;
+}
+
 void put_marks(OutArchive& a, const OutputMarks& m) {
   a.put(static_cast<std::uint8_t>(m.particle_table ? 1 : 0));
   a.put(m.particle_table.value_or(0));
@@ -35,6 +50,7 @@ void put_marks(OutArchive& a, const OutputMarks& m) {
   a.put(m.log.value_or(0));
   a.put(static_cast<std::uint64_t>(m.monitors.size()));
   for (std::uint64_t b : m.monitors) a.put(b);
+  put_population_mark(a, m.population);
 }
 
 OutputMarks get_marks(InArchive& a) {
@@ -61,6 +77,7 @@ OutputMarks get_marks(InArchive& a) {
   if (monitors > 4096) throw ArchiveError("its output record is corrupted");
   m.monitors.resize(monitors);
   for (std::uint64_t& b : m.monitors) a.get(b);
+  m.population = get_population_mark(a);
   return m;
 }
 

@@ -98,6 +98,26 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
   parallel_for(n, [&](std::size_t i) { slot[id[i]] = static_cast<std::uint32_t>(i); });
 }
 
+void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = size(), m = from.size();
+  std::vector<double> tmp;
+  for (auto* v : double_arrays(*this))
+    if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
+  std::vector<int> mat;
+  permute_array(material, from, mat);
+  if (id.empty()) return;  // never sorted: identities are the slots, kept in order
+  // Rank of each identity left among those left.
+  std::vector<std::uint32_t> rank(n, 0);
+  for (std::uint32_t i : from) rank[id[i]] = 1;
+  std::uint32_t r = 0;
+  for (std::size_t k = 0; k < n; ++k) rank[k] = rank[k] ? r++ : 0;
+  std::vector<std::uint32_t> ids(m);
+  for (std::size_t i = 0; i < m; ++i) ids[i] = rank[id[from[i]]];
+  id.swap(ids);
+  slot.assign(m, 0);
+  for (std::size_t i = 0; i < m; ++i) slot[id[i]] = static_cast<std::uint32_t>(i);
+}
+
 void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {
   if (!rotation_enabled_) return;
   wx[i] = w.x; wy[i] = w.y; wz[i] = w.z;

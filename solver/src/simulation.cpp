@@ -62,6 +62,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     }
   total_steps_ = static_cast<std::uint64_t>(step_count(spec_.end_time, spec_.dt));  // <= max_steps (loader)
   integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
+  if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();
@@ -91,6 +92,32 @@ void Simulation::permute(const std::vector<std::uint32_t>& from) {
   particles_.permute(from);
   integrator_->permute(from);  // its per-particle arrays, where a step is under way
   for (auto& m : modules_) m->permute(from);
+}
+
+void Simulation::remap(const std::vector<std::uint32_t>& from) {
+  for (auto& m : modules_) m->remap(from, particles_);
+  integrator_->masses_changed();
+}
+
+void Simulation::update_population() {
+  Population& pop = *population_;
+  const bool leaving = pop.any_leaving(particles_);
+  const bool due = pop.insertion_due(time_);
+  if (!leaving && !due) return;
+  complete_step();  // the state at the step's end, velocities included
+  if (leaving) {
+    remap(pop.remove(particles_));
+    // The identities shifted: messages name particles by number, not by scene key.
+    spec_.groups.clear();
+  }
+  if (due) {
+    const std::size_t n0 = particles_.size();
+    if (pop.insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) > 0) {
+      std::vector<std::uint32_t> from(particles_.size(), new_particle);
+      for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
+      remap(from);
+    }
+  }
 }
 
 void Simulation::compute_forces(double t, integrators::ForceStart start) {
@@ -126,6 +153,8 @@ void Simulation::step() {
   const double nonfinite = integrator_->step(*this, {time_, t_new});
   ++steps_;
   time_ = static_cast<double>(steps_) * spec_.dt;
+  // Before the guards: a particle that left the gas domain through an outlet is gone.
+  if (population_) update_population();
   // Evaluated once per gas step, the gas reads the particles' positions at the first
   // sub-step (the drag and ∇P at the particles) and at the gas step (the deposits) only.
   const bool gas_read = !lagged() || substep_ == 0 || substep_ + 1 == substeps_;
@@ -213,6 +242,7 @@ void Simulation::save_state(OutArchive& a) const {
   a.put(steps_);
   a.put(time_);
   a.put(static_cast<std::uint8_t>(forces_valid_));
+  save_population(a);
   a.put(p.id);  // the particles' order (empty until sorted); arrays below are in it
   a.put(last_sort_);
   a.put(p.x); a.put(p.y); a.put(p.z);
@@ -240,18 +270,66 @@ void Simulation::save_state(OutArchive& a) const {
   }
 }
 
+void Simulation::save_population(OutArchive& a) const {
+  a.put(static_cast<std::uint8_t>(population_ ? 1 : 0));
+  if (!population_) return;
+  const ParticleStore& p = particles_;
+  a.put(p.radius); a.put(p.mass); a.put(p.inv_mass); a.put(p.inv_inertia); a.put(p.material);
+  population_->save_state(a);
+}
+
+bool Simulation::load_population(InArchive& a, std::uint64_t n) {
+  std::uint8_t has = 0;
+  a.get(has);
+  if ((has != 0) != static_cast<bool>(population_)) throw ArchiveError("its insertions and outlets differ from the scene's");
+  if (!population_) return false;
+  ParticleStore& p = particles_;
+  auto arr = [&](auto& v, std::size_t want) {
+    a.get(v, want);
+    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
+  };
+  arr(p.radius, n); arr(p.mass, n); arr(p.inv_mass, n);
+  arr(p.inv_inertia, p.has_rotation() ? n : 0);
+  arr(p.material, n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (p.material[i] < 0 || static_cast<std::size_t>(p.material[i]) >= spec_.materials.size() ||
+        !(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
+      throw ArchiveError("particle " + std::to_string(i) + "'s radius, mass or material is not valid");
+  // The store holds n particles from here: the arrays read next are sized to it.
+  for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);
+  population_->load_state(a);
+  for (const auto& r : population_->removed())
+    if (r.count) spec_.groups.clear();  // as after the removal (update_population)
+  return true;
+}
+
 void Simulation::load_state(InArchive& a) {
   ParticleStore& p = particles_;
-  const std::uint64_t n0 = p.size();
   std::uint64_t n = 0;
   a.get(n);
-  if (n != n0)
-    throw ArchiveError("it holds " + std::to_string(n) + " particles, the scene " + std::to_string(n0));
   std::uint64_t steps = 0;
   double time = 0.0;
   std::uint8_t fv = 0;
   a.get(steps); a.get(time); a.get(fv);
-  {
+  if (n > (std::uint64_t{1} << 32) - 2) throw ArchiveError("it holds too many particles");
+  const bool dynamic = load_population(a, n);
+  if (!dynamic && n != p.size())
+    throw ArchiveError("it holds " + std::to_string(n) + " particles, the scene " + std::to_string(p.size()));
+  const std::uint64_t n0 = n;
+  if (dynamic) {
+    // The saved order is the store's order as read: the identities are set as they were.
+    std::vector<std::uint32_t> id;
+    a.get(id, n0);
+    a.get(last_sort_);
+    if (!id.empty() && id.size() != n0) throw ArchiveError("its particle order has the wrong length");
+    std::vector<std::uint32_t> slot(id.size(), new_particle);
+    for (std::size_t s = 0; s < id.size(); ++s) {
+      if (id[s] >= n0 || slot[id[s]] != new_particle) throw ArchiveError("its particle order is not a permutation");
+      slot[id[s]] = static_cast<std::uint32_t>(s);
+    }
+    p.id.swap(id);
+    p.slot.swap(slot);
+  } else {
     // The saved order: a permutation of the particles, or empty (never sorted).
     std::vector<std::uint32_t> id;
     a.get(id, n0);

@@ -3,8 +3,8 @@
 # beads in a closed mesh box (tests/cli/scenes/mesh_pile.toml) gives bit-identical
 # particle tables on 1 and 3 OpenMP threads, and a run of 2N steps equals N steps, a
 # checkpoint (with the mesh contacts' tangential history) and a restart for the rest
-# (tables and final checkpoints). A checkpoint whose meshes differ from the scene's is
-# refused.
+# (tables and final checkpoints), also with the box turning; a checkpoint whose meshes
+# differ from the scene's is refused.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -22,10 +22,20 @@ cmp -s "$work/one/particles.dat" "$work/three/particles.dat" || fail "1 and 3 th
 awk '!/^#/ && $1 > 0.0019 && $3 < -0.0144 && ($9 != 0 || $10 != 0 || $11 != 0) {found = 1} END {exit !found}' \
   "$work/one/particles.dat" || fail "no bead beside the mesh spins: no mesh contacts"
 
+# The box turning about its vertical axis (a moving mesh: the beads are taken into its
+# frame, its surface velocity enters the contacts): threads and restart still bit-identical.
+turn=(--set 'meshes[0].motion={type="rotation", origin=[0.0, 0.0, 0.0], axis=[0.0, 0.0, 1.0], angular_velocity=20.0}')
+"$cdm" "${args[@]}" "${turn[@]}" -o "$work/one_turn" -j 1 > /dev/null || fail "1-thread turning run"
+"$cdm" "${args[@]}" "${turn[@]}" -o "$work/three_turn" -j 3 > /dev/null || fail "3-thread turning run"
+cmp -s "$work/one_turn/particles.dat" "$work/three_turn/particles.dat" || fail "turning box: 1 and 3 threads differ"
+cmp -s "$work/one/particles.dat" "$work/one_turn/particles.dat" && fail "the turning box changed nothing"
+mkdir -p "$work/turn"
+
 # Restart (600 beads in the corner of the box, 0.01 s, sorted every 200 steps).
 set_args=(--set 'lattices[0].count=[10,10,6]' --set integrator.end_time=0.01 --set output.interval=0.0005
           --set output.checkpoint_interval=0.0025 -q)
 restart_matches "mesh pile" "$scene" "$work" 5000 "${set_args[@]}"
+restart_matches "mesh pile, turning box" "$scene" "$work/turn" 5000 "${set_args[@]}" "${turn[@]}"
 
 # A restart whose STL file changed since the checkpoint (same scene text) is refused.
 mkdir -p "$work/edit"

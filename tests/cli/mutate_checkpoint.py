@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write a copy of a cdm checkpoint (format 6) with one value of its state changed and
+"""Write a copy of a cdm checkpoint (format 7) with one value of its state changed and
 its checksum recomputed, as a corrupted or hand-edited checkpoint would be.
 Usage: mutate_checkpoint.py IN OUT FIELD VALUE
 FIELD: time, steps, x0 (particle 0's x, in the stored order) or vx0."""
@@ -18,7 +18,7 @@ def fnv1a64(data):
 src, dst, field, value = sys.argv[1:5]
 raw = bytearray(open(src, "rb").read())
 header = 8 + 4 + 8 + 8
-assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 6, "not a format 6 checkpoint"
+assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 7, "not a format 7 checkpoint"
 body = raw[header:]
 at = 0
 
@@ -44,10 +44,13 @@ for _ in range(u64()):  # overrides: path, value
 at += 1 + 8 + 1 + 8 + 8 + 8 + 1 + 8  # output marks: table, VTK, log
 monitor_tables = u64()
 at += 8 * monitor_tables  # their lengths
+at += 1 + 8  # outlets.dat
 u64()  # the state's length; the state follows
 n = u64()
 where = {"steps": at, "time": at + 8}
 at += 8 + 8 + 1  # steps, time, forces valid
+assert body[at] == 0, "a scene with insertions or outlets (not handled here)"
+at += 1  # no population section
 order = u64()
 at += order * 4  # particle order
 at += 8  # last sort

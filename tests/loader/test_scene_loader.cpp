@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cdm/solver/scene_loader.hpp"
+#include "support.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace {
@@ -53,11 +54,7 @@ dt = "auto"
 end_time = 0.5
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const auto pos = s.find(from);
-  if (pos == std::string::npos) throw std::logic_error("test scene has no '" + from + "'");
-  return s.replace(pos, from.size(), to);
-}
+using cdm::test::replace;
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -66,17 +63,7 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-// Loads @p text and expects a SceneError whose message contains every fragment.
-void expect_refused(const std::string& text, std::vector<std::string> fragments) {
-  fragments.push_back("bad.toml");
-  try {
-    cdm::load_scene_from_string(text, "bad.toml");
-    FAIL() << "accepted a bad scene; expected an error with '" << fragments.front() << "'";
-  } catch (const cdm::SceneError& e) {
-    const std::string msg = e.what();
-    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "message lacks '" << f << "': " << msg;
-  }
-}
+using cdm::test::expect_refused;
 
 TEST(SceneLoader, BaseSceneLoads) { EXPECT_NO_THROW(cdm::load_scene_from_string(base, "good.toml")); }
 

@@ -10,6 +10,7 @@
 
 #include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/scene_loader.hpp"
+#include "support.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace {
@@ -56,22 +57,9 @@ impact_velocity = 1.0
 end_time = 1.0e-2
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const auto pos = s.find(from);
-  if (pos == std::string::npos) throw std::logic_error("test scene has no '" + from + "'");
-  return s.replace(pos, from.size(), to);
-}
+using cdm::test::replace;
 
-void expect_refused(const std::string& text, std::vector<std::string> fragments) {
-  fragments.push_back("bad.toml");
-  try {
-    cdm::load_scene_from_string(text, "bad.toml");
-    FAIL() << "accepted a bad scene; expected an error with '" << fragments.front() << "'";
-  } catch (const cdm::SceneError& e) {
-    const std::string msg = e.what();
-    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "message lacks '" << f << "': " << msg;
-  }
-}
+using cdm::test::expect_refused;
 
 TEST(HertzScene, LoadsWithEffectiveModuliAndHertzTimeStep) {
   const cdm::SceneSpec s = cdm::load_scene_from_string(hertz, "good.toml");

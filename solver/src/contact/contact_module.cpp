@@ -344,60 +344,80 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   const std::vector<std::uint32_t>& wall_ids = list_.wall_ids();
   Vec3* const WHIST = list_.wall_history();
   std::uint8_t* const WTOUCH = list_.wall_touch();
+  // One particle–wall contact of overlap > 0: the centre at @p dist from the surface,
+  // @p eta the unit normal towards it; a Moving wall's surface velocity @p v_wall at the
+  // contact point enters the relative velocity.
+  auto wall_contact = [&]<bool Moving>(std::uint32_t i, std::size_t w, const Wall& wall, double dist, double overlap,
+                                      Vec3 eta, Vec3 v_wall, OverlapRecord& my_worst) __attribute__((always_inline)) {
+    const std::size_t ii = i;
+    const double Li = dist;  // centre to contact point on the surface
+    Vec3 vrel = p.velocity(i);
+    if constexpr (Moving) vrel -= v_wall;
+    if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
+    const PairParams& pp = pairs_.get(p.material[i], wall.material);
+    Vec3 vrel_step = vrel;
+    if constexpr (Friction && L != LawsPresent::linear)
+      if (hertz(pp)) {
+        vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
+        if constexpr (Moving) vrel_step -= v_wall;
+      }
+    // Against a wall R* = R_i and m* = m_i.
+    const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
+    contact::TangentialSlot slot;
+    if constexpr (Friction) slot = {WHIST + ii * nw + w, WTOUCH + ii * nw + w};
+    const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
+    if constexpr (record) fn_wall_[ii * nw + w] = cf.normal_magnitude;
+    const Vec3 f = cf.total, ft = cf.tangential;
+    p.add_force(i, f);
+    if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
+    const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
+    if (worse(rec, my_worst)) my_worst = rec;
+  };
   // Only the wall candidates (listed at the build) can touch a wall; each is listed once.
-  auto wall_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
+  // Compiled twice: with General false (every wall a plane at rest, the common scene)
+  // the loop is the plane loop alone, no other shape's code in it.
+  auto wall_range = [&]<bool General>(std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t i = candidates[c];
       const std::size_t ii = i;
       for (std::uint32_t q = wall_begin[c]; q < wall_begin[c + 1]; ++q) {
         const std::size_t w = wall_ids[q];
         const Wall& wall = walls[w];
-        const Vec3 X = p.position(i);
-        // A plane inline (the common wall, kept as cheap as before), other shapes through
-        // their closest point.
+        // A plane at rest inline (the common wall, as cheap as ever); other walls through
+        // their closest point and surface velocity.
+        const bool still_plane =
+            !General || (wall.shape == WallShape::plane && wall.motion.kind == WallMotion::Kind::none);
         WallGap g;
-        if (wall.shape == WallShape::plane) {
-          g.gap = wall.distance(X);
-          g.normal = wall.normal;
-        } else {
-          g = wall.gap(X, p.radius[i]);
+        if (still_plane) {
+          g.gap = wall.distance(p.position(i));
+        } else if constexpr (General) {
+          g = wall.gap(p.position(i), p.radius[i]);
         }
-        const double dist = g.gap;
-        const double overlap = p.radius[i] - dist;
+        const double overlap = p.radius[i] - g.gap;
         if (overlap <= 0.0) {
           if constexpr (Friction) WTOUCH[ii * nw + w] = 0;
           if constexpr (record) fn_wall_[ii * nw + w] = -1.0;
           continue;
         }
         ++my_active;
-        const Vec3 eta = -g.normal;  // from the particle towards the wall
-        const double Li = dist;      // centre to contact point on the surface
-        // The wall's velocity at the contact point enters the relative velocity.
-        const Vec3 v_wall = wall.motion.moving() ? wall.surface_velocity(X + Li * eta, t_wall) : Vec3{};
-        Vec3 vrel = p.velocity(i) - v_wall;
-        if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
-        const PairParams& pp = pairs_.get(p.material[i], wall.material);
-        Vec3 vrel_step = vrel;
-        if constexpr (Friction && L != LawsPresent::linear)
-          if (hertz(pp))
-            vrel_step = step_velocity(i) - v_wall + cross(Li * step_spin(i), eta);
-        // Against a wall R* = R_i and m* = m_i.
-        const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
-        contact::TangentialSlot slot;
-        if constexpr (Friction) slot = {WHIST + ii * nw + w, WTOUCH + ii * nw + w};
-        const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
-        if constexpr (record) fn_wall_[ii * nw + w] = cf.normal_magnitude;
-        const Vec3 f = cf.total, ft = cf.tangential;
-        p.add_force(i, f);
-        if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
-        const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
-        if (worse(rec, my_worst)) my_worst = rec;
+        if (still_plane) {
+          wall_contact.template operator()<false>(i, w, wall, g.gap, overlap, -wall.normal, Vec3{}, my_worst);
+        } else if constexpr (General) {
+          const Vec3 eta = -g.normal;  // from the particle towards the wall
+          const Vec3 v_wall = wall.surface_velocity(p.position(i) + g.gap * eta, t_wall);
+          wall_contact.template operator()<true>(i, w, wall, g.gap, overlap, eta, v_wall, my_worst);
+        }
       }
     }
   };
+  const bool general = !list_.still_planes();
+  auto walls_of = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
+    if (general) wall_range.template operator()<true>(c0, c1, my_active, my_worst);
+    else wall_range.template operator()<false>(c0, c1, my_active, my_worst);
+  };
   const std::size_t nc = candidates.size();
   if (nw && !threads) {
-    wall_range(0, nc, active, worst);
+    walls_of(0, nc, active, worst);
   } else if (nw) {
 #pragma omp parallel
     {
@@ -408,8 +428,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       const auto [i0, i1] = thread_range(n);
       const auto c0 = std::lower_bound(candidates.begin(), candidates.end(), i0);
       const auto c1 = std::lower_bound(c0, candidates.end(), i1);
-      wall_range(static_cast<std::size_t>(c0 - candidates.begin()), static_cast<std::size_t>(c1 - candidates.begin()),
-                 my_active, my_worst);
+      walls_of(static_cast<std::size_t>(c0 - candidates.begin()), static_cast<std::size_t>(c1 - candidates.begin()),
+               my_active, my_worst);
 #pragma omp critical(cdm_contact_reduce)
       {
         active += my_active;
@@ -425,11 +445,12 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
 template <bool Friction, ContactModule::LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
 void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,
                               StepSpin& step_spin, std::size_t& active, OverlapRecord& worst) {
-  // As a plane wall's contact (above): the mesh is a body of infinite mass at rest,
-  // m* = m_i and R* = R_i; each particle only touches its own force.
+  // As a wall's contact (above): the mesh is a body of infinite mass, m* = m_i and
+  // R* = R_i, its surface moving with the mesh's motion; each particle only touches its
+  // own force.
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
-  mesh_->update(p, threads, list_.builds(), list_.skin());
+  mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time());
   std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
   const long first = -1 - static_cast<long>(list_.walls().size());
   auto mesh_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
@@ -439,12 +460,13 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
       ++my_active;
       const Vec3 eta = c.eta;
       const double Li = c.lever;
-      Vec3 vrel = p.velocity(i);
+      // A moving mesh's surface velocity at the contact point (zero at rest).
+      Vec3 vrel = p.velocity(i) - c.wall_velocity;
       if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
       const PairParams& pp = pairs_.get(p.material[i], mesh_->material_of(c.triangle));
       Vec3 vrel_step = vrel;
       if constexpr (Friction && L != LawsPresent::linear)
-        if (hertz(pp)) vrel_step = step_velocity(i) + cross(Li * step_spin(i), eta);
+        if (hertz(pp)) vrel_step = step_velocity(i) - c.wall_velocity + cross(Li * step_spin(i), eta);
       const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
       contact::TangentialSlot slot;
       if constexpr (Friction) slot = {&c.delta_t, &c.touching};

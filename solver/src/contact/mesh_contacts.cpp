@@ -55,6 +55,21 @@ MeshContacts::MeshContacts(std::vector<TriangleMesh> meshes) : meshes_(std::move
     }
     v0 += static_cast<std::uint32_t>(mesh.vertices.size());
     e0 += mesh.edge_count;
+    // The inverse motion: the same motion run backwards.
+    WallMotion inv = mesh.motion;
+    inv.velocity = -inv.velocity;
+    inv.amplitude = -inv.amplitude;
+    inv.angular_velocity = -inv.angular_velocity;
+    double far = 0.0;
+    if (mesh.motion.kind == WallMotion::Kind::rotation)
+      for (const Vec3& v : mesh.vertices) {
+        const Vec3 d = v - mesh.motion.origin;
+        far = std::max(far, norm(d - dot(d, mesh.motion.axis) * mesh.motion.axis));
+      }
+    moves_.push_back(mesh.motion.moving() ? 1 : 0);
+    inverse_.push_back(inv);
+    axis_reach_.push_back(far);
+    any_moves_ = any_moves_ || mesh.motion.moving();
   }
 }
 
@@ -118,14 +133,6 @@ void MeshContacts::build_grid(double reach) {
   visit([&](std::size_t cell, std::uint32_t t) { cell_tris_[fill[cell]++] = t; });
 }
 
-bool MeshContacts::adjacent(std::uint32_t a, std::uint32_t b) const {
-  const auto& u = tri_v_[a];
-  const auto& v = tri_v_[b];
-  for (std::uint32_t x : u)
-    if (x == v[0] || x == v[1] || x == v[2]) return true;
-  return false;
-}
-
 bool MeshContacts::contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const {
   const auto& ids = f == MeshFeature::edge ? tri_e_[t] : tri_v_[t];
   return ids[0] == id || ids[1] == id || ids[2] == id;
@@ -146,13 +153,31 @@ double MeshContacts::distance(Vec3 x, std::uint32_t t) const {
   return norm(q - x);
 }
 
-void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out) const {
+void MeshContacts::gather(Vec3 x, double reach, double time, std::vector<std::uint32_t>& out) const {
+  const std::size_t before = out.size();
+  // The meshes at rest share one lookup; each moving one is looked up in its body frame.
   const auto [t0, t1] = cell_triangles(x);
-  find_among(x, r, particle, t0, t1, out);
+  for (const std::uint32_t* t = t0; t != t1; ++t)
+    if (!moves_[tri_mesh_[*t]] && distance(x, *t) < reach) out.push_back(*t);
+  if (!any_moves_) return;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    if (!moves_[m]) continue;
+    const Vec3 xb = to_body(m, x, time);
+    const auto [b0, b1] = cell_triangles(xb);
+    for (const std::uint32_t* t = b0; t != b1; ++t)
+      if (tri_mesh_[*t] == m && distance(xb, *t) < reach) out.push_back(*t);
+  }
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
 }
 
-void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const std::uint32_t* t0,
-                              const std::uint32_t* t1, std::vector<Contact>& out) const {
+void MeshContacts::find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out, double time) const {
+  std::vector<std::uint32_t> tris;
+  gather(x, r, time, tris);
+  find_among(x, r, particle, tris.data(), tris.data() + tris.size(), out, time);
+}
+
+void MeshContacts::find_among(Vec3 xw, double r, std::uint32_t particle, const std::uint32_t* t0,
+                              const std::uint32_t* t1, std::vector<Contact>& out, double time) const {
   if (t0 == t1) return;  // most particles: no candidate
   // The triangles the sphere touches, in triangle order (one buffer per thread, reused:
   // no allocation once it has grown).
@@ -161,6 +186,8 @@ void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const st
   for (const std::uint32_t* tp = t0; tp != t1; ++tp) {
     const std::uint32_t t = *tp;
     const auto& c = corner_[t];
+    const std::size_t mesh = tri_mesh_[t];
+    const Vec3 x = to_body(mesh, xw, time);  // the mesh's body frame (xw itself at rest)
     // The plane's distance bounds the triangle's from below: most candidates beside a
     // contact lie in other planes and end here.
     const Vec3 n = normal_[t];
@@ -185,6 +212,7 @@ void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const st
       h.feature_id = cp.feature == MeshFeature::edge ? tri_e_[t][idx] : tri_v_[t][idx];
     }
     if (!(h.distance < r)) continue;
+    h.world = moves_[mesh] ? meshes_[mesh].motion.point(h.point, time) : h.point;
     touch.push_back(h);
   }
   const std::size_t nt = touch.size();
@@ -205,8 +233,8 @@ void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const st
       if (j == k) continue;
       const Touch& b = at(j);
       if (!before(b, a)) continue;
-      // The same point seen from an adjacent triangle: counted once.
-      if (adjacent(a.triangle, b.triangle) && dot(b.point - a.point, b.point - a.point) <= same_point * same_point)
+      // The same point seen from another triangle: counted once.
+      if (dot(b.world - a.world, b.world - a.world) <= same_point * same_point)
         keep = false;
       // An edge or vertex that a better-ranked triangle contains is no local minimum (or
       // the same one): from it the distance decreases, or stays, into that triangle.
@@ -218,28 +246,33 @@ void MeshContacts::find_among(Vec3 x, double r, std::uint32_t particle, const st
     c.particle = particle;
     c.triangle = a.triangle;
     c.point = a.point;
-    c.eta = a.eta;
+    const std::size_t mesh = tri_mesh_[a.triangle];
+    if (moves_[mesh]) {
+      const WallMotion& mo = meshes_[mesh].motion;
+      c.eta = mo.direction(a.eta, time);
+      c.wall_velocity = mo.surface_velocity(a.world, time);
+    } else {
+      c.eta = a.eta;
+    }
     c.overlap = r - a.distance;
     c.lever = a.distance;
     out.push_back(c);
   }
 }
 
-void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool threads) {
+void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool threads, double time) {
   const std::size_t n = p.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p.radius[i]);
   if (rmax + margin > reach_) build_grid(rmax + margin);
+  listed_time_ = time;
+  listed_reach_ = rmax + margin;
   cand_start_.assign(n + 1, 0);
   // Particles [i0, i1): their counts in cand_start_[i + 1], their triangles appended to out.
   auto range = [&](std::size_t i0, std::size_t i1, std::vector<std::uint32_t>& out) {
     for (std::size_t i = i0; i < i1; ++i) {
-      const Vec3 x = p.position(i);
-      const double reach = p.radius[i] + margin;
-      const auto [t0, t1] = cell_triangles(x);
       const std::size_t before = out.size();
-      for (const std::uint32_t* t = t0; t != t1; ++t)
-        if (distance(x, *t) < reach) out.push_back(*t);
+      gather(p.position(i), p.radius[i] + margin, time, out);
       cand_start_[i + 1] = static_cast<std::uint32_t>(out.size() - before);
     }
   };
@@ -249,12 +282,19 @@ void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool t
   listed_ = true;
 }
 
-void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin) {
+void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time) {
   const std::size_t n = p.size();
+  // A moving mesh has shifted against the particles by up to shift_bound since the
+  // listing; with the particles' own drift (< margin / 2 between Verlet builds) the
+  // candidates hold while that stays below margin / 2.
+  bool shifted = false;
+  for (std::size_t m = 0; m < meshes_.size() && any_moves_ && listed_; ++m)
+    shifted = shifted || (moves_[m] && !(meshes_[m].motion.shift_bound(listed_time_, time, axis_reach_[m] + listed_reach_) <=
+                                          0.5 * margin));
   // The candidates hold while no particle has moved more than the margin since they
   // were listed: listed again whenever the Verlet list was built (it is built before any
   // particle moves half its skin, the margin here).
-  if (!listed_ || builds != builds_ || cand_start_.size() != n + 1) list_candidates(p, margin, threads);
+  if (!listed_ || shifted || builds != builds_ || cand_start_.size() != n + 1) list_candidates(p, margin, threads, time);
   builds_ = builds;
   std::swap(prev_, contacts_);
   contacts_.clear();
@@ -266,7 +306,7 @@ void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t buil
     for (std::size_t i = i0; i < i1; ++i) {
       const std::size_t first = out.size();
       find_among(p.position(i), p.radius[i], static_cast<std::uint32_t>(i), cand_.data() + cand_start_[i],
-                 cand_.data() + cand_start_[i + 1], out);
+                 cand_.data() + cand_start_[i + 1], out, time);
       while (prev != prev_.end() && prev->particle < i) ++prev;
       auto prev_end = prev;
       while (prev_end != prev_.end() && prev_end->particle == i) ++prev_end;
@@ -343,6 +383,24 @@ void MeshContacts::permute(const std::vector<std::uint32_t>& from) {
   std::vector<std::uint32_t> to(from.size());
   for (std::size_t k = 0; k < from.size(); ++k) to[from[k]] = static_cast<std::uint32_t>(k);
   for (Contact& c : contacts_) c.particle = c.particle < to.size() ? to[c.particle] : c.particle;
+  std::stable_sort(contacts_.begin(), contacts_.end(),
+                   [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  listed_ = false;
+}
+
+void MeshContacts::remap(const std::vector<std::uint32_t>& from) {
+  std::size_t n_old = 0;
+  for (const Contact& c : contacts_) n_old = std::max<std::size_t>(n_old, c.particle + std::size_t{1});
+  std::vector<std::uint32_t> to(n_old, new_particle);
+  for (std::size_t k = 0; k < from.size(); ++k)
+    if (from[k] != new_particle && from[k] < n_old) to[from[k]] = static_cast<std::uint32_t>(k);
+  std::size_t kept = 0;
+  for (const Contact& c : contacts_)
+    if (to[c.particle] != new_particle) {
+      contacts_[kept] = c;
+      contacts_[kept++].particle = to[c.particle];
+    }
+  contacts_.resize(kept);
   std::stable_sort(contacts_.begin(), contacts_.end(),
                    [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
   listed_ = false;

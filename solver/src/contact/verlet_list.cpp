@@ -9,7 +9,10 @@ namespace cdm {
 
 VerletList::VerletList(std::vector<Wall> walls, bool with_history, double skin)
     : walls_(std::move(walls)), posed_(walls_), history_(with_history), skin_(skin) {
-  for (const Wall& w : walls_) walls_move_ = walls_move_ || w.motion.moving();
+  for (const Wall& w : walls_) {
+    walls_move_ = walls_move_ || w.motion.moving();
+    still_planes_ = still_planes_ && w.shape == WallShape::plane && !w.motion.moving();
+  }
 }
 
 void VerletList::set_time(double t) {
@@ -88,7 +91,10 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
-      if (!filter || posed_[w].reach_distance({x0_[i], y0_[i], z0_[i]}) < p.radius[i] + skin_) {
+      const Wall& wall = posed_[w];
+      const Vec3 X{x0_[i], y0_[i], z0_[i]};
+      const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
+      if (!filter || reach < p.radius[i] + skin_) {
         wall_ids_.push_back(static_cast<std::uint32_t>(w));
       } else {  // not listed: not in contact with that wall
         if (history) wall_touch_[i * nw + w] = 0;
@@ -212,6 +218,66 @@ void VerletList::permute(const std::vector<std::uint32_t>& from) {
   wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
 }
 
+void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) {
+  const std::size_t n_old = x0_.size(), n = from.size();
+  std::vector<std::uint32_t> to(n_old, new_particle);
+  for (std::size_t i = 0; i < n; ++i)
+    if (from[i] != new_particle && from[i] < n_old) to[from[i]] = static_cast<std::uint32_t>(i);
+  // Pairs of two particles left keep their slab (each particle stays where it was) and
+  // their history, seen from the lower slot (as permute keeps them); the slab starts
+  // count the pairs kept.
+  std::size_t kept = 0;
+  for (std::size_t s = 0; s + 1 < slab_start_.size(); ++s) {
+    const std::size_t begin = slab_start_[s], end = slab_start_[s + 1];
+    slab_start_[s] = static_cast<std::uint32_t>(kept);
+    for (std::size_t k = begin; k < end; ++k) {
+      std::uint32_t i = pi_[k] < n_old ? to[pi_[k]] : new_particle, j = pj_[k] < n_old ? to[pj_[k]] : new_particle;
+      if (i == new_particle || j == new_particle) continue;
+      Vec3 h = history_ ? hist_[k] : Vec3{};
+      if (i > j) {
+        std::swap(i, j);
+        h = -h;
+      }
+      pi_[kept] = i;
+      pj_[kept] = j;
+      if (history_) {
+        hist_[kept] = h;
+        touch_[kept] = touch_[k];
+      }
+      ++kept;
+    }
+  }
+  if (!slab_start_.empty()) slab_start_.back() = static_cast<std::uint32_t>(kept);
+  pi_.resize(kept);
+  pj_.resize(kept);
+  if (history_) {
+    hist_.resize(kept);
+    touch_.resize(kept);
+  }
+  // Per particle and wall: the rows of the particles left, zero for new ones.
+  const std::size_t w = walls_.size();
+  if (w && wall_hist_.size() == n_old * w) {
+    std::vector<Vec3> h(n * w);
+    std::vector<std::uint8_t> t(n * w, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (from[i] != new_particle)
+        for (std::size_t c = 0; c < w; ++c) {
+          h[i * w + c] = wall_hist_[from[i] * w + c];
+          t[i * w + c] = wall_touch_[from[i] * w + c];
+        }
+    wall_hist_.swap(h);
+    wall_touch_.swap(t);
+  }
+  // Build positions: the particles' own (a new particle's is where it appeared); the
+  // list is built again at the next update, so the new particles find their partners.
+  for (auto* v : {&x0_, &y0_, &z0_}) v->resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x0_[i] = p.x[i]; y0_[i] = p.y[i]; z0_[i] = p.z[i];
+  }
+  built_ = false;
+  wall_candidates_stale_ = true;
+}
+
 void VerletList::rebuild(const ParticleStore& p) {
   const std::size_t n = p.size();
   // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
@@ -221,7 +287,9 @@ void VerletList::rebuild(const ParticleStore& p) {
   // and the old list is released before the new one is built.
   std::vector<std::uint32_t> carry_first, carry_j;
   std::vector<Vec3> carry_hist;
-  if (history_ && built_ && !pi_.empty()) {
+  // (A list that is not built holds pairs only after ParticleStore::keep or add,
+  // remapped: their history is carried over too.)
+  if (history_ && !pi_.empty()) {
     const std::size_t rows = std::max(n, x0_.size());
     carry_first.assign(rows + 1, 0);
     for (std::size_t k = 0; k < pi_.size(); ++k)

@@ -103,6 +103,10 @@ void DragModule::permute(const std::vector<std::uint32_t>& from) {
     if (v->size() == from.size()) permute_array(*v, from, tmp);
 }
 
+void DragModule::remap(const std::vector<std::uint32_t>& /*from*/, const ParticleStore& /*p*/) {
+  for (auto* v : {&k_, &ugx_, &ugy_, &ugz_}) v->clear();
+}
+
 void DragModule::add_cell_average(ParticleStore& p) {
   // Garg et al. eqs 33–35: every particle of a cell sees the cell-centred gas velocity
   // and the cell's volume-averaged solids velocity; K from the particle's diameter and
@@ -206,6 +210,10 @@ void PressureGradientModule::permute(const std::vector<std::uint32_t>& from) {
   std::vector<double> tmp;
   for (auto* v : {&fx_, &fy_, &fz_})
     if (v->size() == from.size()) permute_array(*v, from, tmp);
+}
+
+void PressureGradientModule::remap(const std::vector<std::uint32_t>& /*from*/, const ParticleStore& /*p*/) {
+  for (auto* v : {&fx_, &fy_, &fz_}) v->clear();
 }
 
 }  // namespace cdm::coupling

@@ -80,6 +80,13 @@ void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec) {
       if (m < m_min[p.material]) { m_min[p.material] = m; r_min[p.material] = p.radius; }
       ++count[p.material];
     }
+    // Inserted particles: their smallest (the shortest collisions), many of each.
+    for (const auto& in : spec.insertions) {
+      const double r = in.size.smallest(), d = 2.0 * r;
+      const double m = spec.materials[in.material].density * std::numbers::pi * d * d * d / 6.0;
+      if (m < m_min[in.material]) { m_min[in.material] = m; r_min[in.material] = r; }
+      count[in.material] += 2;
+    }
     auto need = [&](int a, int b, const std::string& what) -> const PairParams& {
       const PairParams& pp = spec.pairs.get(a, b);
       if (!pp.defined)

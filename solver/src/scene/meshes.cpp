@@ -83,6 +83,7 @@ void read_meshes(const Reader& rd, SceneSpec& spec) {
     mesh.name = rd.string(t, "name", path).value_or("mesh" + std::to_string(i));
     mesh.file = *file;
     mesh.material = material;
+    mesh.motion = read_motion(rd, t, "motion", path, "meshes[].motion");
     spec.meshes.push_back(std::move(mesh));
   }
 }

@@ -109,7 +109,7 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
       const std::string path = "lattices[" + std::to_string(i) + "]";
       rd.check_keys(t, "lattices[]", path);
       const int mat = particle_material(rd, spec, t, path);
-      const double r = rd.positive(t, "radius", path, Dim::length, true);
+      const SizeDistribution size = read_size(rd, t, path);
       const Vec3 origin = rd.vec3_required(t, "origin", path, Dim::length);
       const Vec3 spacing = rd.vec3_required(t, "spacing", path, Dim::length);
       if (!(spacing.x > 0 && spacing.y > 0 && spacing.z > 0))
@@ -124,10 +124,17 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
       long long seed = 1;
       if (const toml::node* sn = t.get("seed")) {
         if (!sn->is_integer() || sn->as_integer()->get() < 0) rd.fail_value(path + ".seed", *sn, "an integer >= 0");
-        if (!(jitter > 0.0)) rd.reject_unused(t, "seed", path, "velocity_jitter is 0");
+        if (!(jitter > 0.0) && size.kind == SizeKind::fixed)
+          rd.reject_unused(t, "seed", path, "velocity_jitter is 0 and the radius is fixed");
         seed = sn->as_integer()->get();
       }
-      // Uniform in [-jitter, jitter] per component.
+      // Sites far enough apart for the largest radius the distribution draws.
+      if (size.kind != SizeKind::fixed && 2.0 * size.largest() > std::min({spacing.x, spacing.y, spacing.z}))
+        rd.fail_value(path + ".spacing", *t.get("spacing"),
+                      "a spacing of at least the largest diameter of " + path + ".size (" +
+                          std::to_string(2.0 * size.largest() / rd.factor(Dim::length)) + ") along every axis");
+      // Per site its radius (from a distribution), then its velocity jitter, uniform in
+      // [-jitter, jitter] per component, from one stream.
       std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
       auto uniform = [&] { return uniform01(rng) * 2.0 - 1.0; };
       const std::array<long long, 3> c = lattice_count(rd, t, path);  // the total is checked
@@ -138,7 +145,7 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
           for (long long kx = 0; kx < c[0]; ++kx) {
             ParticleSpec p;
             p.material = mat;
-            p.radius = r;
+            p.radius = size.sample(rng);
             p.position = origin + Vec3{kx * spacing.x, ky * spacing.y, kz * spacing.z};
             p.velocity = vel;
             if (jitter > 0.0) {
@@ -189,10 +196,12 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
     }
   }
   if (const toml::array* rs = rd.array_of_tables(rd.root(), "random_particles")) read_random_particles(rd, *rs, spec);
-  if (spec.particles.empty() && spec.gas != GasModel::solved)
-    rd.fail_missing("particles", "at least one [[particles]], [[lattices]], [[shells]] or [[random_particles]] entry");
+  if (spec.particles.empty() && spec.gas != GasModel::solved && spec.insertions.empty())
+    rd.fail_missing("particles",
+                    "at least one [[particles]], [[lattices]], [[shells]], [[random_particles]] or [[insertions]] entry");
   double d_max = 0.0;
   for (const auto& ps : spec.particles) d_max = std::max(d_max, 2.0 * ps.radius);
+  for (const auto& in : spec.insertions) d_max = std::max(d_max, 2.0 * in.size.largest());
   spec.verlet_skin = 0.1 * d_max;
 }
 

@@ -3,13 +3,13 @@
 /// sequential addition when contacts act between them.
 #include "sections.hpp"
 
+#include "cdm/solver/placement.hpp"
+
 #include <algorithm>
 #include <limits>
 #include <cmath>
-#include <map>
 #include <random>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -24,7 +24,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     const std::string path = "random_particles[" + std::to_string(i) + "]";
     rd.check_keys(t, "random_particles[]", path);
     const int mat = particle_material(rd, spec, t, path);
-    const double r = rd.positive(t, "radius", path, Dim::length, true);
+    const SizeDistribution size = read_size(rd, t, path);
     const Vec3 lo = rd.vec3_required(t, "lower", path, Dim::length), hi = rd.vec3_required(t, "upper", path, Dim::length);
     if (!(hi.x >= lo.x && hi.y >= lo.y && hi.z >= lo.z))
       rd.fail_value(path + ".upper", *t.get("upper"), "a corner at or above " + path + ".lower along every axis");
@@ -38,45 +38,27 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     auto uniform = [&] { return uniform01(rng); };
     const bool exclusive =
         !rd.boolean(t, "allow_overlap", path).value_or(!spec.normal_contact);
-    // Random sequential addition on a cell grid of edge r + the largest radius so far
-    // (contacts only): a new centre clears every particle placed before it, of this block,
-    // of earlier blocks and listed ones.
-    double r_max = r;
+    // Random sequential addition (placement.hpp): a new centre clears every particle
+    // placed before it, of this block, of earlier blocks and listed ones, and the walls;
+    // along periodic axes their images too where contacts act through the faces (as the
+    // initial-overlap check sees them; without contacts the faces are not looked through).
+    double r_max = size.largest();
     for (const auto& p : spec.particles) r_max = std::max(r_max, p.radius);
-    const double cell = r + r_max;
-    std::map<std::tuple<long long, long long, long long>, std::vector<std::pair<Vec3, double>>> placed;
-    auto key = [&](Vec3 x) {
-      return std::make_tuple(static_cast<long long>(std::floor(x.x / cell)), static_cast<long long>(std::floor(x.y / cell)),
-                             static_cast<long long>(std::floor(x.z / cell)));
-    };
+    SequentialPlacement placed(r_max, spec.walls, 0.0, spec.normal_contact ? spec.periodic : PeriodicBox{});
     if (exclusive)
-      for (const auto& p : spec.particles) placed[key(p.position)].emplace_back(p.position, p.radius);
-    std::vector<Wall> walls_t0;
-    for (const auto& w : spec.walls) walls_t0.push_back(w.at(0.0));
-    auto clear = [&](Vec3 x) {
-      for (const auto& w : walls_t0)
-        if (w.gap(x, std::numeric_limits<double>::infinity()).gap < r) return false;
-      const auto [a, b, c] = key(x);
-      for (long long da = -1; da <= 1; ++da)
-        for (long long db = -1; db <= 1; ++db)
-          for (long long dc = -1; dc <= 1; ++dc) {
-            auto it = placed.find({a + da, b + db, c + dc});
-            if (it == placed.end()) continue;
-            for (const auto& [y, ry] : it->second)
-              if (dot(x - y, x - y) < (r + ry) * (r + ry)) return false;
-          }
-      return true;
-    };
+      for (const auto& p : spec.particles) placed.add(p.position, p.radius);
     spec.groups.push_back({path, spec.particles.size(), count, 0, 0});
     // Jammed when this many tries in a row find no free place: the free volume left is
     // then below ~5e-5 of the box, and going on would only burn time (a bound on the
     // consecutive misses, not on the total, keeps the work per placed particle bounded).
     std::size_t misses = 0;
     const std::size_t max_misses = 20000;
+    // The radius is drawn first, then centres until one is clear (one stream of numbers).
+    double r = size.sample(rng);
     for (std::size_t k = 0; k < count;) {
       const double a = uniform(), b = uniform(), c = uniform();
       const Vec3 x{lo.x + a * (hi.x - lo.x), lo.y + b * (hi.y - lo.y), lo.z + c * (hi.z - lo.z)};
-      if (exclusive && !clear(x)) {
+      if (exclusive && !placed.clear(x, r)) {
         if (++misses > max_misses)
           rd.fail_value(path + ".count", *t.get("count"),
                         "fewer particles: only " + std::to_string(k) + " fit without overlap (" +
@@ -85,13 +67,13 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
         continue;
       }
       misses = 0;
-      if (exclusive) placed[key(x)].emplace_back(x, r);
+      if (exclusive) placed.add(x, r);
       ParticleSpec p;
       p.material = mat;
       p.radius = r;
       p.position = x;
       spec.particles.push_back(p);
-      ++k;
+      if (++k < count) r = size.sample(rng);
     }
   }
 }

@@ -48,6 +48,8 @@ SceneSpec load(const std::string& file, const toml::table& root) {
   read_integrator(rd, spec);
   read_output_and_checks(rd, spec);
   read_monitors(rd, spec);
+  read_insertions(rd, spec);
+  read_outlets(rd, spec);
   read_particles(rd, spec);
   resolve_dt(rd, root.get("integrator")->as_table(), spec);
   check_initial_state(rd, spec);

@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include "reader.hpp"
+#include "cdm/solver/size_distribution.hpp"
 
 namespace cdm::scene {
 
@@ -44,10 +45,12 @@ int particle_material(const Reader& rd, const SceneSpec& spec, const toml::table
 /// The count of particles an entry places: an integer >= 1 within max_particles (the total
 /// over all blocks is checked before any is placed).
 std::size_t particle_count(const Reader& rd, const toml::table& t, const std::string& path);
-/// Uniform in [0, 1) from a 64-bit Mersenne twister with a fixed mapping to doubles, so a
-/// scene gives the same particles on every platform.
-inline double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+/// The radii of a block: `radius` (one) or a `size` table (a distribution), exactly one.
+SizeDistribution read_size(const Reader& rd, const toml::table& t, const std::string& path);
 void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& spec);
+// insertions.cpp: [[insertions]] and [[outlets]] (after the walls, the gas and the periodic box)
+void read_insertions(const Reader& rd, SceneSpec& spec);
+void read_outlets(const Reader& rd, SceneSpec& spec);
 // integrator.cpp
 void read_integrator(const Reader& rd, SceneSpec& spec);
 void resolve_dt(const Reader& rd, const toml::table* t, SceneSpec& spec);

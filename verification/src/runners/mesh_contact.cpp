@@ -3,7 +3,7 @@
 ///
 /// mesh_vs_walls: the variant's scene with [[meshes]] against the reference scene of
 /// options.reference, the same with plane walls in their place (overrides of meshes[...]
-/// apply to the mesh scene only). Where the mesh is the planes (a flat mesh, a concave
+/// apply to the mesh scene only, of walls[...] to the reference only). Where the mesh is the planes (a flat mesh, a concave
 /// corner of two planes), every step's position, velocity, spin, force, torque and number
 /// of contacts must agree to round-off, over the whole run.
 ///
@@ -61,12 +61,16 @@ double max_diff(const std::vector<Sample>& a, const std::vector<Sample>& b, Vec3
 RunOutput mesh_vs_walls(const CaseDef& c, const Variant& v, const RunConfig& rc) {
   auto ref_it = c.options.find("reference");
   if (ref_it == c.options.end()) throw std::runtime_error(c.name + ": case.toml needs options.reference (the plane-wall scene)");
-  Variant plane = v;
+  // Overrides of meshes[...] go to the mesh scene only, of walls[...] to the reference only.
+  Variant plane = v, mesh = v;
   plane.scene = (std::filesystem::path(c.dir) / ref_it->second).string();
   plane.set.clear();
-  for (const SceneOverride& o : v.set)
+  mesh.set.clear();
+  for (const SceneOverride& o : v.set) {
     if (o.path.rfind("meshes", 0) != 0) plane.set.push_back(o);
-  Simulation mesh_sim(scene_for(v, rc));
+    if (o.path.rfind("walls", 0) != 0) mesh.set.push_back(o);
+  }
+  Simulation mesh_sim(scene_for(mesh, rc));
   Simulation plane_sim(scene_for(plane, rc));
   if (mesh_sim.particles().size() != 1 || plane_sim.particles().size() != 1)
     throw std::runtime_error(c.name + ": mesh_vs_walls compares one particle");

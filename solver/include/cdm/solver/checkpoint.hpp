@@ -40,9 +40,12 @@ struct OutputMarks {
   std::optional<VtkMark> vtk;                   ///< frames of particles.pvd / gas.pvd
   std::optional<std::uint64_t> log;             ///< bytes of log.dat
   std::vector<std::uint64_t> monitors;          ///< bytes of each monitor's table, in scene order
+  std::optional<std::uint64_t> population;      ///< bytes of outlets.dat
 };
 
-constexpr std::uint32_t checkpoint_format_version = 6;
+/// 6: the mesh contacts (in the contact module's state); 7: the population section
+/// (Simulation::save_population) and outlets.dat's length.
+constexpr std::uint32_t checkpoint_format_version = 7;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

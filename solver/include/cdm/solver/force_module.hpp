@@ -25,6 +25,10 @@ class ForceModule {
   /// The particles were reordered (ParticleStore::permute): slot i now holds what slot
   /// @p from[i] held. Modules that keep per-particle state reorder it alike.
   virtual void permute(const std::vector<std::uint32_t>& /*from*/) {}
+  /// Particles were removed or added (population.hpp), @p p is the store after: slot i
+  /// holds what slot @p from[i] held, or a new particle where from[i] is new_particle.
+  /// Modules that keep per-particle state follow.
+  virtual void remap(const std::vector<std::uint32_t>& /*from*/, const ParticleStore& /*p*/) {}
 };
 
 }  // namespace cdm

@@ -17,6 +17,10 @@ namespace cdm {
 template <class T>
 void permute_array(std::vector<T>& v, const std::vector<std::uint32_t>& from, std::vector<T>& tmp);
 
+/// In a map of slots after particles were removed or added (ForceModule::remap): a slot
+/// that holds a new particle.
+inline constexpr std::uint32_t new_particle = 0xFFFFFFFFu;
+
 struct ParticleStore {
   // Translational state [SI].
   std::vector<double> x, y, z;     // centre position [m]
@@ -56,6 +60,11 @@ struct ParticleStore {
   /// Reorder every array: slot i takes what slot @p from[i] held (a permutation of
   /// 0..size()-1). Identities move with their particles.
   void permute(const std::vector<std::uint32_t>& from);
+  /// Keep only the particles in slots @p from (increasing), compacted in that order:
+  /// slot i takes what slot from[i] held. Identities are renumbered 0..from.size()-1 in
+  /// the order they had, so that "by identity" stays the order of the scene and of
+  /// insertion among the particles left.
+  void keep(const std::vector<std::uint32_t>& from);
   /// The bytes the arrays hold (size × element size, every array this scene carries):
   /// what one sweep over all the particles' state touches.
   std::size_t bytes() const;

@@ -13,6 +13,7 @@
 #include "cdm/solver/coupling/drag_laws.hpp"
 #include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
+#include "cdm/solver/insertion_spec.hpp"
 #include "cdm/solver/io/monitor_spec.hpp"
 #include "cdm/solver/keywords.hpp"
 #include "cdm/solver/materials.hpp"
@@ -114,6 +115,11 @@ struct SceneSpec {
   PeriodicBox periodic;
   std::vector<ParticleSpec> particles;
   std::vector<ParticleGroup> groups;  // covers particles in order
+  /// Particles added over time ([[insertions]]) and regions that remove them ([[outlets]]).
+  std::vector<InsertionSpec> insertions;
+  std::vector<OutletSpec> outlets;
+  /// Whether the particle count may change during the run.
+  bool population_changes() const { return !insertions.empty() || !outlets.empty(); }
   /// Verlet-list margin [m]: a tenth of the largest particle diameter. Contacts reach
   /// 2 r_max + verlet_skin.
   double verlet_skin = 0.0;

@@ -18,6 +18,7 @@
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/integrators/integrator.hpp"
 #include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/population.hpp"
 #include "cdm/solver/run_guards.hpp"
 #include "cdm/solver/scene.hpp"
 
@@ -66,6 +67,8 @@ class Simulation : private integrators::StepHost {
   using CouplingBalance = coupling::CouplingBalance;
   const CouplingBalance& coupling_balance() const;
   const coupling::DragModule* drag() const { return drag_; }
+  /// The insertions and outlets (nullptr when the scene has neither).
+  const Population* population() const { return population_.get(); }
 
   /// Advance one time step (throws SimulationError if the state goes bad). With
   /// velocity Verlet and no gas, the step's final half kick (the velocities and spins
@@ -99,6 +102,17 @@ class Simulation : private integrators::StepHost {
   /// Reorder every per-particle array, the particles', the integrator's and the
   /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);
+  /// At the end of a step: remove the particles in the outlets, then insert what is due.
+  void update_population();
+  /// The modules follow particles removed or added (ForceModule::remap).
+  void remap(const std::vector<std::uint32_t>& from);
+  /// The checkpoint's section on a changing population (its own function, so that the
+  /// format can grow beside it): the particles' radii, masses and materials (inserted
+  /// particles have their own) and the insertions' and outlets' state.
+  void save_population(OutArchive& a) const;
+  /// Reads what save_population wrote, sizing the store to @p n particles; false when
+  /// the scene's population does not change (nothing else was read).
+  bool load_population(InArchive& a, std::uint64_t n);
   RunGuards guards() const;
   /// The gas is evaluated at the particles once per gas step (coupling.drag_evaluation).
   bool lagged() const { return spec_.drag_evaluation == coupling::DragEvaluation::gas_step; }
@@ -121,6 +135,7 @@ class Simulation : private integrators::StepHost {
   std::unique_ptr<coupling::TwoWayExchange> exchange_;  // with a solved gas
   std::unique_ptr<coupling::ImplicitDrag> implicit_drag_;  // coupling.gas_drag = "implicit"
   std::unique_ptr<integrators::Integrator> integrator_;
+  std::unique_ptr<Population> population_;  // [[insertions]], [[outlets]]
   std::uint64_t substeps_ = 1, substep_ = 0;
   coupling::GasStepClock gas_clock_;  // coupling.drag_evaluation = "gas_step": evaluation due
   std::vector<double> eps_work_;  // ε_g handed to the gas step

@@ -86,6 +86,10 @@ class ContactModule final : public ForceModule {
     list_.permute(from);
     if (mesh_) mesh_->permute(from);
   }
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override {
+    list_.remap(from, p);
+    if (mesh_) mesh_->remap(from);
+  }
 
   /// |F_n| [N] per listed pair, or -1 where the pair is not in contact (record_normal_forces).
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }

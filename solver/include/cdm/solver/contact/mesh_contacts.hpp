@@ -13,8 +13,8 @@
 /// when it is a local minimum of |X - q| over the mesh. A face point always is (the
 /// distance grows in every direction within the face). An edge or vertex point f is not
 /// when another triangle that contains f is nearer: the distance over a triangle is
-/// convex, so from f it decreases into that triangle. Adjacent triangles reporting the same
-/// point (to 1e-7 of the radius: rounding) count once. Both tests defer only to a
+/// convex, so from f it decreases into that triangle. Triangles reporting the same point
+/// (to 1e-7 of the radius: rounding) count once, whichever mesh they belong to. Both tests defer only to a
 /// better-ranked triangle (faces first, then the nearer, then the lower index), a strict
 /// order, so two candidates never remove each other and every touching region keeps its
 /// best. So a flat mesh, however finely tessellated, gives exactly the
@@ -26,7 +26,16 @@
 /// Contact geometry. On a face the normal is the face's, the distance that of the plane
 /// (dot(X - v0, n), the expression of a plane wall), so a face contact is a plane wall's
 /// contact; on an edge or a vertex the normal is the direction from X to q. Meshes are
-/// two-sided: a particle touches a triangle from either side.
+/// two-sided: a particle touches a triangle from either side. Vertices are welded within
+/// a mesh (mesh_geometry.hpp), not between meshes: where two meshes meet edge to edge, a
+/// sphere within reach of the seam feels the other mesh's border edge as an edge, so a
+/// surface that must be smooth across a seam belongs in one STL file.
+///
+/// Moving meshes. A mesh moves as a rigid body (walls/wall_motion.hpp). Each particle is
+/// taken into the mesh's body frame (the inverse motion), where the grid, the candidates
+/// and the closest points are those of the mesh at rest; the normal is turned back into
+/// the world, and the surface's velocity at the contact point enters the contact's
+/// relative velocity, as for a moving wall.
 ///
 /// History. The contacts of a particle are matched with those of the last evaluation on
 /// the same mesh: each takes the history of the nearest unused previous contact point
@@ -62,8 +71,9 @@ class MeshContacts {
   struct Contact {
     std::uint32_t particle = 0;
     std::uint32_t triangle = 0;  // over all meshes in order (mesh_of)
-    Vec3 point;                  // contact point on the mesh [m]
+    Vec3 point;                  // contact point on the mesh, in the mesh's body frame [m]
     Vec3 eta;                    // unit normal from the particle's centre towards the mesh
+    Vec3 wall_velocity;          // velocity of the mesh's surface at the contact point [m/s]
     double overlap = 0.0;        // radius - distance [m]
     double lever = 0.0;          // centre to the contact point [m]
     Vec3 delta_t;                // tangential history [m]
@@ -76,7 +86,9 @@ class MeshContacts {
   /// particle tests its candidates: the triangles within its radius + @p margin [m] when
   /// they were listed, listed again when @p builds (the Verlet list's build count)
   /// changes; the Verlet list is built before any particle moves @p margin / 2.
-  void update(const ParticleStore& p, bool threads, std::size_t builds, double margin);
+  /// @p time [s]: the time of the positions, where moving meshes stand (their candidates
+  /// are listed again too once a mesh has moved margin / 2 since they were listed).
+  void update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time = 0.0);
   std::vector<Contact>& contacts() { return contacts_; }
   const std::vector<Contact>& contacts() const { return contacts_; }
 
@@ -88,10 +100,13 @@ class MeshContacts {
   void load_state(InArchive& a);
   /// The particles were reordered: new index k holds old particle from[k].
   void permute(const std::vector<std::uint32_t>& from);
+  /// Particles were removed or added: new index k holds old particle from[k], or is new
+  /// (new_particle). The contacts of removed particles are dropped, the others renumbered.
+  void remap(const std::vector<std::uint32_t>& from);
 
   /// The contacts of one particle at @p x with radius @p r, geometry only (no history).
   /// The grid must reach r (build_grid).
-  void find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out) const;
+  void find(Vec3 x, double r, std::uint32_t particle, std::vector<Contact>& out, double time = 0.0) const;
   /// Lists the triangles within @p reach of every point of each cell (reach: the largest
   /// particle radius). Called by update when a particle exceeds the current reach.
   void build_grid(double reach);
@@ -102,17 +117,23 @@ class MeshContacts {
     MeshFeature feature;
     std::uint32_t feature_id;  // triangle, edge or vertex id (over all meshes)
     double distance;
-    Vec3 point, eta;
+    Vec3 point, eta;  // in the mesh's body frame
+    Vec3 world;       // the point where the mesh stands now
   };
   /// find() among the triangles [t0, t1) (in increasing order).
   void find_among(Vec3 x, double r, std::uint32_t particle, const std::uint32_t* t0, const std::uint32_t* t1,
-                  std::vector<Contact>& out) const;
+                  std::vector<Contact>& out, double time) const;
+  /// Appends the triangles within @p reach of @p x at @p time to @p out, in increasing order.
+  void gather(Vec3 x, double reach, double time, std::vector<std::uint32_t>& out) const;
+  /// Where the point @p x at @p time is in mesh @p m's body frame.
+  Vec3 to_body(std::size_t m, Vec3 x, double time) const {
+    return moves_[m] ? inverse_[m].point(x, time) : x;
+  }
   /// The triangles the cell holding @p x lists (none outside the grid).
   std::pair<const std::uint32_t*, const std::uint32_t*> cell_triangles(Vec3 x) const;
   double distance(Vec3 x, std::uint32_t t) const;  // from x to triangle t [m]
-  void list_candidates(const ParticleStore& p, double margin, bool threads);
+  void list_candidates(const ParticleStore& p, double margin, bool threads, double time);
   bool contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const;
-  bool adjacent(std::uint32_t a, std::uint32_t b) const;  // share a vertex
   std::uint64_t fingerprint() const;
 
   std::vector<TriangleMesh> meshes_;
@@ -131,6 +152,13 @@ class MeshContacts {
   std::vector<std::uint32_t> cand_start_, cand_;
   bool listed_ = false;
   std::size_t builds_ = 0;
+  double listed_time_ = 0.0, listed_reach_ = 0.0;  // when the candidates were listed, and rmax + margin
+  // Per mesh: whether it moves, the inverse of its motion (world → body frame), and the
+  // largest distance of its vertices from its rotation axis [m].
+  std::vector<char> moves_;
+  std::vector<WallMotion> inverse_;
+  std::vector<double> axis_reach_;
+  bool any_moves_ = false;
 
   std::vector<Contact> contacts_, prev_;  // this evaluation's and the last's
 };

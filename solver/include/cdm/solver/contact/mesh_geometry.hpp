@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cdm/solver/vec3.hpp"
+#include "cdm/solver/walls/wall_motion.hpp"
 
 namespace cdm {
 
@@ -28,15 +29,19 @@ struct TriangleMesh {
   std::vector<std::array<std::uint32_t, 3>> edges;         // edge ids
   std::vector<Vec3> normals;                               // unit, right-handed in the vertex order [-]
   std::uint32_t edge_count = 0;
+  /// Rigid motion of the whole mesh (walls/wall_motion.hpp); the vertices above are its
+  /// place at rest (the scene's), its body frame.
+  WallMotion motion;
 
   std::size_t size() const { return triangles.size(); }
   Vec3 vertex(std::size_t t, int k) const { return vertices[triangles[t][static_cast<std::size_t>(k)]]; }
 };
 
 /// The mesh of @p corners (three corners per triangle, [m]): vertices welded where their
-/// coordinates are equal to the bit (-0 and +0 alike), edges shared by the triangles
-/// that have both their ends. The corners must be finite and each triangle of non-zero
-/// area (io/stl_reader.hpp checks both).
+/// coordinates differ by at most 1e-10 of the mesh's extent (each coordinate; the first
+/// one read is kept), edges shared by the triangles that have both their ends. A triangle
+/// two of whose corners weld (a sliver that thin) is left out. The corners must be finite
+/// and each triangle of non-zero area (io/stl_reader.hpp checks both).
 TriangleMesh build_triangle_mesh(const std::vector<std::array<Vec3, 3>>& corners);
 
 /// Where the closest point of a triangle lies.

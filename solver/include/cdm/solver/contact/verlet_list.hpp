@@ -60,6 +60,8 @@ class VerletList {
   double time() const { return time_; }
   /// Whether any wall moves.
   bool walls_move() const { return walls_move_; }
+  /// Whether every wall is a plane at rest.
+  bool still_planes() const { return still_planes_; }
   /// Particles interact through their nearest images along the box's periodic axes.
   void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   const PeriodicBox& periodic_box() const { return box_; }
@@ -115,6 +117,10 @@ class VerletList {
   std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const;
   /// The particles were reordered (ForceModule::permute).
   void permute(const std::vector<std::uint32_t>& from);
+  /// Particles were removed or added (ForceModule::remap): the listed pairs of removed
+  /// particles are dropped, the history of the others follows them, and the list is
+  /// built again at the next update (carrying that history over).
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p);
 
   // Listed pairs (i < j) in processing order, slab by slab.
   std::size_t size() const { return pi_.size(); }
@@ -175,6 +181,7 @@ class VerletList {
   std::vector<Wall> walls_;  // as the scene placed them (t = 0)
   std::vector<Wall> posed_;  // at time_
   bool walls_move_ = false;
+  bool still_planes_ = true;
   double time_ = 0.0;         // [s]
   double listed_time_ = 0.0;  // when the wall candidates were listed [s]
   bool history_;

@@ -50,6 +50,8 @@ class DragModule final : public ForceModule {
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
   void permute(const std::vector<std::uint32_t>& from) override;
+  /// The cached values are dropped: evaluated again at the next force evaluation.
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override;
 
   /// Smallest particle relaxation time m/K seen in the last evaluation [s].
   double min_relaxation_time() const { return tau_min_; }
@@ -92,6 +94,8 @@ class PressureGradientModule final : public ForceModule {
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
   void permute(const std::vector<std::uint32_t>& from) override;
+  /// The cached values are dropped: evaluated again at the next force evaluation.
+  void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override;
 
  private:
   const fluid::GasField* gas_;

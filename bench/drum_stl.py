@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""The rotating-drum comparison's LIGGGHTS inputs (bench/drum_compare.sh).
+
+drum_stl.py OUT.stl --radius R --length W --segments N
+    A closed cylinder about the y axis from y = 0 to y = W, as an ASCII STL: the lateral
+    surface as N flat facets whose mid-lines lie at radius R (vertices at R / cos(pi/N)),
+    so a bead touches a facet where it would touch cdm's analytic cylinder, and each end
+    a fan of N triangles. Normals point into the drum.
+drum_stl.py --data particles.dat OUT.data
+    cdm's t = 0 particles as a LIGGGHTS data file (atom_style granular: id type diameter
+    density x y z), type 1 beads (density 2500 kg/m^3), type 2 the drum's mesh.
+"""
+import argparse
+import math
+
+
+def write_stl(path, radius, length, n):
+    rv = radius / math.cos(math.pi / n)
+    ring = [(rv * math.cos(2 * math.pi * k / n), rv * math.sin(2 * math.pi * k / n)) for k in range(n)]
+    tris = []
+    for k in range(n):
+        (x0, z0), (x1, z1) = ring[k], ring[(k + 1) % n]
+        a, b, c, d = (x0, 0.0, z0), (x1, 0.0, z1), (x1, length, z1), (x0, length, z0)
+        tris += [(a, b, c), (a, c, d)]
+        tris.append(((0.0, 0.0, 0.0), (x1, 0.0, z1), (x0, 0.0, z0)))
+        tris.append(((0.0, length, 0.0), (x0, length, z0), (x1, length, z1)))
+    with open(path, "w") as f:
+        f.write("solid drum\n")
+        for p, q, r in tris:
+            u = [q[i] - p[i] for i in range(3)]
+            v = [r[i] - p[i] for i in range(3)]
+            nrm = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+            s = math.sqrt(sum(c * c for c in nrm))
+            f.write("  facet normal %.9e %.9e %.9e\n    outer loop\n" % tuple(c / s for c in nrm))
+            for vert in (p, q, r):
+                f.write("      vertex %.12e %.12e %.12e\n" % vert)
+            f.write("    endloop\n  endfacet\n")
+        f.write("endsolid drum\n")
+
+
+def write_data(particles, path, density=2500.0):
+    rows = []
+    t0 = None
+    with open(particles) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            c = line.split()
+            if t0 is None:
+                t0 = c[0]
+            if c[0] != t0:
+                break
+            rows.append((int(c[1]) + 1, float(c[2]), float(c[3]), float(c[4]), 2.0 * float(c[11])))
+    with open(path, "w") as f:
+        f.write("LIGGGHTS data file: cdm's t = 0 beads\n\n%d atoms\n2 atom types\n\n" % len(rows))
+        f.write("-0.06 0.06 xlo xhi\n-0.002 0.02 ylo yhi\n-0.06 0.06 zlo zhi\n\nAtoms\n\n")
+        for i, x, y, z, d in rows:
+            f.write("%d 1 %.17g %.17g %.17g %.17g %.17g\n" % (i, d, density, x, y, z))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out")
+    ap.add_argument("--radius", type=float, default=0.05)
+    ap.add_argument("--length", type=float, default=0.018)
+    ap.add_argument("--segments", type=int, default=120)
+    ap.add_argument("--data", help="cdm particles.dat: write its t = 0 beads as a LIGGGHTS data file")
+    a = ap.parse_args()
+    if a.data:
+        write_data(a.data, a.out)
+    else:
+        write_stl(a.out, a.radius, a.length, a.segments)
+
+
+if __name__ == "__main__":
+    main()

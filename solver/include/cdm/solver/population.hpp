@@ -1,0 +1,72 @@
+#pragma once
+/// @file population.hpp
+/// @brief Particles inserted and removed during a run: the scene's [[insertions]] add
+/// particles in a box at a rate until a total, placed by random sequential addition
+/// clear of every particle and wall (placement.hpp); its [[outlets]] remove the
+/// particles whose centre reaches them. Both run at the end of a step (Simulation), and
+/// keep what they did: per insertion the particles and mass inserted, per outlet those
+/// removed, for the balance in outlets.dat.
+///
+/// Insertion events: an insertion with `interval` > 0 inserts at the first step whose
+/// time reaches start + k·interval (k = 0, 1, ...), with interval 0 at every step from
+/// start on. At an event at time t it inserts until the number inserted reaches
+/// ⌊rate·(min(t, end) − start)⌋ (count_rate), or while the mass inserted is below
+/// rate·(min(t, end) − start) (mass_rate: the mass runs ahead by less than one
+/// particle), never beyond the total. A particle that finds no free place in 1000
+/// tries ends the event; what it could not insert is due at the next event.
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/scene.hpp"
+
+namespace cdm {
+
+class Population {
+ public:
+  explicit Population(const SceneSpec& spec);
+
+  /// Whether some particle's centre is in an outlet.
+  bool any_leaving(const ParticleStore& p) const;
+  /// Remove the particles in the outlets (a particle in several counts for the first in
+  /// scene order), recording their number and mass per outlet. The store is compacted
+  /// in order; returns, for each slot left, the slot it held before (ParticleStore::keep).
+  std::vector<std::uint32_t> remove(ParticleStore& p);
+  /// Whether an insertion event is due at time @p t.
+  bool insertion_due(double t) const;
+  /// Run the insertion events due at @p t: the particles are appended to the store at
+  /// rest relative to the insertion's velocity, their force the weight m @p g (nothing
+  /// else acts on a particle placed clear of all others). Returns how many were added.
+  std::size_t insert(ParticleStore& p, double t, Vec3 g);
+
+  /// Totals since the start of the run.
+  struct Tally {
+    std::uint64_t count = 0;
+    double mass = 0.0;  // [kg]
+  };
+  const std::vector<Tally>& inserted() const { return inserted_; }  ///< per insertion
+  const std::vector<Tally>& removed() const { return removed_; }    ///< per outlet
+  /// Insertion events that ended early (no free place): the box is full.
+  std::uint64_t jammed_events() const { return jammed_; }
+
+  void save_state(OutArchive& a) const;
+  void load_state(InArchive& a);
+
+ private:
+  struct Feed {
+    std::mt19937_64 rng;
+    std::uint64_t next_event = 0;  // index k of the next event (interval > 0)
+    bool done = false;             // total reached, or end passed
+  };
+  std::size_t run_event(std::size_t k, ParticleStore& p, double t, Vec3 g);
+
+  const SceneSpec& spec_;
+  std::vector<Feed> feeds_;
+  std::vector<Tally> inserted_, removed_;
+  std::uint64_t jammed_ = 0;
+};
+
+}  // namespace cdm

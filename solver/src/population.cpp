@@ -1,0 +1,195 @@
+#include "cdm/solver/population.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "cdm/solver/parallel.hpp"
+#include "cdm/solver/placement.hpp"
+
+namespace cdm {
+
+namespace {
+
+/// The last insertion event reached at time @p t: k for start + k·interval (interval > 0).
+std::uint64_t event_index(const InsertionSpec& in, double t) {
+  // Clamped: a tiny interval (many events per step) must not overflow the count.
+  return static_cast<std::uint64_t>(std::clamp(std::floor((t - in.start) / in.interval + 1e-9), 0.0, 0x1p62));
+}
+
+}  // namespace
+
+Population::Population(const SceneSpec& spec)
+    : spec_(spec), inserted_(spec.insertions.size()), removed_(spec.outlets.size()) {
+  for (const auto& in : spec.insertions) feeds_.push_back({std::mt19937_64(in.seed), 0, false});
+}
+
+bool Population::any_leaving(const ParticleStore& p) const {
+  if (spec_.outlets.empty()) return false;
+  const auto& outlets = spec_.outlets;
+  return parallel_max(p.size(), [&](std::size_t i) {
+           const Vec3 x = p.position(i);
+           for (const auto& o : outlets)
+             if (o.removes(x)) return 1.0;
+           return 0.0;
+         }) != 0.0;
+}
+
+std::vector<std::uint32_t> Population::remove(ParticleStore& p) {
+  std::vector<std::uint32_t> from;
+  from.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 x = p.position(i);
+    std::size_t o = 0;
+    while (o < spec_.outlets.size() && !spec_.outlets[o].removes(x)) ++o;
+    if (o == spec_.outlets.size()) {
+      from.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      ++removed_[o].count;
+      removed_[o].mass += p.mass[i];
+    }
+  }
+  p.keep(from);
+  return from;
+}
+
+bool Population::insertion_due(double t) const {
+  for (std::size_t k = 0; k < feeds_.size(); ++k) {
+    const InsertionSpec& in = spec_.insertions[k];
+    const Feed& f = feeds_[k];
+    if (f.done || t < in.start * (1.0 - 1e-12)) continue;
+    if (in.interval <= 0.0) return true;
+    const std::uint64_t e = event_index(in, t);
+    if (e >= f.next_event) return true;
+  }
+  return false;
+}
+
+std::size_t Population::insert(ParticleStore& p, double t, Vec3 g) {
+  std::size_t added = 0;
+  for (std::size_t k = 0; k < feeds_.size(); ++k) {
+    const InsertionSpec& in = spec_.insertions[k];
+    Feed& f = feeds_[k];
+    if (f.done || t < in.start * (1.0 - 1e-12)) continue;
+    if (in.interval > 0.0) {
+      const std::uint64_t e = event_index(in, t);
+      if (e < f.next_event) continue;
+      f.next_event = e + 1;
+    }
+    added += run_event(k, p, t, g);
+  }
+  return added;
+}
+
+std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec3 g) {
+  const InsertionSpec& in = spec_.insertions[k];
+  Feed& f = feeds_[k];
+  Tally& done = inserted_[k];
+  const Material& mat = spec_.materials[in.material];
+  const double span = std::max(0.0, std::min(t, in.end) - in.start);
+  const double target = in.rate * span;
+  // What is still due at this event, in the rate's and the total's measures.
+  auto total_left = [&] {
+    return in.total_by_mass ? done.mass < in.total : static_cast<double>(done.count) < in.total;
+  };
+  auto wanted = [&] {
+    const bool rate_left = in.rate_by_mass ? done.mass < target
+                                           : static_cast<double>(done.count) < std::floor(target + 1e-9);
+    return rate_left && total_left();
+  };
+  // At or after `end`, the last event: it inserts what the rate owes up to `end`.
+  if (!(t < in.end) || !total_left()) f.done = true;
+  if (!wanted()) return 0;
+  // The particles near the box, which a new one must clear (a centre within the
+  // largest contact distance of the box; along periodic axes through the faces too).
+  const double r_new = in.size.largest();
+  double r_max = r_new;
+  for (double r : p.radius) r_max = std::max(r_max, r);
+  SequentialPlacement placed(r_max, spec_.walls, t, spec_.periodic);
+  const double reach = r_new + r_max;
+  const PeriodicBox& box = spec_.periodic;
+  const Vec3 mid = 0.5 * (in.lower + in.upper), half = 0.5 * (in.upper - in.lower);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 d = box.min_image(p.position(i) - mid);
+    if (std::abs(d.x) <= half.x + reach && std::abs(d.y) <= half.y + reach && std::abs(d.z) <= half.z + reach)
+      placed.add(p.position(i), p.radius[i]);
+  }
+  constexpr int max_tries = 1000;
+  std::size_t added = 0;
+  while (wanted()) {
+    const double r = in.size.sample(f.rng);
+    bool ok = false;
+    Vec3 x;
+    for (int tries = 0; tries < max_tries && !ok; ++tries) {
+      const double a = uniform01(f.rng), b = uniform01(f.rng), c = uniform01(f.rng);
+      x = {in.lower.x + a * (in.upper.x - in.lower.x), in.lower.y + b * (in.upper.y - in.lower.y),
+           in.lower.z + c * (in.upper.z - in.lower.z)};
+      ok = placed.clear(x, r);
+    }
+    if (!ok) {
+      ++jammed_;
+      f.done = !total_left();  // what is left is due at the next event
+      break;
+    }
+    placed.add(x, r);
+    p.add(x, in.velocity, r, mat.density, in.material);
+    const std::size_t i = p.size() - 1;
+    p.fx[i] = p.mass[i] * g.x; p.fy[i] = p.mass[i] * g.y; p.fz[i] = p.mass[i] * g.z;
+    ++done.count;
+    done.mass += p.mass[i];
+    ++added;
+  }
+  if (!total_left()) f.done = true;
+  return added;
+}
+
+void Population::save_state(OutArchive& a) const {
+  a.put(static_cast<std::uint64_t>(feeds_.size()));
+  for (std::size_t k = 0; k < feeds_.size(); ++k) {
+    std::ostringstream os;
+    os << feeds_[k].rng;
+    a.put(os.str());
+    a.put(feeds_[k].next_event);
+    a.put(static_cast<std::uint8_t>(feeds_[k].done));
+    a.put(inserted_[k].count);
+    a.put(inserted_[k].mass);
+  }
+  a.put(static_cast<std::uint64_t>(removed_.size()));
+  for (const Tally& r : removed_) {
+    a.put(r.count);
+    a.put(r.mass);
+  }
+  a.put(jammed_);
+}
+
+void Population::load_state(InArchive& a) {
+  std::uint64_t nf = 0;
+  a.get(nf);
+  if (nf != feeds_.size()) throw ArchiveError("its insertions differ from the scene's");
+  for (std::size_t k = 0; k < feeds_.size(); ++k) {
+    std::string state;
+    a.get(state);
+    std::istringstream is(state);
+    is >> feeds_[k].rng;
+    if (!is) throw ArchiveError("the random state of " + spec_.insertions[k].key + " is corrupted");
+    std::uint8_t done = 0;
+    a.get(feeds_[k].next_event);
+    a.get(done);
+    a.get(inserted_[k].count);
+    a.get(inserted_[k].mass);
+    if (done > 1 || !std::isfinite(inserted_[k].mass)) throw ArchiveError("the state of " + spec_.insertions[k].key + " is corrupted");
+    feeds_[k].done = done != 0;
+  }
+  std::uint64_t no = 0;
+  a.get(no);
+  if (no != removed_.size()) throw ArchiveError("its outlets differ from the scene's");
+  for (Tally& r : removed_) {
+    a.get(r.count);
+    a.get(r.mass);
+    if (!std::isfinite(r.mass)) throw ArchiveError("its outlet record is corrupted");
+  }
+  a.get(jammed_);
+}
+
+}  // namespace cdm

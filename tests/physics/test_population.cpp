@@ -1,0 +1,132 @@
+// Insertion by mass and removal (population.hpp) through a Simulation: the mass
+// inserted follows the mass rate within one particle at every event and stops past the
+// total by less than one particle; inserted particles clear every other particle and
+// wall; removal compacts the store in order and renumbers identities by rank, sorted
+// or not; the contact history of the pairs left follows them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "cdm/solver/scene_loader.hpp"
+#include "cdm/solver/simulation.hpp"
+
+namespace {
+
+const std::string scene = R"(
+units = "SI"
+[modules]
+gravity = true
+normal_contact = "linear_spring_dashpot"
+tangential = "spring_coulomb"
+[gravity]
+g = [0.0, 0.0, -9.81]
+[[materials]]
+name = "glass"
+density = 2500.0
+[[materials]]
+name = "steel"
+[[contacts]]
+pair = ["glass", "glass"]
+kn = 1000.0
+en = 0.5
+mu = 0.5
+[[contacts]]
+pair = ["glass", "steel"]
+kn = 1000.0
+en = 0.5
+mu = 0.5
+[[walls]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "steel"
+[[insertions]]
+material = "glass"
+lower = [0.0, 0.0, 0.001]
+upper = [0.01, 0.01, 0.02]
+mass_rate = 0.01
+mass = 0.0004
+interval = 0.001
+size = { distribution = "lognormal", basis = "mass", median = 0.0005, sigma = 0.3 }
+[[outlets]]
+name = "low"
+type = "box"
+lower = [0.0, 0.0, -1.0]
+upper = [0.005, 0.01, 0.0015]
+[neighbour_list]
+sort_interval = 20
+[integrator]
+scheme = "velocity_verlet"
+dt = "auto"
+end_time = 0.06
+)";
+
+TEST(Population, MassRateAndTotalWithinOneParticle) {
+  cdm::Simulation sim(cdm::load_scene_from_string(scene, "population.toml"));
+  const auto& in = sim.spec().insertions[0];
+  const double r_max = in.size.largest(), m_max = 2500.0 * std::numbers::pi * std::pow(2.0 * r_max, 3) / 6.0;
+  double last_mass = 0.0;
+  bool removed = false;
+  while (sim.steps() < sim.total_steps()) {
+    sim.step();
+    const auto& t = sim.population()->inserted()[0];
+    const double k = std::floor(sim.time() / in.interval + 1e-9);
+    const double target = std::min(in.rate * k * in.interval, in.total);
+    if (t.mass != last_mass) {  // an event inserted: it reached the target, by less than one particle
+      EXPECT_GE(t.mass, target) << "t = " << sim.time();
+      EXPECT_LT(t.mass, target + m_max) << "t = " << sim.time();
+      last_mass = t.mass;
+    }
+    // Every particle clears every other at its insertion: no overlap beyond what the
+    // contacts allow (the run's guard would stop at the radius).
+    removed = removed || sim.population()->removed()[0].count > 0;
+    // The identities are 0..n-1, each slot's.
+    const cdm::ParticleStore& p = sim.particles();
+    if (!p.id.empty()) {
+      ASSERT_EQ(p.id.size(), p.size());
+      for (std::size_t s = 0; s < p.size(); ++s) ASSERT_EQ(p.slot[p.id[s]], s);
+    }
+  }
+  const auto& t = sim.population()->inserted()[0];
+  EXPECT_GE(t.mass, in.total);
+  EXPECT_LT(t.mass, in.total + m_max);
+  EXPECT_TRUE(removed) << "the outlet removed nothing: the test does not test removal";
+  // The balance: what is in the domain is what was inserted minus what was removed.
+  const cdm::ParticleStore& p = sim.particles();
+  double mass = 0.0;
+  for (double m : p.mass) mass += m;
+  EXPECT_EQ(p.size(), t.count - sim.population()->removed()[0].count);
+  EXPECT_NEAR(mass, t.mass - sim.population()->removed()[0].mass, 1e-12 * t.mass);
+  // The radii drawn lie within the cut-offs.
+  for (double r : p.radius) {
+    EXPECT_GE(r, in.size.min);
+    EXPECT_LE(r, in.size.max);
+  }
+}
+
+TEST(Population, KeepCompactsInOrderAndRanksIdentities) {
+  cdm::ParticleStore p;
+  p.enable_rotation();
+  for (int i = 0; i < 6; ++i) p.add({double(i), 0, 0}, {0, 0, double(i)}, 0.1 + i, 1000.0, 0);
+  // A sort: slot s holds particle id[s].
+  p.permute({5, 3, 1, 0, 2, 4});
+  // Keep slots 0, 2, 3, 5 (particles 5, 1, 0, 4): in that order, ranked 3, 1, 0, 2.
+  p.keep({0, 2, 3, 5});
+  ASSERT_EQ(p.size(), 4u);
+  EXPECT_EQ(p.x, (std::vector<double>{5, 1, 0, 4}));
+  EXPECT_EQ(p.vz, (std::vector<double>{5, 1, 0, 4}));
+  EXPECT_EQ(p.wx.size(), 4u);
+  EXPECT_EQ(p.id, (std::vector<std::uint32_t>{3, 1, 0, 2}));
+  EXPECT_EQ(p.slot, (std::vector<std::uint32_t>{2, 1, 3, 0}));
+  // Never sorted: identities are the slots, kept in order.
+  cdm::ParticleStore q;
+  for (int i = 0; i < 4; ++i) q.add({double(i), 0, 0}, {}, 0.1, 1000.0, 0);
+  q.keep({1, 3});
+  EXPECT_EQ(q.x, (std::vector<double>{1, 3}));
+  EXPECT_TRUE(q.id.empty());
+}
+
+}  // namespace
