@@ -2,8 +2,9 @@
 # Regenerates the seed corpus in fuzz/corpus from the repository: every scene file
 # tracked by git (prefixed with byte 0, the target's scene selector) and small
 # checkpoints written by cdm itself (prefixed with byte 1): frictional linear contacts,
-# a Hertz-Mindlin pile with rolling resistance, and two-way coupled gas (velocity inlet
-# and pressure outlet; periodic suspension). Rerun it after the checkpoint format or the
+# a Hertz-Mindlin pile with rolling resistance, two-way coupled gas (velocity inlet
+# and pressure outlet; periodic suspension), mesh contacts, insertion and outlets, and
+# moving walls. Rerun it after the checkpoint format or the
 # scene schema changes, so the fuzzer starts from inputs that load.
 #   fuzz/make_corpus.sh [CDM]     CDM defaults to build/release/app/cdm
 set -euo pipefail
@@ -38,6 +39,9 @@ checkpoint verification/cases/stacked/scene.toml 200
 checkpoint tests/cli/scenes/hertz_pile.toml 2000 --set 'lattices[0].count=[3,3,2]'
 checkpoint verification/cases/terminal_velocity_coupled/scene.toml 40 --set 'gas.cells=[2,4,2]'
 checkpoint verification/cases/suspension/scene.toml 5 --set 'lattices[0].count=[3,3,3]'
+checkpoint tests/cli/scenes/mesh_pile.toml 3000 --set 'lattices[0].count=[4,4,2]'
+checkpoint tests/cli/scenes/feed_and_drain.toml 3000 --set 'lattices[0].count=[4,4,2]'
+checkpoint tests/cli/scenes/moving_walls.toml 2000 --set 'random_particles[0].count=40'
 
 rm -rf "$out"
 mv "$tmp/corpus" "$out"
