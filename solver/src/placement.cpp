@@ -6,10 +6,15 @@
 
 namespace cdm {
 
-SequentialPlacement::SequentialPlacement(double r_max, const std::vector<Wall>& walls, double t, const PeriodicBox& box)
-    : cell_(r_max > 0.0 ? 2.0 * r_max : 1.0), box_(box) {
+SequentialPlacement::SequentialPlacement(double r_max, const std::vector<Wall>& walls,
+                                         const std::vector<TriangleMesh>& meshes, double t, const PeriodicBox& box)
+    : cell_(r_max > 0.0 ? 2.0 * r_max : 1.0), box_(box), time_(t) {
   walls_.reserve(walls.size());
   for (const Wall& w : walls) walls_.push_back(w.at(t));
+  if (!meshes.empty()) {
+    meshes_ = std::make_unique<MeshContacts>(meshes);
+    meshes_->build_grid(r_max);
+  }
 }
 
 namespace {
@@ -44,6 +49,12 @@ bool SequentialPlacement::clear_of_spheres(Vec3 x, double r) const {
 bool SequentialPlacement::clear(Vec3 x, double r) const {
   for (const auto& w : walls_)
     if (w.gap(x, std::numeric_limits<double>::infinity()).gap < r) return false;
+  if (meshes_) {
+    thread_local std::vector<MeshContacts::Contact> touching;
+    touching.clear();
+    meshes_->find(x, r, 0, touching, time_);
+    if (!touching.empty()) return false;
+  }
   // The sphere and, along each periodic axis where it is within a contact distance of a
   // face, its image through the other face.
   double shift[3][2] = {{0, 0}, {0, 0}, {0, 0}};

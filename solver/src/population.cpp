@@ -106,7 +106,7 @@ std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec
   const double r_new = in.size.largest();
   double r_max = r_new;
   for (double r : p.radius) r_max = std::max(r_max, r);
-  SequentialPlacement placed(r_max, spec_.walls, t, spec_.periodic);
+  SequentialPlacement placed(r_max, spec_.walls, spec_.meshes, t, spec_.periodic);
   const double reach = r_new + r_max;
   const PeriodicBox& box = spec_.periodic;
   const Vec3 mid = 0.5 * (in.lower + in.upper), half = 0.5 * (in.upper - in.lower);

@@ -270,3 +270,27 @@ TEST_F(Meshes, ParticleAcrossMeshRefused) {
 }
 
 }  // namespace
+
+TEST_F(Meshes, RandomParticlesPlacedClearOfTheMesh) {
+  // The unit square at z = 0 crosses the middle of the block's box: every sphere placed
+  // must keep its radius from it (above the face, |z| is the distance to the mesh).
+  write("square.stl", square_ascii);
+  const double r = 0.02;
+  const cdm::SceneSpec s = load(mesh("square.stl") + R"(
+[[contacts]]
+pair = ["ball", "ball"]
+kn = 1.0e4
+en = 0.9
+
+[[random_particles]]
+material = "ball"
+radius = 0.02
+lower = [0.1, 0.1, -0.05]
+upper = [0.9, 0.9, 0.05]
+count = 300
+seed = 3
+)");
+  ASSERT_EQ(s.particles.size(), 301u);
+  for (std::size_t i = 1; i < s.particles.size(); ++i)
+    EXPECT_GE(std::abs(s.particles[i].position.z), r) << "particle " << i;
+}

@@ -44,7 +44,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     // initial-overlap check sees them; without contacts the faces are not looked through).
     double r_max = size.largest();
     for (const auto& p : spec.particles) r_max = std::max(r_max, p.radius);
-    SequentialPlacement placed(r_max, spec.walls, 0.0, spec.normal_contact ? spec.periodic : PeriodicBox{});
+    SequentialPlacement placed(r_max, spec.walls, spec.meshes, 0.0, spec.normal_contact ? spec.periodic : PeriodicBox{});
     if (exclusive)
       for (const auto& p : spec.particles) placed.add(p.position, p.radius);
     spec.groups.push_back({path, spec.particles.size(), count, 0, 0});

@@ -1,15 +1,17 @@
 #pragma once
 /// @file placement.hpp
 /// @brief Random sequential addition: spheres accepted one at a time where they overlap
-/// no sphere accepted before and no wall, found on a grid of cells at least one largest
+/// no sphere accepted before, no wall and no triangle mesh, found on a grid of cells at least one largest
 /// contact distance wide. Along a periodic axis a sphere is tested against the images
 /// across the faces too, so that blocks (and insertions) never place a pair of
 /// particles that overlap through the period. Used by [[random_particles]] and by the
 /// insertions (population.hpp).
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
 #include "cdm/solver/walls.hpp"
@@ -19,10 +21,12 @@ namespace cdm {
 class SequentialPlacement {
  public:
   /// @p r_max: the largest radius any sphere tested or added will have [m]; the walls
-  /// where they stand at time @p t [s].
-  SequentialPlacement(double r_max, const std::vector<Wall>& walls, double t, const PeriodicBox& box);
-  /// Whether a sphere of radius @p r at @p x clears every sphere added and every wall
-  /// (its centre at least r inside each; touching is clear).
+  /// and meshes where they stand at time @p t [s].
+  SequentialPlacement(double r_max, const std::vector<Wall>& walls, const std::vector<TriangleMesh>& meshes,
+                      double t, const PeriodicBox& box);
+  /// Whether a sphere of radius @p r at @p x clears every sphere added, every wall (its
+  /// centre at least r inside each) and every mesh (no triangle nearer than r); touching
+  /// is clear.
   bool clear(Vec3 x, double r) const;
   void add(Vec3 x, double r);
 
@@ -36,6 +40,8 @@ class SequentialPlacement {
 
   double cell_;
   std::vector<Wall> walls_;  // at the placement time
+  double time_;              // the placement time [s]
+  std::unique_ptr<MeshContacts> meshes_;  // the meshes' search, when the scene has any
   PeriodicBox box_;
   std::unordered_map<std::uint64_t, std::vector<Sphere>> cells_;
 };
