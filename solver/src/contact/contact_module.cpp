@@ -7,6 +7,7 @@
 #include "cdm/solver/contact/linear_spring_dashpot.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/platform.hpp"
+#include "mesh_pass.hpp"
 
 namespace cdm {
 
@@ -111,14 +112,6 @@ void ContactModule::tabulate_damping(const ParticleStore& p) {
 }
 
 namespace {
-/// The larger overlap, ties broken by the lower particle then partner index, so the
-/// record does not depend on the order threads report in.
-bool worse(const OverlapRecord& a, const OverlapRecord& b) {
-  if (a.ratio != b.ratio) return a.ratio > b.ratio;
-  if (a.particle != b.particle) return a.particle < b.particle;
-  return a.partner < b.partner;
-}
-
 [[gnu::always_inline]] inline contact::linear_spring_dashpot::Params linear_params(const PairParams& pp) {
   return {pp.kn, pp.kt_factor, pp.etat_factor, pp.mu};
 }
@@ -297,7 +290,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const double r_min = std::min(ri, rj);
         if (overlap >= my_worst.ratio * r_min * (1.0 - 1e-12)) {
           const OverlapRecord rec{overlap / r_min, ri <= rj ? i : j, static_cast<long>(ri <= rj ? j : i)};
-          if (worse(rec, my_worst)) my_worst = rec;
+          if (contact::worse_overlap(rec, my_worst)) my_worst = rec;
         }
       }
     }
@@ -328,7 +321,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
 #pragma omp critical(cdm_contact_reduce)
       {
         active += my_active;
-        if (worse(my_worst, worst)) worst = my_worst;
+        if (contact::worse_overlap(my_worst, worst)) worst = my_worst;
       }
     }
   }
@@ -371,7 +364,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     p.add_force(i, f);
     if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
     const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
-    if (worse(rec, my_worst)) my_worst = rec;
+    if (contact::worse_overlap(rec, my_worst)) my_worst = rec;
   };
   // Only the wall candidates (listed at the build) can touch a wall; each is listed once.
   // Compiled twice: with General false (every wall a plane at rest, the common scene)
@@ -433,72 +426,13 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
 #pragma omp critical(cdm_contact_reduce)
       {
         active += my_active;
-        if (worse(my_worst, worst)) worst = my_worst;
+        if (contact::worse_overlap(my_worst, worst)) worst = my_worst;
       }
     }
   }
   if (mesh_) mesh_pass<Friction, L>(p, resolve, hertz, step_velocity, step_spin, active, worst);
   n_active_ = active;
   worst_ = worst;
-}
-
-template <bool Friction, ContactModule::LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
-void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,
-                              StepSpin& step_spin, std::size_t& active, OverlapRecord& worst) {
-  // As a wall's contact (above): the mesh is a body of infinite mass, m* = m_i and
-  // R* = R_i, its surface moving with the mesh's motion; each particle only touches its
-  // own force.
-  const std::size_t n = p.size();
-  const bool threads = n > parallel_threshold;
-  mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time());
-  std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
-  const long first = -1 - static_cast<long>(list_.walls().size());
-  auto mesh_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
-    for (std::size_t k = c0; k < c1; ++k) {
-      MeshContacts::Contact& c = contacts[k];
-      const std::uint32_t i = c.particle;
-      ++my_active;
-      const Vec3 eta = c.eta;
-      const double Li = c.lever;
-      // A moving mesh's surface velocity at the contact point (zero at rest).
-      Vec3 vrel = p.velocity(i) - c.wall_velocity;
-      if constexpr (Friction) vrel += cross(Li * p.angular_velocity(i), eta);
-      const PairParams& pp = pairs_.get(p.material[i], mesh_->material_of(c.triangle));
-      Vec3 vrel_step = vrel;
-      if constexpr (Friction && L != LawsPresent::linear)
-        if (hertz(pp)) vrel_step = step_velocity(i) - c.wall_velocity + cross(Li * step_spin(i), eta);
-      const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
-      contact::TangentialSlot slot;
-      if constexpr (Friction) slot = {&c.delta_t, &c.touching};
-      const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {c.overlap, eta, vrel, vrel_step}, slot);
-      const Vec3 f = cf.total, ft = cf.tangential;
-      p.add_force(i, f);
-      if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
-      const OverlapRecord rec{c.overlap / p.radius[i], i, first - static_cast<long>(mesh_->mesh_of(c.triangle))};
-      if (worse(rec, my_worst)) my_worst = rec;
-    }
-  };
-  if (!threads) {
-    mesh_range(0, contacts.size(), active, worst);
-    return;
-  }
-#pragma omp parallel
-  {
-    std::size_t my_active = 0;
-    OverlapRecord my_worst;
-    // The contacts of the particles this thread moves in the integrator's pass.
-    const auto [i0, i1] = thread_range(n);
-    auto by_particle = [](const MeshContacts::Contact& c, std::size_t i) { return c.particle < i; };
-    const auto c0 = std::lower_bound(contacts.begin(), contacts.end(), i0, by_particle);
-    const auto c1 = std::lower_bound(c0, contacts.end(), i1, by_particle);
-    mesh_range(static_cast<std::size_t>(c0 - contacts.begin()), static_cast<std::size_t>(c1 - contacts.begin()),
-               my_active, my_worst);
-#pragma omp critical(cdm_contact_reduce)
-    {
-      active += my_active;
-      if (worse(my_worst, worst)) worst = my_worst;
-    }
-  }
 }
 
 }  // namespace cdm
