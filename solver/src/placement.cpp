@@ -8,7 +8,7 @@ namespace cdm {
 
 SequentialPlacement::SequentialPlacement(double r_max, const std::vector<Wall>& walls,
                                          const std::vector<TriangleMesh>& meshes, double t, const PeriodicBox& box)
-    : cell_(r_max > 0.0 ? 2.0 * r_max : 1.0), box_(box), time_(t) {
+    : cell_(r_max > 0.0 ? 2.0 * r_max : 1.0), time_(t), box_(box) {
   walls_.reserve(walls.size());
   for (const Wall& w : walls) walls_.push_back(w.at(t));
   if (!meshes.empty()) {

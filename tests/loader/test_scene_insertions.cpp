@@ -7,43 +7,12 @@
 #include <vector>
 
 #include "cdm/solver/scene_loader.hpp"
+#include "scene_text.hpp"
 #include "support.hpp"
 
 namespace {
 
-const std::string base = R"(
-units = "SI"
-
-[modules]
-gravity = true
-normal_contact = "linear_spring_dashpot"
-
-[gravity]
-g = [0.0, 0.0, -9.81]
-
-[[materials]]
-name = "glass"
-density = 2500.0
-
-[[materials]]
-name = "steel"
-
-[[contacts]]
-pair = ["glass", "glass"]
-kn = 1000.0
-en = 0.5
-
-[[contacts]]
-pair = ["glass", "steel"]
-kn = 1000.0
-en = 0.5
-
-[[walls]]
-name = "floor"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-material = "steel"
-
+const std::string base = cdm_test::scene_head() + cdm_test::floor_wall() + R"(
 [[insertions]]
 material = "glass"
 lower = [0.0, 0.0, 0.05]

@@ -13,33 +13,13 @@
 #include <vector>
 
 #include "cdm/solver/scene_loader.hpp"
+#include "scene_text.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string base = R"(
-units = "SI"
-
-[modules]
-gravity = true
-normal_contact = "linear_spring_dashpot"
-
-[gravity]
-g = [0.0, 0.0, -9.81]
-
-[[materials]]
-name = "ball"
-density = 2500.0
-
-[[materials]]
-name = "steel"
-
-[[contacts]]
-pair = ["ball", "steel"]
-kn = 1.0e4
-en = 0.9
-
+const std::string base = cdm_test::scene_head({.grain = "ball", .kn = 1.0e4, .en = 0.9, .grain_pairs = false}) + R"(
 [[particles]]
 material = "ball"
 radius = 0.01

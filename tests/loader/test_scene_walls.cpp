@@ -8,26 +8,13 @@
 #include <vector>
 
 #include "cdm/solver/scene_loader.hpp"
+#include "scene_text.hpp"
 
 namespace {
 
 // A ball in a drum of radius 0.05 m along y, and @p wall_extra appended to the wall.
 std::string drum(const std::string& wall_extra, const std::string& type_keys = "type = \"cylinder\"\nradius = 0.05\n") {
-  return R"(units = "SI"
-[modules]
-gravity = true
-normal_contact = "linear_spring_dashpot"
-[gravity]
-g = [0.0, 0.0, -9.81]
-[[materials]]
-name = "ball"
-density = 2500.0
-[[materials]]
-name = "steel"
-[[contacts]]
-pair = ["ball", "steel"]
-kn = 1.0e3
-en = 0.9
+  return cdm_test::scene_head({.grain = "ball", .kn = 1.0e3, .en = 0.9, .grain_pairs = false}) + R"(
 [[particles]]
 material = "ball"
 radius = 0.002
@@ -93,7 +80,7 @@ TEST(SceneWalls, CgsLengthsAndVelocitiesAreConverted) {
   text.replace(text.find("units = \"SI\""), 12, "units = \"cgs\"");
   text.replace(text.find("g = [0.0, 0.0, -9.81]"), 21, "g = [0.0, 0.0, -981.0]");
   text.replace(text.find("density = 2500.0"), 16, "density = 2.5");
-  text.replace(text.find("kn = 1.0e3"), 10, "kn = 1.0e6");
+  text.replace(text.find("kn = 1000.0"), 11, "kn = 1.0e6");
   text.replace(text.find("radius = 0.002"), 14, "radius = 0.2");
   text.replace(text.find("position = [0.0, 0.01, 0.0]"), 27, "position = [0.0, 1.0, 0.0]");
   text.replace(text.find("length = 0.02"), 13, "length = 2.0");

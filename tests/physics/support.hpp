@@ -1,41 +1,16 @@
 #pragma once
 // What the physics tests share: a scene, and comparisons to the bit.
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "cdm/solver/particle_store.hpp"
+#include "scene_text.hpp"
 
 namespace cdm_test {
 
 // 6 x 6 x 6 frictional spheres thrown about a walled box: contacts, walls, spins.
-inline const char* box_scene = R"(
-units = "SI"
-[modules]
-gravity = true
-normal_contact = "linear_spring_dashpot"
-tangential = "spring_coulomb"
-[gravity]
-g = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[[materials]]
-name = "wall"
-[[contacts]]
-pair = ["glass", "glass"]
-kn = 1.0e3
-en = 0.9
-mu = 0.5
-[[contacts]]
-pair = ["glass", "wall"]
-kn = 1.0e3
-en = 0.9
-mu = 0.5
-[[walls]]
-name = "floor"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-material = "wall"
+inline const std::string box_scene = scene_head({.wall = "wall", .kn = 1.0e3, .en = 0.9, .mu = 0.5}) + floor_wall("wall") + R"(
 [[walls]]
 name = "x-"
 point = [0.0, 0.0, 0.0]

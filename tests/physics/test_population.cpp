@@ -12,37 +12,11 @@
 
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
+#include "scene_text.hpp"
 
 namespace {
 
-const std::string scene = R"(
-units = "SI"
-[modules]
-gravity = true
-normal_contact = "linear_spring_dashpot"
-tangential = "spring_coulomb"
-[gravity]
-g = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[[materials]]
-name = "steel"
-[[contacts]]
-pair = ["glass", "glass"]
-kn = 1000.0
-en = 0.5
-mu = 0.5
-[[contacts]]
-pair = ["glass", "steel"]
-kn = 1000.0
-en = 0.5
-mu = 0.5
-[[walls]]
-name = "floor"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-material = "steel"
+const std::string scene = cdm_test::scene_head({.mu = 0.5}) + cdm_test::floor_wall() + R"(
 [[insertions]]
 material = "glass"
 lower = [0.0, 0.0, 0.001]

@@ -127,7 +127,9 @@ TEST(SizeDistribution, DiscreteByNumberAndByMass) {
       const double p = expect[k] / sum, se = std::sqrt(p * (1 - p) / n);  // binomial standard error
       EXPECT_NEAR(count[k] / n, p, 5.0 * se) << (b == SizeBasis::number ? "by number" : "by mass") << ", radius "
                                              << d.radii[k];
-      if (b == SizeBasis::mass) EXPECT_NEAR(mass[k] / mass_total, d.fractions[k], 0.01) << "mass fraction, radius " << d.radii[k];
+      if (b == SizeBasis::mass) {
+        EXPECT_NEAR(mass[k] / mass_total, d.fractions[k], 0.01) << "mass fraction, radius " << d.radii[k];
+      }
     }
   }
 }
