@@ -106,11 +106,15 @@ bool SampleSchedule::due(const Simulation& sim) {
   return true;
 }
 
+SampledTable::SampledTable(const std::string& path, const Simulation& sim, double interval,
+                           const std::vector<std::string>& columns, const std::vector<std::string>& comments,
+                           std::optional<std::uint64_t> resume_at)
+    : table_(path, columns, comments, table_resume_point(path, sim, resume_at)), schedule_(sim, interval) {}
+
 ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim,
                                              std::optional<std::uint64_t> resume_at)
-    : table_(path, particle_columns(sim.particles().has_rotation()), {particle_comment(sim)},
-             table_resume_point(path, sim, resume_at)),
-      schedule_(sim, sim.spec().output_interval),
+    : SampledTable(path, sim, sim.spec().output_interval, particle_columns(sim.particles().has_rotation()),
+                   {particle_comment(sim)}, resume_at),
       rot_(sim.particles().has_rotation()) {
   std::vector<bool> integer(rot_ ? 13 : 10, false);
   integer[1] = integer.back() = true;  // id and material

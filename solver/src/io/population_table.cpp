@@ -20,11 +20,10 @@ std::vector<std::string> columns(const SceneSpec& spec) {
 
 PopulationTableObserver::PopulationTableObserver(const std::string& path, const Simulation& sim,
                                                  std::optional<std::uint64_t> resume_at)
-    : table_(path, columns(sim.spec()),
-             {"cdm population table: scene " + sim.spec().file +
-              "; particles and mass inserted and removed by each outlet since the start, and in the domain"},
-             table_resume_point(path, sim, resume_at)),
-      schedule_(sim, sim.spec().output_interval) {
+    : SampledTable(path, sim, sim.spec().output_interval, columns(sim.spec()),
+                   {"cdm population table: scene " + sim.spec().file +
+                    "; particles and mass inserted and removed by each outlet since the start, and in the domain"},
+                   resume_at) {
   std::vector<bool> integer(columns(sim.spec()).size(), false);
   integer[1] = true;
   for (std::size_t o = 0; o < sim.spec().outlets.size(); ++o) integer[3 + 2 * o] = true;

@@ -82,11 +82,10 @@ std::vector<std::string> thermo_columns(bool gas) {
 
 ThermoLogObserver::ThermoLogObserver(const std::string& path, const Simulation& sim,
                                      std::optional<std::uint64_t> resume_at)
-    : table_(path, thermo_columns(sim.gas() && sim.gas()->has_pressure()),
-             {"cdm run log: scene " + sim.spec().file + "; pressure_drop: mean pressure of the first cell layer "
-              "minus the last along axis " + std::string(1, "xyz"[sim.gas() ? flow_axis(sim) : 1])},
-             table_resume_point(path, sim, resume_at)),
-      schedule_(sim, sim.spec().log_interval) {}
+    : SampledTable(path, sim, sim.spec().log_interval, thermo_columns(sim.gas() && sim.gas()->has_pressure()),
+                   {"cdm run log: scene " + sim.spec().file + "; pressure_drop: mean pressure of the first cell layer "
+                    "minus the last along axis " + std::string(1, "xyz"[sim.gas() ? flow_axis(sim) : 1])},
+                   resume_at) {}
 
 std::string thermo_line(const ThermoSample& s) {
   char b[320];

@@ -69,6 +69,22 @@ class SampleSchedule {
 std::optional<std::uint64_t> table_resume_point(const std::string& path, const Simulation& sim,
                                                 std::optional<std::uint64_t> recorded);
 
+/// What the run's tables (particles.dat, log.dat, outlets.dat) share: a TableWriter
+/// sampled by a SampleSchedule, continued after a restart from the length the checkpoint
+/// recorded (table_resume_point).
+class SampledTable {
+ public:
+  /// Flush and fsync the rows; the table's length in bytes (recorded by a checkpoint).
+  std::uint64_t sync() { return table_.sync(); }
+  void close() { table_.close(); }
+
+ protected:
+  SampledTable(const std::string& path, const Simulation& sim, double interval, const std::vector<std::string>& columns,
+               const std::vector<std::string>& comments, std::optional<std::uint64_t> resume_at);
+  TableWriter table_;
+  SampleSchedule schedule_;
+};
+
 /// Writes every particle's state at the scene's output interval: one row per particle
 /// per sample (t id x y z vx vy vz [wx wy wz] radius material; id and material, an
 /// index into the materials the header names, as integers). A sample is taken at the first step
@@ -78,18 +94,13 @@ std::optional<std::uint64_t> table_resume_point(const std::string& path, const S
 /// run's table equals an uninterrupted run's however the first run ended. A restart
 /// without a table at @p path (or without a recorded length) starts a new table, header
 /// first, whose rows begin after the checkpoint's time.
-class ParticleTableObserver {
+class ParticleTableObserver : public SampledTable {
  public:
   ParticleTableObserver(const std::string& path, const Simulation& sim,
                         std::optional<std::uint64_t> resume_at = std::nullopt);
   void operator()(const Simulation& sim);
-  /// Flush and fsync the rows; the table's length in bytes (recorded by a checkpoint).
-  std::uint64_t sync() { return table_.sync(); }
-  void close() { table_.close(); }
 
  private:
-  TableWriter table_;
-  SampleSchedule schedule_;
   bool rot_;
 };
 

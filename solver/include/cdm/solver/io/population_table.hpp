@@ -15,19 +15,11 @@ namespace cdm {
 
 class Simulation;
 
-class PopulationTableObserver {
+class PopulationTableObserver : public SampledTable {
  public:
-  /// Restarts continue the table from the length the checkpoint recorded, as
-  /// ParticleTableObserver does.
   PopulationTableObserver(const std::string& path, const Simulation& sim,
                           std::optional<std::uint64_t> resume_at = std::nullopt);
   void operator()(const Simulation& sim);
-  std::uint64_t sync() { return table_.sync(); }
-  void close() { table_.close(); }
-
- private:
-  TableWriter table_;
-  SampleSchedule schedule_;
 };
 
 }  // namespace cdm

@@ -38,18 +38,12 @@ std::string thermo_line(const ThermoSample& s);
 /// Writes a ThermoSample at each multiple of the scene's output.log_interval (and at the
 /// last step) to the table at @p path. Restarts continue the table from the length the
 /// checkpoint recorded, as ParticleTableObserver does.
-class ThermoLogObserver {
+class ThermoLogObserver : public SampledTable {
  public:
   ThermoLogObserver(const std::string& path, const Simulation& sim,
                     std::optional<std::uint64_t> resume_at = std::nullopt);
   /// The sample written at this step, if the step is one.
   std::optional<ThermoSample> operator()(const Simulation& sim);
-  std::uint64_t sync() { return table_.sync(); }
-  void close() { table_.close(); }
-
- private:
-  TableWriter table_;
-  SampleSchedule schedule_;
 };
 
 }  // namespace cdm
