@@ -23,7 +23,8 @@ namespace cdm::verification {
   KIND(oblique_impact)            \
   KIND(rolling_resistance)        \
   KIND(mesh_vs_walls)             \
-  KIND(mesh_impact)
+  KIND(mesh_impact)               \
+  KIND(population_balance)
 
 namespace runners {
 #define CDM_DECLARE_RUNNER(name) RunOutput name(const CaseDef&, const Variant&, const RunConfig&);
