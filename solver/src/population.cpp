@@ -27,13 +27,7 @@ Population::Population(const SceneSpec& spec)
 
 bool Population::any_leaving(const ParticleStore& p) const {
   if (spec_.outlets.empty()) return false;
-  const auto& outlets = spec_.outlets;
-  return parallel_max(p.size(), [&](std::size_t i) {
-           const Vec3 x = p.position(i);
-           for (const auto& o : outlets)
-             if (o.removes(x)) return 1.0;
-           return 0.0;
-         }) != 0.0;
+  return parallel_max(p.size(), [&](std::size_t i) { return leaving(p.position(i)) ? 1.0 : 0.0; }) != 0.0;
 }
 
 std::vector<std::uint32_t> Population::remove(ParticleStore& p) {

@@ -106,6 +106,11 @@ void Simulation::update_population() {
   if (!leaving && !due) return;
   complete_step();  // the state at the step's end, velocities included
   if (leaving) {
+    // What the leaving particles' drag gave the gas since their impulses were last
+    // deposited (at the last step, or over the gas step so far) goes to the gas now.
+    if (exchange_ && exchange_->two_way() && !particles_.jx.empty())
+      for (std::size_t i = 0; i < particles_.size(); ++i)
+        if (pop.leaving(particles_.position(i))) exchange_->deposit_impulse_of_leaving(particles_, i);
     remap(pop.remove(particles_));
     // The identities shifted: messages name particles by number, not by scene key.
     spec_.groups.clear();

@@ -11,6 +11,7 @@
 #include "cdm/oracles/terminal_velocity.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
+#include "scene_text.hpp"
 
 namespace {
 
@@ -33,14 +34,7 @@ upper = [0.01, 0.01, 0.01]
 cells = [4, 4, 4]
 density = 1.2
 viscosity = 1.8e-5
-[gas.boundaries]
-x_lower = "periodic"
-x_upper = "periodic"
-y_lower = "periodic"
-y_upper = "periodic"
-z_lower = "periodic"
-z_upper = "periodic"
-[gas.field]
+)" + cdm_test::periodic_gas_boundaries + R"([gas.field]
 type = "uniform"
 velocity = [0.0, 0.4, 0.0]
 [drag]

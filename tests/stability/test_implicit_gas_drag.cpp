@@ -14,6 +14,7 @@
 #include "cdm/oracles/suspension.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "cdm/solver/simulation.hpp"
+#include "scene_text.hpp"
 
 namespace {
 
@@ -48,14 +49,7 @@ dt = )" + num(dtg) + R"(
 advection = "upwind"
 mean_pressure_gradient = [0.0, )" + num(-G) + R"(, 0.0]
 interpolation = "trilinear"
-[gas.boundaries]
-x_lower = "periodic"
-x_upper = "periodic"
-y_lower = "periodic"
-y_upper = "periodic"
-z_lower = "periodic"
-z_upper = "periodic"
-[coupling]
+)" + cdm_test::periodic_gas_boundaries + R"([coupling]
 mode = "two_way"
 kernel = "trilinear"
 gas_drag = ")" + gas_drag + R"("

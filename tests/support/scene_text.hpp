@@ -46,4 +46,14 @@ inline std::string floor_wall(const std::string& material = "steel") {
   return "[[walls]]\nname = \"floor\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\nmaterial = \"" + material + "\"\n";
 }
 
+/// A gas periodic along every axis.
+inline const std::string periodic_gas_boundaries = R"([gas.boundaries]
+x_lower = "periodic"
+x_upper = "periodic"
+y_lower = "periodic"
+y_upper = "periodic"
+z_lower = "periodic"
+z_upper = "periodic"
+)";
+
 }  // namespace cdm_test

@@ -46,15 +46,25 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
   g.fill_scalar_ghosts(eps);
 }
 
+void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
+  const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
+  particle_impulse_ += Vec3{jx, jy, jz};
+  deposition_->for_each_weight(at, [&](std::size_t c, double w) {
+    imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
+  });
+  p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
+}
+
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
-    particle_impulse_ += Vec3{jx, jy, jz};
-    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
-      imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
-    });
-    p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
-  }
+  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
+}
+
+void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
+  const Vec3 x = p.position(i);
+  double at[3] = {x.x, x.y, x.z};
+  for (int a = 0; a < grid_.dims(); ++a)
+    if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
+  deposit_impulse(p, i, {at[0], at[1], at[2]});
 }
 
 FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {

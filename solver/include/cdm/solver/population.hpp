@@ -31,6 +31,12 @@ class Population {
 
   /// Whether some particle's centre is in an outlet.
   bool any_leaving(const ParticleStore& p) const;
+  /// Whether a centre at @p x is in an outlet (remove() takes it).
+  bool leaving(Vec3 x) const {
+    for (const auto& o : spec_.outlets)
+      if (o.removes(x)) return true;
+    return false;
+  }
   /// Remove the particles in the outlets (a particle in several counts for the first in
   /// scene order), recording their number and mass per outlet. The store is compacted
   /// in order; returns, for each slot left, the slot it held before (ParticleStore::keep).

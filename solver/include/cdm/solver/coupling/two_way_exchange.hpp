@@ -47,6 +47,9 @@ class TwoWayExchange {
   /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
   /// the reaction on the gas.
   void deposit_impulses(ParticleStore& p);
+  /// The same for particle @p i alone (one leaving through an outlet before its gas
+  /// step), its impulse spread about the point of the gas domain nearest to it.
+  void deposit_impulse_of_leaving(ParticleStore& p, std::size_t i);
   /// The reaction gathered since the last gas step, as a force per unit volume over
   /// @p dtg on the faces of @p solver (added to what it holds); records the balance and
   /// starts gathering anew.
@@ -65,6 +68,8 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
+  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
+
   const fluid::StaggeredGrid& grid_;
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
