@@ -23,6 +23,7 @@ rm -rf "$work/probe"
 check_chain() {
   cmp "$work/full/particles.dat" "$1/particles.dat" || fail "table after $killed kills differs from the uninterrupted run's"
   cmp "$work/full/particles.pvd" "$1/particles.pvd" || fail "VTK collection after $killed kills differs"
+  cmp "$work/full/walls.pvd" "$1/walls.pvd" || fail "VTK wall collection after $killed kills differs"
   for f in "$work/full"/vtk/*.vtp; do
     cmp -s "$f" "$1/vtk/$(basename "$f")" || fail "VTK frame $(basename "$f") after $killed kills differs"
   done

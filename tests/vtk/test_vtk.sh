@@ -22,3 +22,12 @@ done
 # the particle frames.
 "$cdm" run "$work/settle2k.toml" -o "$work/contacts" -q --set output.vtk=true --set output.contacts=true >> "$work/run.log"
 /usr/bin/python3 "$src/tests/vtk/check_vtk_contacts.py" "$work/contacts"
+
+# Walls and meshes: moving ones written with every particle frame, read back where their
+# motion puts them; walls at rest written once (the settling bed's box above).
+"$cdm" run "$src/tests/cli/scenes/moving_walls.toml" -o "$work/walls" -q --set output.vtk=true \
+  --set 'random_particles[0].count=200' --set integrator.end_time=0.004 --set output.interval=0.001 >> "$work/run.log"
+"$cdm" run "$src/tests/cli/scenes/mesh_pile.toml" -o "$work/mesh" -q --set output.vtk=true \
+  --set 'meshes[0].motion={ type = "rotation", origin = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], angular_velocity = 10.0 }' \
+  --set 'lattices[0].count=[5, 5, 2]' --set integrator.end_time=0.004 --set output.interval=0.001 >> "$work/run.log"
+/usr/bin/python3 "$src/tests/vtk/check_vtk_walls.py" "$work/walls" "$work/mesh" 10.0 "$work/binary"

@@ -1,5 +1,6 @@
 #include "cdm/solver/io/vtk_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -179,7 +180,11 @@ std::vector<std::pair<double, std::string>> read_collection(const std::string& p
 
 VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume)
     : dir_(out_dir), interval_(sim.spec().output_interval), encoding_(sim.spec().output_vtk_format),
-      contacts_(sim.spec().output_contacts) {
+      contacts_(sim.spec().output_contacts),
+      walls_(!sim.spec().walls.empty() || !sim.spec().meshes.empty()),
+      walls_move_(std::any_of(sim.spec().walls.begin(), sim.spec().walls.end(), [](const Wall& w) { return w.motion.moving(); }) ||
+                  std::any_of(sim.spec().meshes.begin(), sim.spec().meshes.end(),
+                              [](const TriangleMesh& m) { return m.motion.moving(); })) {
   make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
   last_ = resume ? resume->last : output_sample(sim, interval_);
@@ -200,6 +205,8 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
   reload("particles.pvd", resume->particle_frames, particle_files_);
   if (sim.gas()) reload("gas.pvd", resume->gas_frames, gas_files_);
   if (contacts_) reload("contacts.pvd", resume->particle_frames, contact_files_);  // written with each particle frame
+  // Written with each particle frame, or with the first alone when nothing moves.
+  if (walls_) reload("walls.pvd", walls_move_ ? resume->particle_frames : std::min<std::uint64_t>(1, resume->particle_frames), wall_files_);
 }
 
 VtkMark VtkObserver::sync() const {
@@ -228,6 +235,12 @@ void VtkObserver::write(const Simulation& sim, long long k) {
     write_contacts_vtp((fs::path(dir_) / name).string(), sim, encoding_);
     contact_files_.emplace_back(sim.time(), name);
     write_collection((fs::path(dir_) / "contacts.pvd").string(), contact_files_);
+  }
+  if (walls_ && (walls_move_ || wall_files_.empty())) {
+    std::snprintf(name, sizeof name, "vtk/walls_%06lld.vtp", k);
+    write_walls_vtp((fs::path(dir_) / name).string(), sim, encoding_);
+    wall_files_.emplace_back(sim.time(), name);
+    write_collection((fs::path(dir_) / "walls.pvd").string(), wall_files_);
   }
   if (sim.gas()) {
     std::snprintf(name, sizeof name, "vtk/gas_%06lld.vti", k);

@@ -15,7 +15,13 @@
 ///  - gas: ImageData (.vti), one VTK cell per grid cell, cell data velocity [m/s] (face
 ///    values averaged to the cell centre), pressure [Pa] / gas_volume_fraction [-] when
 ///    the scene carries them, and solids_velocity [m/s] (volume-weighted mean particle
-///    velocity per cell, zero without particles) when there are particles.
+///    velocity per cell, zero without particles) when there are particles;
+///  - walls (a scene with [[walls]] or [[meshes]]): PolyData (.vtp), the surfaces where
+///    their motion has them: each mesh's triangles, each cylinder or cone as 64 quads
+///    around (and its closed ends as polygons), each plane as a square across what the run
+///    shows (particles, gas domain, meshes, insertion boxes; planes are infinite), cell
+///    data wall (Int32, an index into the field data wall_names: the walls in scene
+///    order, then the meshes) and material.
 /// Every file holds its simulated time as field data TIME [s].
 #include <cstdint>
 #include <optional>
@@ -36,9 +42,10 @@ struct VtkMark {
 };
 
 /// Writes OUTDIR/vtk/particles_<k>.vtp (and gas_<k>.vti with a gas, contacts_<k>.vtp
-/// with output.contacts) at every output
+/// with output.contacts, walls_<k>.vtp with walls or meshes) at every output
 /// sample of the scene (the same samples as the particle table), and keeps
-/// OUTDIR/particles.pvd (and gas.pvd, contacts.pvd) listing them. After a restart it continues the
+/// OUTDIR/particles.pvd (and gas.pvd, contacts.pvd, walls.pvd) listing them. Walls that
+/// do not move are written once, at the first sample. After a restart it continues the
 /// collections the first run wrote, cut back to the frames the checkpoint recorded
 /// (@p resume); without them in OUTDIR it starts new collections. Every file is written
 /// atomically (temporary file, fsync, rename); failures throw OutputError.
@@ -58,8 +65,9 @@ class VtkObserver {
   double interval_;
   vtk::Encoding encoding_;
   bool contacts_;
+  bool walls_, walls_move_;
   long long last_ = -1;
-  std::vector<std::pair<double, std::string>> particle_files_, gas_files_, contact_files_;
+  std::vector<std::pair<double, std::string>> particle_files_, gas_files_, contact_files_, wall_files_;
 };
 
 /// The particles alone, as one .vtp file (used by the observer; handy in tests).
@@ -68,6 +76,9 @@ void write_particles_vtp(const std::string& path, const Simulation& sim,
 /// The particle–particle contacts, as one .vtp file of lines.
 void write_contacts_vtp(const std::string& path, const Simulation& sim,
                         vtk::Encoding encoding = vtk::Encoding::binary);
+/// The walls and meshes at the simulation's time, as one .vtp file of polygons.
+void write_walls_vtp(const std::string& path, const Simulation& sim,
+                     vtk::Encoding encoding = vtk::Encoding::binary);
 /// The gas cell data, as one .vti file.
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding = vtk::Encoding::binary);
 
