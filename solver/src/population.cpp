@@ -30,7 +30,7 @@ bool Population::any_leaving(const ParticleStore& p) const {
   return parallel_max(p.size(), [&](std::size_t i) { return leaving(p.position(i)) ? 1.0 : 0.0; }) != 0.0;
 }
 
-std::vector<std::uint32_t> Population::remove(ParticleStore& p) {
+std::vector<std::uint32_t> Population::remove(ParticleStore& p, const std::function<void(std::size_t)>& before_removal) {
   std::vector<std::uint32_t> from;
   from.reserve(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -40,6 +40,7 @@ std::vector<std::uint32_t> Population::remove(ParticleStore& p) {
     if (o == spec_.outlets.size()) {
       from.push_back(static_cast<std::uint32_t>(i));
     } else {
+      if (before_removal) before_removal(i);
       ++removed_[o].count;
       removed_[o].mass += p.mass[i];
     }

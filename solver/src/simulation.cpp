@@ -108,10 +108,10 @@ void Simulation::update_population() {
   if (leaving) {
     // What the leaving particles' drag gave the gas since their impulses were last
     // deposited (at the last step, or over the gas step so far) goes to the gas now.
+    std::function<void(std::size_t)> deposit;
     if (exchange_ && exchange_->two_way() && !particles_.jx.empty())
-      for (std::size_t i = 0; i < particles_.size(); ++i)
-        if (pop.leaving(particles_.position(i))) exchange_->deposit_impulse_of_leaving(particles_, i);
-    remap(pop.remove(particles_));
+      deposit = [&](std::size_t i) { exchange_->deposit_impulse_of_leaving(particles_, i); };
+    remap(pop.remove(particles_, deposit));
     // The identities shifted: messages name particles by number, not by scene key.
     spec_.groups.clear();
   }

@@ -43,11 +43,12 @@ RunOutput population_balance(const CaseDef& c, const Variant& v, const RunConfig
   }
 
   double count_err = 0.0, mass_err = 0.0, count_sched = 0.0, mass_deficit = 0.0, mass_lead = 0.0, left = 0.0;
-  double events = 0.0, peak_in_domain = 0.0;
+  double peak_in_domain = 0.0;
   struct Row {
     double t, n, m, n_in, m_in, n_out, m_out;
   };
-  std::vector<Row> rows;
+  std::vector<Row> rows;  // every 100th step, for the series
+  Row last{};
   RunOutput r = run_timed(sim, [&](const Simulation& s) {
     const Population& pop = *s.population();
     double n_in = 0.0, m_in = 0.0, n_out = 0.0, m_out = 0.0;
@@ -70,7 +71,6 @@ RunOutput population_balance(const CaseDef& c, const Variant& v, const RunConfig
                                             : static_cast<long long>(s.steps());
       if (k == sched[q].k) continue;
       sched[q].k = k;
-      ++events;
       const double owed = in.rate * (std::min(t, in.end) - in.start);
       const Population::Tally& got = pop.inserted()[q];
       if (!in.rate_by_mass) {
@@ -82,7 +82,8 @@ RunOutput population_balance(const CaseDef& c, const Variant& v, const RunConfig
         mass_lead = std::max(mass_lead, (got.mass - target) / sched[q].heaviest);
       }
     }
-    if (!rc.series_path.empty()) rows.push_back({t, n, m, n_in, m_in, n_out, m_out});
+    last = {t, n, m, n_in, m_in, n_out, m_out};
+    if (!rc.series_path.empty() && s.steps() % 100 == 0) rows.push_back(last);
   });
   if (rc.timing_only) return r;
   const Population& pop = *sim.population();
@@ -105,9 +106,8 @@ RunOutput population_balance(const CaseDef& c, const Variant& v, const RunConfig
                   {series_title("population balance", v, rc, r.dt)});
     w.set_integer_columns({false, true, false, true, false, true, false});
     // Every 100th step and the last: the balance holds at each, the series is for plots.
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      if (k % 100 == 0 || k + 1 == rows.size())
-        w.row({rows[k].t, rows[k].n, rows[k].m, rows[k].n_in, rows[k].m_in, rows[k].n_out, rows[k].m_out});
+    if (rows.empty() || rows.back().t != last.t) rows.push_back(last);
+    for (const Row& x : rows) w.row({x.t, x.n, x.m, x.n_in, x.m_in, x.n_out, x.m_out});
   }
   return r;
 }

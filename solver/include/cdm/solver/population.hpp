@@ -15,6 +15,7 @@
 /// particle), never beyond the total. A particle that finds no free place in 1000
 /// tries ends the event; what it could not insert is due at the next event.
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -40,7 +41,9 @@ class Population {
   /// Remove the particles in the outlets (a particle in several counts for the first in
   /// scene order), recording their number and mass per outlet. The store is compacted
   /// in order; returns, for each slot left, the slot it held before (ParticleStore::keep).
-  std::vector<std::uint32_t> remove(ParticleStore& p);
+  /// @p before_removal(i) is called for each slot i removed, before the store changes.
+  std::vector<std::uint32_t> remove(ParticleStore& p,
+                                    const std::function<void(std::size_t)>& before_removal = {});
   /// Whether an insertion event is due at time @p t.
   bool insertion_due(double t) const;
   /// Run the insertion events due at @p t: the particles are appended to the store at
