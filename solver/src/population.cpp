@@ -104,7 +104,7 @@ std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec
   SequentialPlacement placed(r_max, spec_.walls, spec_.meshes, t, spec_.periodic);
   const double reach = r_new + r_max;
   const PeriodicBox& box = spec_.periodic;
-  const Vec3 mid = 0.5 * (in.lower + in.upper), half = 0.5 * (in.upper - in.lower);
+  const Vec3 mid = 0.5 * (in.region.lower + in.region.upper), half = 0.5 * (in.region.upper - in.region.lower);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec3 d = box.min_image(p.position(i) - mid);
     if (std::abs(d.x) <= half.x + reach && std::abs(d.y) <= half.y + reach && std::abs(d.z) <= half.z + reach)
@@ -118,8 +118,7 @@ std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec
     Vec3 x;
     for (int tries = 0; tries < max_tries && !ok; ++tries) {
       const double a = uniform01(f.rng), b = uniform01(f.rng), c = uniform01(f.rng);
-      x = {in.lower.x + a * (in.upper.x - in.lower.x), in.lower.y + b * (in.upper.y - in.lower.y),
-           in.lower.z + c * (in.upper.z - in.lower.z)};
+      x = in.region.draw(a, b, c);
       ok = placed.clear(x, r);
     }
     if (!ok) {

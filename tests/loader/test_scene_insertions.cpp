@@ -210,4 +210,70 @@ TEST(SceneInsertions, LatticeWithSizes) {
                  {"lattices[0].spacing", "largest diameter"});
 }
 
+// A cylinder region: centres drawn uniformly in its volume (random_particles and
+// insertions alike), its bounding box checked like a box; the two region forms exclude
+// each other, and a bad cylinder is refused naming its key.
+TEST(SceneInsertions, CylinderRegions) {
+  const std::string cyl = "cylinder = { point = [0.01, 0.01, 0.01], axis = [0.0, 0.0, 2.0], radius = 0.006, length = 0.03 }";
+  const std::string block = "[[random_particles]]\nmaterial = \"glass\"\n" + cyl + "\ncount = 400\nradius = 0.0005\n\n[[insertions]]";
+  const auto s = cdm::load_scene_from_string(replace(base, "[[insertions]]", block), "good.toml");
+  ASSERT_EQ(s.particles.size(), 400u);
+  double rho2 = 0.0, h = 0.0, cx = 0.0, cy = 0.0;
+  for (const auto& p : s.particles) {
+    const double dx = p.position.x - 0.01, dy = p.position.y - 0.01, dz = p.position.z - 0.01;
+    EXPECT_LE(dx * dx + dy * dy, 0.006 * 0.006 * (1 + 1e-12));
+    EXPECT_GE(dz, 0.0);
+    EXPECT_LE(dz, 0.03);
+    rho2 += (dx * dx + dy * dy) / (0.006 * 0.006);
+    h += dz / 0.03;
+    cx += dx / 0.006;
+    cy += dy / 0.006;
+  }
+  // Uniform in volume: <rho^2>/R^2 = 1/2, <h>/L = 1/2, the centroid on the axis (400
+  // draws: each mean's standard deviation is about 0.015, or 0.025 for the centroid).
+  EXPECT_NEAR(rho2 / 400, 0.5, 0.06);
+  EXPECT_NEAR(h / 400, 0.5, 0.06);
+  EXPECT_NEAR(cx / 400, 0.0, 0.1);
+  EXPECT_NEAR(cy / 400, 0.0, 0.1);
+  for (std::size_t i = 0; i < 400; ++i)
+    for (std::size_t j = i + 1; j < 400; ++j)
+      ASSERT_GE(cdm::norm(s.particles[i].position - s.particles[j].position), 0.001 * (1 - 1e-12));
+
+  // An insertion into a tilted cylinder: the bounding box is kept as the region's.
+  const std::string ins_cyl = "cylinder = { point = [0.01, 0.01, 0.02], axis = [1.0, 0.0, 1.0], radius = 0.002, length = 0.01 }";
+  const auto t = cdm::load_scene_from_string(replace(base, "lower = [0.0, 0.0, 0.05]\nupper = [0.02, 0.02, 0.06]", ins_cyl), "good.toml");
+  const cdm::PlacementRegion& r = t.insertions[0].region;
+  ASSERT_TRUE(r.cylinder);
+  const double e = 0.01 / std::sqrt(2.0), reach = 0.002 / std::sqrt(2.0);
+  EXPECT_NEAR(r.lower.x, 0.01 - reach, 1e-15);
+  EXPECT_NEAR(r.upper.x, 0.01 + e + reach, 1e-15);
+  EXPECT_NEAR(r.lower.y, 0.01 - 0.002, 1e-15);
+  EXPECT_NEAR(r.upper.z, 0.02 + e + reach, 1e-15);
+  for (double a : {0.0, 0.3, 0.999})
+    for (double b : {0.0, 0.5, 0.999})
+      for (double c : {0.0, 0.25, 0.7}) {
+        const cdm::Vec3 x = r.draw(a, b, c);
+        EXPECT_TRUE(r.contains(x));
+        EXPECT_GE(x.x, r.lower.x); EXPECT_LE(x.x, r.upper.x);
+        EXPECT_GE(x.z, r.lower.z); EXPECT_LE(x.z, r.upper.z);
+      }
+  EXPECT_FALSE(r.contains({0.01, 0.01, 0.019}));  // before the start face
+
+  const std::string both = "lower = [0.0, 0.0, 0.05]\nupper = [0.02, 0.02, 0.06]\n" + ins_cyl;
+  expect_refused(replace(base, "lower = [0.0, 0.0, 0.05]\nupper = [0.02, 0.02, 0.06]", both),
+                 {"insertions[0].lower", "not used", "cylinder"});
+  expect_refused(replace(base, "lower = [0.0, 0.0, 0.05]\nupper = [0.02, 0.02, 0.06]", ""),
+                 {"insertions[0].lower", "missing", "cylinder"});
+  auto bad = [&](const std::string& from, const std::string& to) {
+    return replace(base, "lower = [0.0, 0.0, 0.05]\nupper = [0.02, 0.02, 0.06]", replace(ins_cyl, from, to));
+  };
+  expect_refused(bad("radius = 0.002", "radius = 0.0"), {"insertions[0].cylinder.radius", "> 0"});
+  expect_refused(bad(", length = 0.01", ""), {"insertions[0].cylinder.length", "missing"});
+  expect_refused(bad("axis = [1.0, 0.0, 1.0]", "axis = [0.0, 0.0, 0.0]"), {"insertions[0].cylinder.axis", "not all 0"});
+  expect_refused(bad("length = 0.01", "length = 0.01, height = 1.0"), {"insertions[0].cylinder.height", "not a known key"});
+  // Below the floor: the bounding box lies wholly outside the wall.
+  expect_refused(bad("point = [0.01, 0.01, 0.02]", "point = [0.01, 0.01, -0.05]"),
+                 {"insertions[0].cylinder", "wall 'floor'", "outside"});
+}
+
 }  // namespace

@@ -81,6 +81,28 @@ TEST(Population, MassRateAndTotalWithinOneParticle) {
   }
 }
 
+// An insertion into a cylinder: every particle of the event lies in it, clear of the others.
+TEST(Population, InsertsIntoACylinder) {
+  std::string text = scene;
+  const std::string box = "lower = [0.0, 0.0, 0.001]\nupper = [0.01, 0.01, 0.02]";
+  text.replace(text.find(box), box.size(),
+               "cylinder = { point = [0.005, 0.005, 0.004], axis = [0.0, 0.0, 1.0], radius = 0.003, length = 0.012 }");
+  const std::string rate = "mass_rate = 0.01\nmass = 0.0004";
+  text.replace(text.find(rate), rate.size(), "count_rate = 1.0e5\ncount = 60");
+  cdm::Simulation sim(cdm::load_scene_from_string(text, "population.toml"));
+  while (sim.population()->inserted()[0].count == 0 && sim.steps() < sim.total_steps()) sim.step();
+  const cdm::ParticleStore& p = sim.particles();
+  ASSERT_EQ(p.size(), 60u);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double dx = p.x[i] - 0.005, dy = p.y[i] - 0.005;
+    EXPECT_LE(std::sqrt(dx * dx + dy * dy), 0.003 * (1 + 1e-12));  // inserted at this step's end
+    EXPECT_GE(p.z[i], 0.004);
+    EXPECT_LE(p.z[i], 0.016);
+    for (std::size_t j = i + 1; j < p.size(); ++j)
+      EXPECT_GE(cdm::norm(p.position(i) - p.position(j)), (p.radius[i] + p.radius[j]) * (1 - 1e-9));
+  }
+}
+
 TEST(Population, KeepCompactsInOrderAndRanksIdentities) {
   cdm::ParticleStore p;
   p.enable_rotation();

@@ -66,8 +66,8 @@ void extent(const Simulation& sim, double t, Vec3& lo, Vec3& hi) {
     }
   }
   for (const InsertionSpec& in : sim.spec().insertions) {
-    take(in.lower);
-    take(in.upper);
+    take(in.region.lower);
+    take(in.region.upper);
   }
 }
 

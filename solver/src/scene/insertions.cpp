@@ -144,11 +144,14 @@ void read_insertions(const Reader& rd, SceneSpec& spec) {
     if (spec.materials[in.material].fixed)
       rd.fail_value(path + ".material", *t.get("material"), "a material that is not fixed (inserted particles move)");
     in.size = read_size(rd, t, path);
-    in.lower = rd.vec3_required(t, "lower", path, Dim::length);
-    in.upper = rd.vec3_required(t, "upper", path, Dim::length);
-    const Vec3 lo = in.lower, hi = in.upper;
-    if (!(hi.x >= lo.x && hi.y >= lo.y && hi.z >= lo.z))
-      rd.fail_value(path + ".upper", *t.get("upper"), "a corner at or above " + path + ".lower along every axis");
+    in.region = read_region(rd, t, path, "insertions[]");
+    // The checks below take a cylinder by its bounding box; messages name what was written.
+    const Vec3 lo = in.region.lower, hi = in.region.upper;
+    const bool cyl = in.region.cylinder;
+    const std::string upper_key = path + (cyl ? ".cylinder" : ".upper"), lower_key = path + (cyl ? ".cylinder" : ".lower");
+    const toml::node& upper_node = *t.get(cyl ? "cylinder" : "upper");
+    const toml::node& lower_node = *t.get(cyl ? "cylinder" : "lower");
+    const std::string what = cyl ? "a cylinder whose bounding box lies" : "a box";
     // The rate: a number or a mass per second, exactly one.
     const bool cr = t.get("count_rate") != nullptr, mr = t.get("mass_rate") != nullptr;
     if (cr == mr) {
@@ -193,17 +196,17 @@ void read_insertions(const Reader& rd, SceneSpec& spec) {
     if (spec.gas != GasModel::none) {
       const fluid::GridSpec& g = spec.gas_spec.grid;
       if (lo.x < g.lo.x || lo.y < g.lo.y || lo.z < g.lo.z || hi.x > g.hi.x || hi.y > g.hi.y || hi.z > g.hi.z)
-        rd.fail_value(path + ".upper", *t.get("upper"),
-                      "a box inside the gas domain [" + number_text(g.lo.x) + ", " + number_text(g.hi.x) + "] x [" +
+        rd.fail_value(upper_key, upper_node,
+                      what + " inside the gas domain [" + number_text(g.lo.x) + ", " + number_text(g.hi.x) + "] x [" +
                           number_text(g.lo.y) + ", " + number_text(g.hi.y) + "] x [" + number_text(g.lo.z) + ", " +
-                          number_text(g.hi.z) + "] m (SI) with " + path + ".lower");
+                          number_text(g.hi.z) + "] m (SI)" + (cyl ? "" : " with " + path + ".lower"));
     }
     // (Centres are drawn below the upper corner, so it may be the period's end.)
     const double c_lo[3] = {lo.x, lo.y, lo.z}, c_hi[3] = {hi.x, hi.y, hi.z};
     for (int a = 0; a < 3; ++a)
       if (spec.periodic.on[a] && (c_lo[a] < spec.periodic.lo[a] || c_lo[a] >= spec.periodic.lo[a] + spec.periodic.len[a] ||
                                   c_hi[a] > spec.periodic.lo[a] + spec.periodic.len[a]))
-        rd.fail_value(path + ".upper", *t.get("upper"), "a box inside the periodic box along every periodic axis, with " + path + ".lower");
+        rd.fail_value(upper_key, upper_node, what + " inside the periodic box along every periodic axis" + (cyl ? "" : ", with " + path + ".lower"));
     for (const auto& w : spec.walls) {
       // A plane at rest: its signed distance is linear, so the box's corners bound it.
       if (w.shape != WallShape::plane || w.motion.moving()) continue;
@@ -212,9 +215,10 @@ void read_insertions(const Reader& rd, SceneSpec& spec) {
         for (int b = 0; b < 2; ++b)
           for (int c = 0; c < 2; ++c) best = std::max(best, w.distance({corners[a].x, corners[b].y, corners[c].z}));
       if (!(best > in.size.smallest()))
-        rd.fail_value(path + ".lower", *t.get("lower"),
-                      "a box reaching inside wall '" + w.name + "' by more than the smallest radius (with " + path +
-                          ".upper); the whole box lies outside it");
+        rd.fail_value(lower_key, lower_node,
+                      (cyl ? "a cylinder whose bounding box reaches" : "a box reaching") + std::string(" inside wall '") +
+                          w.name + "' by more than the smallest radius" + (cyl ? "" : " (with " + path + ".upper)") +
+                          "; the whole " + (cyl ? "bounding box" : "box") + " lies outside it");
     }
     spec.insertions.push_back(std::move(in));
   }

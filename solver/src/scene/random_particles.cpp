@@ -1,5 +1,5 @@
 /// @file random_particles.cpp
-/// @brief Particles at random places in a box ([[random_particles]]), kept apart by random
+/// @brief Particles at random places in a box or a cylinder ([[random_particles]]), kept apart by random
 /// sequential addition when contacts act between them.
 #include "sections.hpp"
 
@@ -25,9 +25,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     rd.check_keys(t, "random_particles[]", path);
     const int mat = particle_material(rd, spec, t, path);
     const SizeDistribution size = read_size(rd, t, path);
-    const Vec3 lo = rd.vec3_required(t, "lower", path, Dim::length), hi = rd.vec3_required(t, "upper", path, Dim::length);
-    if (!(hi.x >= lo.x && hi.y >= lo.y && hi.z >= lo.z))
-      rd.fail_value(path + ".upper", *t.get("upper"), "a corner at or above " + path + ".lower along every axis");
+    const PlacementRegion region = read_region(rd, t, path, "random_particles[]");
     const std::size_t count = particle_count(rd, t, path);
     long long seed = 1;
     if (const toml::node* sn = t.get("seed")) {
@@ -57,7 +55,7 @@ void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& s
     double r = size.sample(rng);
     for (std::size_t k = 0; k < count;) {
       const double a = uniform(), b = uniform(), c = uniform();
-      const Vec3 x{lo.x + a * (hi.x - lo.x), lo.y + b * (hi.y - lo.y), lo.z + c * (hi.z - lo.z)};
+      const Vec3 x = region.draw(a, b, c);
       if (exclusive && !placed.clear(x, r)) {
         if (++misses > max_misses)
           rd.fail_value(path + ".count", *t.get("count"),

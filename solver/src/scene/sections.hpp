@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include "reader.hpp"
+#include "cdm/solver/placement_region.hpp"
 #include "cdm/solver/size_distribution.hpp"
 
 namespace cdm::scene {
@@ -48,6 +49,11 @@ std::size_t particle_count(const Reader& rd, const toml::table& t, const std::st
 /// The radii of a block: `radius` (one) or a `size` table (a distribution), exactly one.
 SizeDistribution read_size(const Reader& rd, const toml::table& t, const std::string& path);
 void read_random_particles(const Reader& rd, const toml::array& rs, SceneSpec& spec);
+// region.cpp
+/// Where a block at @p path (schema entry @p schema_path, e.g. "insertions[]") draws its
+/// centres: `lower` and `upper` (a box) or a `cylinder` table, exactly one.
+PlacementRegion read_region(const Reader& rd, const toml::table& t, const std::string& path,
+                            const std::string& schema_path);
 // insertions.cpp: [[insertions]] and [[outlets]] (after the walls, the gas and the periodic box)
 void read_insertions(const Reader& rd, SceneSpec& spec);
 void read_outlets(const Reader& rd, SceneSpec& spec);

@@ -8,13 +8,14 @@
 #include <string>
 
 #include "cdm/solver/size_distribution.hpp"
+#include "cdm/solver/placement_region.hpp"
 #include "cdm/solver/vec3.hpp"
 
 namespace cdm {
 
 struct InsertionSpec {
   std::string key;                 ///< "insertions[0]", for messages
-  Vec3 lower, upper;               ///< the box the centres are drawn in [m]
+  PlacementRegion region;          ///< where the centres are drawn
   bool rate_by_mass = false;       ///< rate in kg/s (else particles per second)
   double rate = 0.0;               ///< [1/s] or [kg/s]
   bool total_by_mass = false;      ///< total in kg (else a particle count)

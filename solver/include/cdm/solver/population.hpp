@@ -1,7 +1,7 @@
 #pragma once
 /// @file population.hpp
 /// @brief Particles inserted and removed during a run: the scene's [[insertions]] add
-/// particles in a box at a rate until a total, placed by random sequential addition
+/// particles in a box or a cylinder at a rate until a total, placed by random sequential addition
 /// clear of every particle and wall (placement.hpp); its [[outlets]] remove the
 /// particles whose centre reaches them. Both run at the end of a step (Simulation), and
 /// keep what they did: per insertion the particles and mass inserted, per outlet those
