@@ -3,7 +3,8 @@
 # beads in a closed mesh box (tests/cli/scenes/mesh_pile.toml) gives bit-identical
 # particle tables on 1 and 3 OpenMP threads, and a run of 2N steps equals N steps, a
 # checkpoint (with the mesh contacts' tangential history) and a restart for the rest
-# (tables and final checkpoints), also with the box turning; a checkpoint whose meshes
+# (tables and final checkpoints), also with the box turning (and threads with rolling
+# resistance at its contacts); a checkpoint whose meshes
 # differ from the scene's is refused.
 set -u
 cdm="$1" src="$2" work="$3"
@@ -29,6 +30,13 @@ turn=(--set 'meshes[0].motion={type="rotation", origin=[0.0, 0.0, 0.0], axis=[0.
 "$cdm" "${args[@]}" "${turn[@]}" -o "$work/three_turn" -j 3 > /dev/null || fail "3-thread turning run"
 cmp -s "$work/one_turn/particles.dat" "$work/three_turn/particles.dat" || fail "turning box: 1 and 3 threads differ"
 cmp -s "$work/one/particles.dat" "$work/one_turn/particles.dat" && fail "the turning box changed nothing"
+# Rolling resistance at the turning mesh's contacts too (each particle's mesh torques in
+# contact order, whatever thread takes it).
+roll=(--set 'modules.rolling_resistance="constant_torque"' --set contacts[0].rolling_mu=0.1 --set contacts[1].rolling_mu=0.2)
+"$cdm" "${args[@]}" "${turn[@]}" "${roll[@]}" -o "$work/one_roll" -j 1 > /dev/null || fail "1-thread rolling run"
+"$cdm" "${args[@]}" "${turn[@]}" "${roll[@]}" -o "$work/three_roll" -j 3 > /dev/null || fail "3-thread rolling run"
+cmp -s "$work/one_roll/particles.dat" "$work/three_roll/particles.dat" || fail "rolling resistance: 1 and 3 threads differ"
+cmp -s "$work/one_turn/particles.dat" "$work/one_roll/particles.dat" && fail "rolling resistance changed nothing"
 mkdir -p "$work/turn"
 
 # Restart (600 beads in the corner of the box, 0.01 s, sorted every 200 steps).

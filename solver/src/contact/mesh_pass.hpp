@@ -32,6 +32,7 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
   const bool threads = n > parallel_threshold;
   mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time());
   std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
+  if (record_) fn_mesh_.resize(contacts.size());
   const long first = -1 - static_cast<long>(list_.walls().size());
   auto mesh_range = [&](std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
     for (std::size_t k = c0; k < c1; ++k) {
@@ -54,6 +55,7 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
       const Vec3 f = cf.total, ft = cf.tangential;
       p.add_force(i, f);
       if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
+      if (record_) fn_mesh_[k] = cf.normal_magnitude;
       const OverlapRecord rec{c.overlap / p.radius[i], i, first - static_cast<long>(mesh_->mesh_of(c.triangle))};
       if (contact::worse_overlap(rec, my_worst)) my_worst = rec;
     }

@@ -3,6 +3,8 @@
 #include "cdm/solver/contact/rolling_resistance.hpp"
 #include "cdm/solver/parallel.hpp"
 
+#include <algorithm>
+
 namespace cdm {
 
 void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
@@ -12,9 +14,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
   const std::vector<std::uint32_t>& pj = list.pair_j();
   const std::vector<std::uint32_t>& slab_start = list.slab_start();
   const std::vector<double>& fn_pair = c_.pair_normal_force();
-  const std::vector<double>& fn_wall = c_.wall_normal_force();
-  const std::vector<Wall>& walls = c_.walls();
-  const std::size_t n = p.size(), nw = walls.size();
+  const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
   // The spin the integrator's next kick starts from: ω itself for the first-order
   // scheme, the half-step spin for velocity Verlet (ContactModule::set_step_velocities).
@@ -58,7 +58,16 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       pair_range(slab_start[s], slab_start[s + 1]);
     }
   }
-  if (!nw) return;
+  if (!c_.walls().empty()) wall_torques(p, dt, free_spin);
+  if (c_.meshes()) mesh_torques(p, dt, free_spin, threads);
+}
+
+template <class FreeSpin>
+void RollingResistanceModule::wall_torques(ParticleStore& p, double dt, FreeSpin& free_spin) const {
+  const PairTable& pairs = c_.pairs();
+  const std::vector<double>& fn_wall = c_.wall_normal_force();
+  const std::vector<Wall>& walls = c_.walls();
+  const std::size_t n = p.size(), nw = walls.size();
   parallel_for(n, [&](std::size_t ii) {
     const auto i = static_cast<std::uint32_t>(ii);
     for (std::size_t w = 0; w < nw; ++w) {
@@ -75,6 +84,42 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       p.add_torque(i, t);
     }
   });
+}
+
+template <class FreeSpin>
+void RollingResistanceModule::mesh_torques(ParticleStore& p, double dt, FreeSpin& free_spin, bool threads) const {
+  // Against a mesh, as against a wall: R* = R_i, I* = I_i, ω_rel = ω_i − the mesh's spin,
+  // the normal that of the contact just evaluated. The contacts are in particle order,
+  // each particle's in triangle order, so its torques add in the same order for any
+  // thread count; each thread takes the particles of its share of the pass.
+  const MeshContacts& m = *c_.meshes();
+  const std::vector<MeshContacts::Contact>& contacts = m.contacts();
+  const std::vector<double>& fn = c_.mesh_normal_force();
+  const PairTable& pairs = c_.pairs();
+  auto range = [&](std::size_t k0, std::size_t k1) {
+    for (std::size_t k = k0; k < k1; ++k) {
+      const MeshContacts::Contact& c = contacts[k];
+      const PairParams& pp = pairs.get(p.material[c.particle], m.material_of(c.triangle));
+      if (pp.rolling_mu == 0.0 || !(fn[k] >= 0.0)) continue;
+      const Vec3 spin = m.meshes()[m.mesh_of(c.triangle)].motion.spin();
+      const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[c.particle], fn[k], free_spin(c.particle) - spin,
+                                             c.eta, 1.0 / p.inv_inertia[c.particle], dt);
+      p.add_torque(c.particle, t);
+    }
+  };
+  if (!threads) {
+    range(0, contacts.size());
+    return;
+  }
+  const std::size_t n = p.size();
+#pragma omp parallel
+  {
+    const auto [i0, i1] = thread_range(n);
+    auto by_particle = [](const MeshContacts::Contact& c, std::size_t i) { return c.particle < i; };
+    const auto c0 = std::lower_bound(contacts.begin(), contacts.end(), i0, by_particle);
+    const auto c1 = std::lower_bound(c0, contacts.end(), i1, by_particle);
+    range(static_cast<std::size_t>(c0 - contacts.begin()), static_cast<std::size_t>(c1 - contacts.begin()));
+  }
 }
 
 }  // namespace cdm

@@ -41,9 +41,6 @@ void read_meshes(const Reader& rd, SceneSpec& spec) {
   if (!ms) return;
   if (!spec.normal_contact)
     throw SceneError(rd.file() + ": [[meshes]] is not used: modules.normal_contact is \"none\", so nothing touches a mesh");
-  if (spec.rolling != RollingModel::none)
-    throw SceneError(rd.file() + ": [[meshes]] with modules.rolling_resistance: rolling resistance does not act at "
-                     "mesh contacts yet; expected modules.rolling_resistance = \"none\" in a scene with meshes");
   // STL paths are relative to the scene file's folder.
   const std::filesystem::path base = std::filesystem::path(rd.file()).parent_path();
   for (std::size_t i = 0; i < ms->size(); ++i) {

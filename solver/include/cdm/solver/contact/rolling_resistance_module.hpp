@@ -1,7 +1,7 @@
 #pragma once
 /// @file rolling_resistance_module.hpp
 /// @brief Constant-torque rolling resistance (contact/rolling_resistance.hpp) on every
-/// contact of a ContactModule, with each pair's μ_r.
+/// contact of a ContactModule (pairs, walls and meshes), with each pair's μ_r.
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/force_module.hpp"
 
@@ -19,6 +19,12 @@ class RollingResistanceModule final : public ForceModule {
   void add_forces(ParticleStore& p, double dt) override;
 
  private:
+  /// The torques at the walls' and at the meshes' contacts, after the pairs'.
+  template <class FreeSpin>
+  void wall_torques(ParticleStore& p, double dt, FreeSpin& free_spin) const;
+  template <class FreeSpin>
+  void mesh_torques(ParticleStore& p, double dt, FreeSpin& free_spin, bool threads) const;
+
   const ContactModule& c_;
 };
 
