@@ -6,9 +6,11 @@ drum_stl.py OUT.stl --radius R --length W --segments N
     surface as N flat facets whose mid-lines lie at radius R (vertices at R / cos(pi/N)),
     so a bead touches a facet where it would touch cdm's analytic cylinder, and each end
     a fan of N triangles. Normals point into the drum.
-drum_stl.py --data particles.dat OUT.data
+drum_stl.py --data particles.dat OUT.data [--box XLO XHI YLO YHI ZLO ZHI]
     cdm's t = 0 particles as a LIGGGHTS data file (atom_style granular: id type diameter
-    density x y z), type 1 beads (density 2500 kg/m^3), type 2 the drum's mesh.
+    density x y z, and the velocities and spins), the type cdm's material index + 1 (density 2500 kg/m^3; the drum's and
+    the silo's beads are type 1, their mesh type 2); the box is the
+    drum's unless given (the silo comparison, bench/silo_compare.sh, gives its own).
 """
 import argparse
 import math
@@ -38,7 +40,10 @@ def write_stl(path, radius, length, n):
         f.write("endsolid drum\n")
 
 
-def write_data(particles, path, density=2500.0):
+DRUM_BOX = (-0.06, 0.06, -0.002, 0.02, -0.06, 0.06)
+
+
+def write_data(particles, path, density=2500.0, box=DRUM_BOX):
     rows = []
     t0 = None
     with open(particles) as f:
@@ -50,12 +55,18 @@ def write_data(particles, path, density=2500.0):
                 t0 = c[0]
             if c[0] != t0:
                 break
-            rows.append((int(c[1]) + 1, float(c[2]), float(c[3]), float(c[4]), 2.0 * float(c[11])))
+            # atom type: the cdm material's index + 1 (the last column)
+            w = [float(x) for x in c[8:11]] if len(c) == 13 else [0.0, 0.0, 0.0]  # spin, with rotation
+            rows.append((int(c[1]) + 1, int(c[-1]) + 1, float(c[2]), float(c[3]), float(c[4]), 2.0 * float(c[-2]),
+                         [float(x) for x in c[5:8]] + w))
     with open(path, "w") as f:
         f.write("LIGGGHTS data file: cdm's t = 0 beads\n\n%d atoms\n2 atom types\n\n" % len(rows))
-        f.write("-0.06 0.06 xlo xhi\n-0.002 0.02 ylo yhi\n-0.06 0.06 zlo zhi\n\nAtoms\n\n")
-        for i, x, y, z, d in rows:
-            f.write("%d 1 %.17g %.17g %.17g %.17g %.17g\n" % (i, d, density, x, y, z))
+        f.write("%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms\n\n" % tuple(box))
+        for i, ty, x, y, z, d, _ in rows:
+            f.write("%d %d %.17g %.17g %.17g %.17g %.17g\n" % (i, ty, d, density, x, y, z))
+        f.write("\nVelocities\n\n")
+        for r in rows:
+            f.write("%d %.17g %.17g %.17g %.17g %.17g %.17g\n" % (r[0], *r[6]))
 
 
 def main():
@@ -65,9 +76,10 @@ def main():
     ap.add_argument("--length", type=float, default=0.018)
     ap.add_argument("--segments", type=int, default=120)
     ap.add_argument("--data", help="cdm particles.dat: write its t = 0 beads as a LIGGGHTS data file")
+    ap.add_argument("--box", type=float, nargs=6, default=DRUM_BOX, help="the data file's box: xlo xhi ylo yhi zlo zhi")
     a = ap.parse_args()
     if a.data:
-        write_data(a.data, a.out)
+        write_data(a.data, a.out, box=a.box)
     else:
         write_stl(a.out, a.radius, a.length, a.segments)
 

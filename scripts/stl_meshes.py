@@ -8,6 +8,10 @@ committed files byte for byte.
 Usage: stl_meshes.py verification   writes the verification cases' meshes
        stl_meshes.py bench          writes bench/scenes/meshes/box_settle1e4.stl, box_settle1e5.stl
        stl_meshes.py hopper         writes examples/hopper/hopper.stl
+       stl_meshes.py chute          writes bench/scenes/meshes/chute_sides.stl
+       stl_meshes.py silo [OUT.stl ORIFICE_DIAMETER]
+                                    writes examples/silo/silo.stl (orifice 32 mm), or the
+                                    silo with the given orifice [m] to OUT.stl as ASCII
        stl_meshes.py all
 """
 import math
@@ -159,8 +163,69 @@ def hopper():
     write_binary(os.path.join(d, "hopper.stl"), tris, exact=False)
 
 
+def chute():
+    """The side walls of the chute with mesh walls (bench/scenes/chute_mesh.toml): the
+    planes y = 0 and y = 0.022 m over x = 0 ... 0.044 m (the chute's period) and
+    z = 0 ... 0.08 m, each a grid of 2 mm squares (22 x 40, diagonals alternating):
+    3,520 triangles, so the beads' contacts run across edges and vertices. ASCII, as LIGGGHTS
+    reads the same file."""
+    tris = []
+    nx, nz, h = 22, 40, 0.002
+    for y in (0.0, 0.022):
+        for i in range(nx):
+            for k in range(nz):
+                a, b = (i * h, y, k * h), ((i + 1) * h, y, k * h)
+                c, d = ((i + 1) * h, y, (k + 1) * h), (i * h, y, (k + 1) * h)
+                tris += [(a, b, c), (a, c, d)] if (i + k) % 2 == 0 else [(a, b, d), (b, c, d)]
+    d = os.path.join(ROOT, "bench", "scenes", "meshes")
+    os.makedirs(d, exist_ok=True)
+    write_ascii(os.path.join(d, "chute_sides.stl"), tris, name="chute_sides")  # LIGGGHTS reads ASCII STL
+
+
+def silo_triangles(orifice, radius=0.06, height=0.3, segs=96, ring_height=0.02, ring_width=0.006):
+    """A flat-bottomed cylindrical silo about the z axis: the wall from z = 0 to height as
+    segs flat facets whose mid-lines lie at radius (vertices at radius / cos(pi/segs)), in
+    rings ring_height tall, and the floor at z = 0, an annulus from the orifice out to the
+    wall in rings about ring_width wide. The orifice polygon has the area of the circle of
+    diameter orifice. Open at the top."""
+    rv = radius / math.cos(math.pi / segs)
+    ro = 0.5 * orifice * math.sqrt(2 * math.pi / (segs * math.sin(2 * math.pi / segs)))
+
+    def ring(r, z):
+        return [(r * math.cos(2 * math.pi * k / segs), r * math.sin(2 * math.pi * k / segs), z) for k in range(segs)]
+
+    def band(lower, upper):
+        out = []
+        for k in range(segs):
+            a, b = lower[k], lower[(k + 1) % segs]
+            c, d = upper[(k + 1) % segs], upper[k]
+            out += [(a, b, c), (a, c, d)]
+        return out
+
+    tris = []
+    n_wall = max(1, round(height / ring_height))
+    walls = [ring(rv, height * i / n_wall) for i in range(n_wall + 1)]
+    for lower, upper in zip(walls, walls[1:]):
+        tris += band(lower, upper)
+    n_floor = max(1, round((rv - ro) / ring_width))
+    floor = [ring(ro + (rv - ro) * i / n_floor, 0.0) for i in range(n_floor + 1)]
+    for inner, outer in zip(floor, floor[1:]):
+        tris += band(inner, outer)
+    return tris
+
+
+def silo():
+    d = os.path.join(ROOT, "examples", "silo")
+    os.makedirs(d, exist_ok=True)
+    write_binary(os.path.join(d, "silo.stl"), silo_triangles(0.032), exact=False)
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "all"
-    for name, f in (("verification", verification), ("bench", bench), ("hopper", hopper)):
+    if what == "silo" and len(sys.argv) == 4:
+        write_ascii(sys.argv[2], silo_triangles(float(sys.argv[3])), name="silo")
+        sys.exit(0)
+    for name, f in (("verification", verification), ("bench", bench), ("hopper", hopper), ("silo", silo),
+                    ("chute", chute)):
         if what in (name, "all"):
             f()
