@@ -25,6 +25,7 @@
 #include "cdm/solver/io/population_table.hpp"
 #include "cdm/solver/io/thermo_log.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
+#include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/output.hpp"
 #include "cdm/solver/restart_origin.hpp"
 #include "cdm/solver/scene_loader.hpp"
@@ -298,6 +299,18 @@ int main(int argc, char** argv) {
 
   try {
     if (threads > 0) omp_set_num_threads(threads);
+    // Started by mpirun/srun with several processes, each would run the whole problem
+    // and write the same files: refused until the distributed run exists.
+    if (*run || *verify) {
+      const cdm::WorldPlace w = cdm::mpi_world();
+      if (w.size > 1) {
+        if (w.rank == 0)
+          std::cerr << "cdm: error: started on " << w.size << " MPI processes; cdm runs on one process (its threads: "
+                       "-j N), since the distributed run (domain decomposition over MPI ranks) is not built yet. "
+                       "Expected mpirun -np 1 or no launcher; nothing was written\n";
+        return 2;
+      }
+    }
     if (*run) return run_scene(scene, out_dir, sets, restart, static_cast<std::uint64_t>(max_steps), quiet);
     if (*report) {
       // The report is built from the tables alone, by reports/make_report.py with

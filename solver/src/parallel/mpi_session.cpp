@@ -52,4 +52,13 @@ void ensure_mpi() {
 
 bool mpi_started_by_library() { return started; }
 
+WorldPlace mpi_world() {
+  if (!under_launcher()) return {};
+  ensure_mpi();
+  WorldPlace w;
+  MPI_Comm_size(MPI_COMM_WORLD, &w.size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
+  return w;
+}
+
 }  // namespace cdm

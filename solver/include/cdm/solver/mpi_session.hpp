@@ -18,4 +18,12 @@ void ensure_mpi();
 /// Whether ensure_mpi() started MPI (and so finalises it at exit).
 bool mpi_started_by_library();
 
+/// The number of processes in this program's MPI world and this one's rank: {1, 0}
+/// without a launcher (mpirun, srun) in the environment; else MPI is started (ensure_mpi)
+/// and asked.
+struct WorldPlace {
+  int size = 1, rank = 0;
+};
+WorldPlace mpi_world();
+
 }  // namespace cdm
