@@ -304,6 +304,9 @@ void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t buil
                                  [](const Contact& c, std::size_t i) { return c.particle < i; });
     std::uint64_t used = 0;
     for (std::size_t i = i0; i < i1; ++i) {
+      // Most particles have no candidate: nothing to find, no history to carry (their
+      // previous contacts, if any, are passed over at the next particle that has one).
+      if (cand_start_[i] == cand_start_[i + 1]) continue;
       const std::size_t first = out.size();
       find_among(p.position(i), p.radius[i], static_cast<std::uint32_t>(i), cand_.data() + cand_start_[i],
                  cand_.data() + cand_start_[i + 1], out, time);
