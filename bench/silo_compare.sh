@@ -6,7 +6,7 @@
 # with the same contact parameters and time step. The rate is measured alike for both
 # (examples/silo/beverloo.py: the slope of the mass discharged over [FROM, END] s), and
 # Beverloo's C and k are fitted to each code's three rates.
-# Usage: bench/silo_compare.sh [OUT]   (env: ORIFICES="0.020 0.032 0.048", END="1.0 1.0 0.8",
+# Usage: bench/silo_compare.sh [OUT]   (env: ORIFICES="0.020 0.032 0.048", END="0.8 0.8 0.7",
 #        FROM=0.3, CDM=build/release/app/cdm, SKIP_CDM=1 / SKIP_LIGGGHTS=1 to reuse
 #        OUT/cdm_D* / OUT/liggghts_D*)
 set -eu
@@ -15,7 +15,7 @@ root=$(dirname "$here")
 out=${1:-/tmp/silo_compare}
 CDM=${CDM:-$root/build/release/app/cdm}
 ORIFICES=${ORIFICES:-"0.020 0.032 0.048"}
-END=${END:-"1.0 1.0 0.8"}
+END=${END:-"0.8 0.8 0.7"}
 FROM=${FROM:-0.3}
 PY=/usr/bin/python3
 BEV="$root/examples/silo/beverloo.py"
@@ -48,8 +48,8 @@ for D in $ORIFICES; do
      -var dt "$dt" -var nsteps "$nsteps" -var thermoevery "$every" -var gn "$gn" \
      -var kn 1e4 -var kt 2857.142857142857 -var mu 0.5 -var skin 0.0004 > screen.txt 2>&1)
   m=$($PY -c "import math; print(2500*math.pi/6*0.004**3)")
-  w_cdm=$($PY "$BEV" rate "$c/outlets.dat" --from "$FROM" 2>&1) || w_cdm="(no cdm run)"
-  w_lig=$($PY "$BEV" rate "$l/log.liggghts" --liggghts --dt "$dt" --mass "$m" --from "$FROM" 2>&1) || w_lig="(no LIGGGHTS run)"
+  w_cdm=$($PY "$BEV" rate "$c/outlets.dat" --from "$FROM" --to "$end" 2>&1) || w_cdm="(no cdm run)"
+  w_lig=$($PY "$BEV" rate "$l/log.liggghts" --liggghts --dt "$dt" --mass "$m" --from "$FROM" --to "$end" 2>&1) || w_lig="(no LIGGGHTS run)"
   echo "D = $D m  cdm: $w_cdm  |  LIGGGHTS: $w_lig"
   fit_cdm="$fit_cdm $D:$(echo "$w_cdm" | sed 's/W = \([0-9.e+-]*\) .*/\1/')"
   fit_lig="$fit_lig $D:$(echo "$w_lig" | sed 's/W = \([0-9.e+-]*\) .*/\1/')"
