@@ -23,8 +23,7 @@ PlacementRegion PlacementRegion::make_cylinder(Vec3 point, Vec3 axis, double rad
   r.radius = radius;
   r.length = length;
   // Across the axis: the coordinate direction least aligned with it, made orthogonal.
-  const double ax = std::abs(axis.x), ay = std::abs(axis.y), az = std::abs(axis.z);
-  const Vec3 least = ax <= ay && ax <= az ? Vec3{1, 0, 0} : ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+  const Vec3 least = least_aligned_axis(axis);
   const Vec3 u = least - dot(least, axis) * axis;
   r.e1 = (1.0 / norm(u)) * u;
   r.e2 = cross(axis, r.e1);

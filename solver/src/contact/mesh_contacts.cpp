@@ -337,6 +337,13 @@ void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t buil
   in_particle_order(n, threads, range, contacts_);
 }
 
+std::pair<std::size_t, std::size_t> MeshContacts::contacts_of(std::size_t i0, std::size_t i1) const {
+  auto by_particle = [](const Contact& c, std::size_t i) { return c.particle < i; };
+  const auto c0 = std::lower_bound(contacts_.begin(), contacts_.end(), i0, by_particle);
+  const auto c1 = std::lower_bound(c0, contacts_.end(), i1, by_particle);
+  return {static_cast<std::size_t>(c0 - contacts_.begin()), static_cast<std::size_t>(c1 - contacts_.begin())};
+}
+
 std::uint64_t MeshContacts::fingerprint() const {
   std::uint64_t h = 14695981039346656037ull;
   auto mix = [&](double v) {

@@ -70,11 +70,8 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
     OverlapRecord my_worst;
     // The contacts of the particles this thread moves in the integrator's pass.
     const auto [i0, i1] = thread_range(n);
-    auto by_particle = [](const MeshContacts::Contact& c, std::size_t i) { return c.particle < i; };
-    const auto c0 = std::lower_bound(contacts.begin(), contacts.end(), i0, by_particle);
-    const auto c1 = std::lower_bound(c0, contacts.end(), i1, by_particle);
-    mesh_range(static_cast<std::size_t>(c0 - contacts.begin()), static_cast<std::size_t>(c1 - contacts.begin()),
-               my_active, my_worst);
+    const auto [c0, c1] = mesh_->contacts_of(i0, i1);
+    mesh_range(c0, c1, my_active, my_worst);
 #pragma omp critical(cdm_contact_reduce)
     {
       active += my_active;

@@ -3,8 +3,6 @@
 #include "cdm/solver/contact/rolling_resistance.hpp"
 #include "cdm/solver/parallel.hpp"
 
-#include <algorithm>
-
 namespace cdm {
 
 void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
@@ -115,10 +113,8 @@ void RollingResistanceModule::mesh_torques(ParticleStore& p, double dt, FreeSpin
 #pragma omp parallel
   {
     const auto [i0, i1] = thread_range(n);
-    auto by_particle = [](const MeshContacts::Contact& c, std::size_t i) { return c.particle < i; };
-    const auto c0 = std::lower_bound(contacts.begin(), contacts.end(), i0, by_particle);
-    const auto c1 = std::lower_bound(c0, contacts.end(), i1, by_particle);
-    range(static_cast<std::size_t>(c0 - contacts.begin()), static_cast<std::size_t>(c1 - contacts.begin()));
+    const auto [c0, c1] = m.contacts_of(i0, i1);
+    range(c0, c1);
   }
 }
 

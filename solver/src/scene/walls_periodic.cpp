@@ -71,11 +71,7 @@ void read_revolution(const Reader& rd, const toml::table& t, const std::string& 
   w.inside = rd.keyword(t, "side", path, wall_side_keywords, true);
   // Any unit vector perpendicular to the axis: the axis crossed with the coordinate axis
   // it is least aligned with.
-  const Vec3 a = w.normal;
-  const Vec3 c = std::abs(a.x) <= std::abs(a.y) && std::abs(a.x) <= std::abs(a.z) ? Vec3{1, 0, 0}
-                 : std::abs(a.y) <= std::abs(a.z)                                ? Vec3{0, 1, 0}
-                                                                                  : Vec3{0, 0, 1};
-  const Vec3 across = cross(a, c);
+  const Vec3 across = cross(w.normal, least_aligned_axis(w.normal));
   w.across = (1.0 / norm(across)) * across;
   w.material = rd.material_index(spec, t, "material", path);
   w.motion = read_motion(rd, t, "motion", path, "walls[].motion");

@@ -22,6 +22,12 @@ constexpr Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
+/// The coordinate unit vector least aligned with @p a (the first of x, y, z on a tie):
+/// the start of a direction across an axis.
+inline Vec3 least_aligned_axis(Vec3 a) {
+  const double ax = std::abs(a.x), ay = std::abs(a.y), az = std::abs(a.z);
+  return ax <= ay && ax <= az ? Vec3{1, 0, 0} : ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+}
 inline bool is_finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 }  // namespace cdm

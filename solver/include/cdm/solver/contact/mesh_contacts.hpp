@@ -91,6 +91,9 @@ class MeshContacts {
   void update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time = 0.0);
   std::vector<Contact>& contacts() { return contacts_; }
   const std::vector<Contact>& contacts() const { return contacts_; }
+  /// The contacts [k0, k1) of particles [i0, i1) (contacts() is in particle order): a
+  /// thread's share when threads split the particles as the integrator's pass does.
+  std::pair<std::size_t, std::size_t> contacts_of(std::size_t i0, std::size_t i1) const;
 
   const std::vector<TriangleMesh>& meshes() const { return meshes_; }
   std::size_t mesh_of(std::uint32_t triangle) const { return tri_mesh_[triangle]; }
