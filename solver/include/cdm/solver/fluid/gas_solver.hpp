@@ -116,6 +116,8 @@ class GasSolver {
   void predictor(double dt);
   void project(double dt, const std::vector<double>& eps_new);
   bool unknown_face(int axis, int index) const;
+  /// unknown_face(axis, i) for every face index i in [0, n(axis)].
+  std::vector<char> unknown_faces(int axis) const;
 
   GasField& gas_;
   GasSolverSpec spec_;
