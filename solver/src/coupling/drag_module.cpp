@@ -78,8 +78,33 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
 }
 
 void DragModule::add_cached_explicit(ParticleStore& p) const {
-  parallel_for(p.size(), [&](std::size_t i) {
-    add_explicit(p, i, k_[i], Vec3{ugx_[i], ugy_[i], ugz_[i]} - p.velocity(i), two_way_);
+  // add_explicit's arithmetic on raw pointers, one loop per axis and per two-way or not,
+  // so that the loops vectorise (through the store's vectors they did not).
+  const std::size_t n = p.size();
+  const double* __restrict k = k_.data();
+  const double* const ug[3] = {ugx_.data(), ugy_.data(), ugz_.data()};
+  const double* const v[3] = {p.vx.data(), p.vy.data(), p.vz.data()};
+  double* const f[3] = {p.fx.data(), p.fy.data(), p.fz.data()};
+  double* const df[3] = {p.dfx.data(), p.dfy.data(), p.dfz.data()};
+  const bool two_way = two_way_;
+  auto axis = [&](int a, std::size_t i0, std::size_t i1) {
+    const double* __restrict u = ug[a];
+    const double* __restrict va = v[a];
+    double* __restrict fa = f[a];
+    if (two_way) {
+      double* __restrict d = df[a];
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double fi = k[i] * (u[i] - va[i]);
+        fa[i] += fi;
+        d[i] = fi;
+      }
+    } else {
+      for (std::size_t i = i0; i < i1; ++i) fa[i] += k[i] * (u[i] - va[i]);
+    }
+  };
+  parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+    for (int a = 0; a < 3; ++a) axis(a, i0, i1);
+    return 0.0;
   });
 }
 
@@ -191,7 +216,17 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
       fx_[i] = f.x; fy_[i] = f.y; fz_[i] = f.z;
     });
   }
-  parallel_for(n, [&](std::size_t i) { p.fx[i] -= fx_[i]; p.fy[i] -= fy_[i]; p.fz[i] -= fz_[i]; });
+  // On raw pointers, one loop per axis, so that they vectorise.
+  const double* const c[3] = {fx_.data(), fy_.data(), fz_.data()};
+  double* const f[3] = {p.fx.data(), p.fy.data(), p.fz.data()};
+  parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+    for (int a = 0; a < 3; ++a) {
+      const double* __restrict ca = c[a];
+      double* __restrict fa = f[a];
+      for (std::size_t i = i0; i < i1; ++i) fa[i] -= ca[i];
+    }
+    return 0.0;
+  });
 }
 
 void PressureGradientModule::save_state(OutArchive& a) const {
