@@ -304,10 +304,13 @@ int main(int argc, char** argv) {
     if (*run || *verify) {
       const cdm::WorldPlace w = cdm::mpi_world();
       if (w.size > 1) {
+        // One write: the launcher forwards output in chunks and would cut a message written
+        // in pieces with its own lines.
         if (w.rank == 0)
-          std::cerr << "cdm: error: started on " << w.size << " MPI processes; cdm runs on one process (its threads: "
-                       "-j N), since the distributed run (domain decomposition over MPI ranks) is not built yet. "
-                       "Expected mpirun -np 1 or no launcher; nothing was written\n";
+          std::cerr << ("cdm: error: started on " + std::to_string(w.size) +
+                        " MPI processes; cdm runs on one process (its threads: -j N), since the distributed run "
+                        "(domain decomposition over MPI ranks) is not built yet. Expected mpirun -np 1 or no "
+                        "launcher; nothing was written\n");
         return 2;
       }
     }

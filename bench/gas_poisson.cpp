@@ -50,6 +50,10 @@ int main(int argc, char** argv) {
   const std::string backend = argv[2];
   const int reps = argc == 4 ? std::atoi(argv[3]) : 3;
   if (n < 2 || n > 512 || reps < 1 || reps > 100 || (backend != "multigrid" && backend != "direct")) return usage();
+  if (backend == "multigrid" && !cdm::fluid::multigrid_available()) {
+    std::fprintf(stderr, "gas_poisson: this build has no multigrid backend (built without MPI and hypre)\n");
+    return 2;
+  }
 
   GridSpec gs;
   gs.lo = {0, 0, 0};

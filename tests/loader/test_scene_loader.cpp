@@ -265,6 +265,13 @@ TEST(SceneLoader, GasPressureSolver) {
   ASSERT_NE(scene.find(gas), std::string::npos);
   auto with = [&](const std::string& keys) { return replace(scene, gas, gas + keys); };
   const cdm::SceneSpec d = cdm::load_scene_from_string(scene, "f.toml");
+  if (!cdm::fluid::multigrid_available()) {
+    // A build without MPI and hypre: the direct solve by default, and "multigrid" refused.
+    EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::direct);
+    expect_refused(with("pressure_solver = \"multigrid\"\n"),
+                   {"bad.toml", "gas.pressure_solver", "multigrid", "\"direct\"", "without MPI and hypre", "CDM_WITH_MPI"});
+    return;
+  }
   EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::multigrid);
   EXPECT_EQ(d.pressure_solver.tolerance, 1e-10);
   const cdm::SceneSpec m = cdm::load_scene_from_string(with("pressure_tolerance = 1e-8\n"), "f.toml");

@@ -28,6 +28,7 @@ class PressureSolver::Direct {
   bool analysed_ = false;
 };
 
+#ifdef CDM_WITH_MPI
 /// hypre's Struct PCG preconditioned by PFMG (or SMG where PFMG cannot coarsen soundly).
 class PressureSolver::Multigrid {
  public:
@@ -46,5 +47,11 @@ class PressureSolver::Multigrid {
   double tolerance_;
   std::unique_ptr<Hypre> h_;
 };
+#else
+/// A build without MPI and hypre has no multigrid backend (multigrid_available() is
+/// false, so PressureSolver never makes one): the type only completes the member that
+/// would hold it.
+class PressureSolver::Multigrid {};
+#endif
 
 }  // namespace cdm::fluid

@@ -11,15 +11,34 @@ namespace cdm::fluid {
 PressureSolver::PressureSolver(const StaggeredGrid& grid, const PressureSolverSpec& spec) : grid_(grid), spec_(spec) {
   for (int f = 0; f < 2 * grid_.dims(); ++f)
     has_outlet_ |= grid_.spec().faces[f].kind == BoundaryKind::pressure_outlet;
-  if (spec_.backend == PressureBackend::direct)
+  if (spec_.backend == PressureBackend::direct) {
     direct_ = std::make_unique<Direct>(grid_);
-  else
-    multigrid_ = std::make_unique<Multigrid>(grid_, spec_);
+    return;
+  }
+#ifdef CDM_WITH_MPI
+  multigrid_ = std::make_unique<Multigrid>(grid_, spec_);
+#else
+  throw std::invalid_argument("gas pressure solve: the multigrid backend needs MPI and hypre, and this cdm was built "
+                              "without them (CDM_WITH_MPI); use the direct backend");
+#endif
+}
+
+bool multigrid_available() {
+#ifdef CDM_WITH_MPI
+  return true;
+#else
+  return false;
+#endif
 }
 
 PressureSolver::~PressureSolver() = default;
 
-std::string PressureSolver::method() const { return direct_ ? "sparse LDLT (Eigen)" : multigrid_->method(); }
+std::string PressureSolver::method() const {
+#ifdef CDM_WITH_MPI
+  if (multigrid_) return multigrid_->method();
+#endif
+  return "sparse LDLT (Eigen)";
+}
 
 PressureSolver::CellStencil PressureSolver::stencil(const FaceCoefficients& d, int i, int j, int k) const {
   const GridSpec& gs = grid_.spec();
@@ -62,7 +81,9 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
     same = same && d_set_[a].size() == d[a]->size() && std::equal(d[a]->begin(), d[a]->end(), d_set_[a].begin());
   if (!same) {
     if (direct_) direct_->set_operator(*this, d);
+#ifdef CDM_WITH_MPI
     else multigrid_->set_operator(*this, d);
+#endif
     for (int a = 0; a < grid_.dims(); ++a) d_set_[a] = *d[a];
     ++setups_;
   }
@@ -74,7 +95,10 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
     for (double& x : b) x -= mean;
     b[0] = 0.0;  // cell 0 holds φ = 0
   }
-  return direct_ ? direct_->solve(b, phi) : multigrid_->solve(b, phi);
+#ifdef CDM_WITH_MPI
+  if (multigrid_) return multigrid_->solve(b, phi);
+#endif
+  return direct_->solve(b, phi);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,17 +1,29 @@
 #include "cdm/solver/mpi_session.hpp"
 
+#include <cstdlib>
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+
+#ifdef CDM_WITH_MPI
 #include <HYPRE_utilities.h>
 #include <mpi.h>
 
-#include <cstdlib>
 #include <mutex>
-#include <stdexcept>
-#include <string>
+#endif
 
 namespace cdm {
 
 namespace {
 
+/// Launched by mpirun/srun (a world that may hold several processes)?
+bool under_launcher() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+
+#ifdef CDM_WITH_MPI
 bool started = false;
 
 void finish() {
@@ -21,15 +33,20 @@ void finish() {
   HYPRE_Finalize();
   MPI_Finalize();
 }
-
-/// Launched by mpirun/srun (a world that may hold several processes)?
-bool under_launcher() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
-    if (std::getenv(v)) return true;
-  return false;
+#else
+/// The first of the variables @p names that is set, as a number; @p fallback if none.
+int env_int(std::initializer_list<const char*> names, int fallback) {
+  for (const char* n : names)
+    if (const char* v = std::getenv(n)) return std::atoi(v);
+  return fallback;
 }
+#endif
 
 }  // namespace
+
+#ifdef CDM_WITH_MPI
+
+bool built_with_mpi() { return true; }
 
 void ensure_mpi() {
   static std::mutex m;
@@ -60,5 +77,27 @@ WorldPlace mpi_world() {
   MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
   return w;
 }
+
+#else
+
+bool built_with_mpi() { return false; }
+
+void ensure_mpi() {
+  throw std::runtime_error("this cdm was built without MPI and hypre (CMake option CDM_WITH_MPI=OFF, or neither "
+                           "found): nothing here can start MPI");
+}
+
+bool mpi_started_by_library() { return false; }
+
+WorldPlace mpi_world() {
+  // Without MPI the launcher's own variables say how many processes it started.
+  if (!under_launcher()) return {};
+  WorldPlace w;
+  w.size = env_int({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_NTASKS"}, 1);
+  w.rank = env_int({"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"}, 0);
+  return w;
+}
+
+#endif
 
 }  // namespace cdm

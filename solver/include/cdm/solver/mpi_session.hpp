@@ -9,10 +9,16 @@
 /// a world of one process; it then defaults Open MPI's point-to-point layer to ob1
 /// (OMPI_MCA_pml, unless set), which starts in about 0.1 s instead of about 0.4 s spent
 /// probing network transports a single process never uses. hypre is initialised once.
+/// In a build without MPI (CMake option CDM_WITH_MPI off, or MPI or hypre not found),
+/// ensure_mpi() throws and mpi_world() reads the launcher's variables instead.
+
 namespace cdm {
 
+/// Whether this build has MPI and hypre (CDM_WITH_MPI).
+bool built_with_mpi();
+
 /// Initialise MPI and hypre once if not done yet; throws std::runtime_error if MPI
-/// cannot start.
+/// cannot start (or the build has none).
 void ensure_mpi();
 
 /// Whether ensure_mpi() started MPI (and so finalises it at exit).
@@ -20,7 +26,7 @@ bool mpi_started_by_library();
 
 /// The number of processes in this program's MPI world and this one's rank: {1, 0}
 /// without a launcher (mpirun, srun) in the environment; else MPI is started (ensure_mpi)
-/// and asked.
+/// and asked (without MPI: the launcher's variables, OMPI_COMM_WORLD_SIZE and the like).
 struct WorldPlace {
   int size = 1, rank = 0;
 };

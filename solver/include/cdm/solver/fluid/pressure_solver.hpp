@@ -40,8 +40,17 @@ inline constexpr Keywords<PressureBackend, 2> pressure_backend_keywords{
     {{"multigrid", PressureBackend::multigrid}, {"direct", PressureBackend::direct}}};
 inline const char* to_string(PressureBackend b) { return keyword_of(pressure_backend_keywords, b); }
 
+/// The default backend: multigrid in a build with MPI and hypre (CDM_WITH_MPI, a public
+/// definition of the library), else direct, the only one such a build has.
+inline constexpr PressureBackend default_pressure_backend =
+#ifdef CDM_WITH_MPI
+    PressureBackend::multigrid;
+#else
+    PressureBackend::direct;
+#endif
+
 struct PressureSolverSpec {
-  PressureBackend backend = PressureBackend::multigrid;
+  PressureBackend backend = default_pressure_backend;
   /// Relative residual ‖b − Aφ‖₂/‖b‖₂ at which the multigrid backend stops. The default
   /// keeps the algebraic error ≥ 100× below the discretisation error of the gas MMS case
   /// (verification/cases/gas_mms/README.md).
@@ -55,10 +64,15 @@ struct PressureSolveStats {
   double relative_residual = 0.0;  // ‖b − Aφ‖₂/‖b‖₂ (0 when b = 0)
 };
 
+/// Whether this build has the multigrid backend: it needs MPI and hypre (CMake option
+/// CDM_WITH_MPI, on when both are found). Without it only the direct backend exists.
+bool multigrid_available();
+
 class PressureSolver {
  public:
   /// Built once for a grid and its boundary kinds. The multigrid backend initialises MPI
-  /// on first use if the program has not (mpi_session.hpp).
+  /// on first use if the program has not (mpi_session.hpp); in a build without it
+  /// (multigrid_available() false) asking for it throws std::invalid_argument.
   PressureSolver(const StaggeredGrid& grid, const PressureSolverSpec& spec);
   ~PressureSolver();
   PressureSolver(const PressureSolver&) = delete;
