@@ -246,7 +246,8 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
 
 int main(int argc, char** argv) {
   CLI::App app{"cdm: CFD-DEM solver for gas-solid flows, verification first"};
-  app.set_version_flag("--version", std::string("cdm ") + CDM_VERSION + " (commit " + CDM_GIT_COMMIT + ")");
+  app.set_version_flag("--version", std::string("cdm ") + CDM_VERSION + " (commit " + CDM_GIT_COMMIT + ")" +
+                                        (cdm::built_with_mpi() ? "" : ", built without MPI and hypre"));
   app.require_subcommand(1);
 
   std::string scene, out_dir = "cdm-out";
