@@ -18,12 +18,14 @@
 /// is 0) and its relaxation there breaks the preconditioner.
 ///
 /// Backends:
-///  - multigrid (default): conjugate gradients preconditioned by one V-cycle of hypre's
-///    structured-grid multigrid PFMG (semi-coarsening, Galerkin coarse operators,
-///    weighted-Jacobi smoothing), on hypre's Struct interface over MPI_COMM_WORLD.
+///  - multigrid (the default in a build with MPI and hypre): conjugate gradients
+///    preconditioned by one V-cycle of hypre's structured-grid multigrid PFMG
+///    (semi-coarsening, PFMG's non-Galerkin coarse operators, weighted-Jacobi smoothing
+///    skipped where redundant), on hypre's Struct interface over MPI_COMM_WORLD.
 ///    Converged when ‖b − Aφ‖₂ ≤ tolerance ‖b‖₂. Work and memory O(N) in the cells.
 ///  - direct: Eigen's sparse LDLᵀ factorisation, O(N^{5/3}) or worse in 3D, kept until d
-///    changes; exact to round-off. The reference the multigrid solver is tested against.
+///    changes; exact to round-off. The reference the multigrid solver is tested against,
+///    and the only backend of a build without MPI and hypre.
 #include <array>
 #include <cstddef>
 #include <memory>
