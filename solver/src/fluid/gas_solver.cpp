@@ -9,6 +9,21 @@
 
 namespace cdm::fluid {
 
+namespace {
+
+/// f(i, j, k) for every stored sample of an array staggered as @p s, k split among
+/// threads when @p threads (f must then be safe to call from any thread).
+template <class F>
+void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f) {
+  const int n0 = g.samples(s, 0), n1 = g.samples(s, 1), n2 = g.samples(s, 2);
+#pragma omp parallel for schedule(static) if (threads)
+  for (int k = 0; k < n2; ++k)
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n0; ++i) f(i, j, k);
+}
+
+}  // namespace
+
 GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec_(spec) {
   const StaggeredGrid& g = gas_.grid();
   force_u = g.make_array();
@@ -85,8 +100,7 @@ void GasSolver::predictor(double dt) {
                              spec_.mean_pressure_gradient.z};
   const bool upwind = spec_.advection == AdvectionScheme::upwind;
   const bool advect = spec_.advection != AdvectionScheme::none;
-  const std::ptrdiff_t stride[3] = {1, static_cast<std::ptrdiff_t>(g.at(0, 1, 0) - g.at(0, 0, 0)),
-                                    static_cast<std::ptrdiff_t>(g.at(0, 0, 1) - g.at(0, 0, 0))};
+  const std::ptrdiff_t stride[3] = {g.stride(0), g.stride(1), g.stride(2)};
   // A user's source is called from one thread only.
   const bool threads = !momentum_source && g.cell_count() > parallel_threshold;
 
@@ -98,7 +112,6 @@ void GasSolver::predictor(double dt) {
     const auto s = static_cast<Staggering>(c);
     const std::vector<char> unknown = unknown_faces(c);
     const std::ptrdiff_t sc = stride[c];
-    const int n0 = g.samples(s, 0), n1 = g.samples(s, 1), n2 = g.samples(s, 2);
     // Face f and the cells either side of it along c: f − e_c (index l) and f.
     auto face = [&](int i, int j, int k) {
       const int along = c == 0 ? i : c == 1 ? j : k;
@@ -148,10 +161,7 @@ void GasSolver::predictor(double dt) {
       // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
       out[f] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * (rho * gvec[c] - mean_gp[c]) + src);
     };
-#pragma omp parallel for schedule(static) if (threads)
-    for (int k = 0; k < n2; ++k)
-      for (int j = 0; j < n1; ++j)
-        for (int i = 0; i < n0; ++i) face(i, j, k);
+    for_each_sample(g, s, threads, face);
   }
 }
 
@@ -166,8 +176,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   const double* const E1 = eps_new.data();
   const double* const E0 = gas_.eps_g.data();
   const double* const P = gas_.p.data();
-  const std::ptrdiff_t stride[3] = {1, static_cast<std::ptrdiff_t>(g.at(0, 1, 0) - g.at(0, 0, 0)),
-                                    static_cast<std::ptrdiff_t>(g.at(0, 0, 1) - g.at(0, 0, 0))};
+  const std::ptrdiff_t stride[3] = {g.stride(0), g.stride(1), g.stride(2)};
   const bool threads = g.cell_count() > parallel_threshold;
   bool has_outlet = false;
   for (int f = 0; f < 2 * dims; ++f) has_outlet |= gs.faces[f].kind == BoundaryKind::pressure_outlet;
@@ -175,38 +184,16 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   const bool implicit = !drag_u.empty();
   const double* const beta[3] = {drag_u.data(), drag_v.data(), drag_w.data()};
   const double* const target[3] = {drag_target_u.data(), drag_target_v.data(), drag_target_w.data()};
-  // ε_f^{n+1} on face f (flat index, lower cell f − e_a) at index `along` on axis a, as
-  // GasField::face_void_fraction gives it: 1 on a velocity inlet's face.
-  bool inlet[3][2] = {{false, false}, {false, false}, {false, false}};
-  for (int a = 0; a < dims; ++a)
-    for (int side = 0; side < 2; ++side)
-      inlet[a][side] = !gs.periodic(a) && gs.faces[2 * a + side].kind == BoundaryKind::velocity_inlet;
-  auto face_eps = [&](int a, int along, std::ptrdiff_t f) {
-    if ((along == 0 && inlet[a][0]) || (along == g.n(a) && inlet[a][1])) return 1.0;
-    return 0.5 * (E1[f - stride[a]] + E1[f]);
-  };
+  // ε_f^{n+1} on face f (flat index) at index `along` on axis a.
+  auto face_eps = [&](int a, int along, std::ptrdiff_t f) { return gas_.face_void_fraction(eps_new, a, along, f); };
   auto drag_c = [&](int a, std::ptrdiff_t f) { return dt / rho * beta[a][f]; };
   auto face_coef = [&](int a, int along, std::ptrdiff_t f) {
     const double e = face_eps(a, along, f);
     return implicit ? e * e / (e + drag_c(a, f)) : e;
   };
   auto along = [](int a, int i, int j, int k) { return a == 0 ? i : a == 1 ? j : k; };
-  // f(i, j, k) over the stored samples of component c, k split among threads.
-  auto faces_of = [&](int c, auto&& f) {
-    const auto s = static_cast<Staggering>(c);
-    const int n0 = g.samples(s, 0), n1 = g.samples(s, 1), n2 = g.samples(s, 2);
-#pragma omp parallel for schedule(static) if (threads)
-    for (int k = 0; k < n2; ++k)
-      for (int j = 0; j < n1; ++j)
-        for (int i = 0; i < n0; ++i) f(i, j, k);
-  };
-  // f(i, j, k) over the cells, k split among threads.
-  auto cells_of = [&](auto&& f) {
-#pragma omp parallel for schedule(static) if (threads)
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) f(i, j, k);
-  };
+  auto faces_of = [&](int c, auto&& f) { for_each_sample(g, static_cast<Staggering>(c), threads, f); };
+  auto cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f); };
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.

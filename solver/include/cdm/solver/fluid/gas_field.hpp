@@ -96,13 +96,15 @@ class GasField {
   /// distributor throttle the inflow to ε·V.
   double face_void_fraction(const std::vector<double>& eps, int axis, int i, int j, int k) const {
     const int f[3] = {i, j, k};
+    return face_void_fraction(eps, axis, f[axis], static_cast<std::ptrdiff_t>(grid_.at(i, j, k)));
+  }
+  /// The same for the face at index @p index along @p axis whose flat index (at()) is @p flat.
+  double face_void_fraction(const std::vector<double>& eps, int axis, int index, std::ptrdiff_t flat) const {
     const GridSpec& gs = grid_.spec();
-    if (!gs.periodic(axis) && (f[axis] == 0 || f[axis] == grid_.n(axis)) &&
-        gs.faces[2 * axis + (f[axis] == 0 ? 0 : 1)].kind == BoundaryKind::velocity_inlet)
+    if (!gs.periodic(axis) && (index == 0 || index == grid_.n(axis)) &&
+        gs.faces[2 * axis + (index == 0 ? 0 : 1)].kind == BoundaryKind::velocity_inlet)
       return 1.0;
-    int lo[3] = {i, j, k};
-    lo[axis] -= 1;
-    return 0.5 * (eps[grid_.at(lo[0], lo[1], lo[2])] + eps[grid_.at(i, j, k)]);
+    return 0.5 * (eps[static_cast<std::size_t>(flat - grid_.stride(axis))] + eps[static_cast<std::size_t>(flat)]);
   }
 
   /// Recompute the face pressure gradient from p and refresh both interpolators; call

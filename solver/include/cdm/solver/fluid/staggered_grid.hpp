@@ -82,6 +82,10 @@ class StaggeredGrid {
            static_cast<std::size_t>(i + ghosts);
   }
   std::size_t padded_size() const { return ext_[0] * ext_[1] * ext_[2]; }
+  /// What at() adds for one step along @p axis.
+  std::ptrdiff_t stride(int axis) const {
+    return axis == 0 ? 1 : static_cast<std::ptrdiff_t>(axis == 1 ? ext_[0] : ext_[0] * ext_[1]);
+  }
   /// A zero-filled array of the padded shape.
   std::vector<double> make_array() const { return std::vector<double>(padded_size(), 0.0); }
 
