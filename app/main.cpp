@@ -72,6 +72,36 @@ std::vector<std::pair<std::string, std::string>> provenance() {
 }
 
 std::atomic<int> g_signal{0};
+
+/// The MPI processes this run is one of ({1, 0} without a launcher).
+cdm::WorldPlace g_world;
+
+/// The output folder of a process other than rank 0 (removed at exit).
+struct Scratch {
+  std::string path;
+  Scratch() {
+    std::string t = (fs::temp_directory_path() / "cdm-rank-XXXXXX").string();
+    if (!mkdtemp(t.data())) throw std::runtime_error("cannot make a scratch folder in " + fs::temp_directory_path().string());
+    path = t;
+  }
+  ~Scratch() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+std::optional<Scratch> g_scratch;
+
+/// Reports @p e and gives exit code @p rc. Among several processes, a failure on one
+/// would leave the others waiting for it: the whole run is stopped (MPI_Abort). Each
+/// process fails alike on a bad scene or an unstable state, so rank 0 reports it once.
+int fail(int rc, const char* prefix, const std::exception& e) {
+  if (g_world.size <= 1 || g_world.rank == 0 || rc == 1 || rc == 4)
+    std::cerr << (std::string(prefix) + e.what() + (g_world.size > 1 ? " (rank " + std::to_string(g_world.rank) + ")" : "") + "\n");
+  std::cerr.flush();
+  g_scratch.reset();
+  if (g_world.size > 1) cdm::abort_world(rc);
+  return rc;
+}
 extern "C" void on_signal(int sig) { g_signal.store(sig); }
 
 /// Progress on the terminal (stderr) for runs longer than a few seconds: simulated time,
@@ -93,7 +123,7 @@ class Progress {
     const double span = std::chrono::duration<double>(now - (window_.size() > 1 ? t0 : start_)).count();
     const double steps = window_.size() > 1 ? done - d0 : done;
     const double step_rate = span > 0 ? steps / span : 0.0;
-    const double rate = step_rate * static_cast<double>(s.particles().size());
+    const double rate = step_rate * static_cast<double>(s.particle_count());
     const double left = step_rate > 0 ? (total - done) / step_rate : 0.0;
     std::fprintf(stderr, "\r  t = %.4g s  step %llu/%llu  %.3g particle-steps/s  %.0f s left   ", s.time(),
                  static_cast<unsigned long long>(s.steps()), static_cast<unsigned long long>(s.total_steps()), rate, left);
@@ -122,7 +152,7 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
-int run_scene(const std::string& scene, const std::string& out_dir, const std::vector<std::string>& sets,
+int run_scene(const std::string& scene, std::string out_dir, const std::vector<std::string>& sets,
               const std::string& restart, std::uint64_t max_steps, bool quiet) {
   cdm::RunOrigin origin;
   origin.scene_name = scene;
@@ -147,6 +177,12 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
   std::cout << ", " << sim.total_steps() << " steps";
   if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
   std::cout << "\n" << std::flush;
+  if (sim.ranks() > 1 && g_world.rank != 0) {
+    // Every process runs the observers alike (they gather the state at the same steps);
+    // rank 0 writes the files, the others into a scratch folder.
+    g_scratch.emplace();
+    out_dir = g_scratch->path;
+  }
   cdm::make_output_directory(out_dir);
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.cdmck").string();
   if (fs::exists(ckpt) && !fs::is_regular_file(ckpt))
@@ -209,14 +245,16 @@ int run_scene(const std::string& scene, const std::string& out_dir, const std::v
           }
         }
       },
-      [&] { return g_signal.load() != 0 || sim.steps() >= stop_at; });
+      [&] { return sim.any_rank(g_signal.load() != 0) || sim.steps() >= stop_at; });
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   progress.end_line();
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
-  std::printf("loop time %.3f s for %llu steps of %zu particles on %d thread(s): %.4g particle-steps/s; simulated "
-              "time %.6g s\n",
+  const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
+                                                  std::to_string(omp_get_max_threads()) + " thread(s)"
+                                            : std::to_string(omp_get_max_threads()) + " thread(s)";
+  std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
               loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
-              omp_get_max_threads(), loop_s > 0 ? psteps / loop_s : 0.0, sim.time());
+              where.c_str(), loop_s > 0 ? psteps / loop_s : 0.0, sim.time());
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {
     checkpoint(sim);
@@ -302,18 +340,28 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     // Started by mpirun/srun with several processes, each would run the whole problem
     // and write the same files: refused until the distributed run exists.
-    if (*run || *verify) {
-      const cdm::WorldPlace w = cdm::mpi_world();
-      if (w.size > 1) {
-        // One write: the launcher forwards output in chunks and would cut a message written
-        // in pieces with its own lines.
-        if (w.rank == 0)
-          std::cerr << ("cdm: error: started on " + std::to_string(w.size) +
-                        " MPI processes; cdm runs on one process (its threads: -j N), since the distributed run "
-                        "(domain decomposition over MPI ranks) is not built yet. Expected mpirun -np 1 or no "
-                        "launcher; nothing was written\n");
-        return 2;
-      }
+    if (*run || *verify) g_world = cdm::mpi_world();
+    if (*run && g_world.size > 1 && !cdm::built_with_mpi()) {
+      if (g_world.rank == 0)
+        std::cerr << ("cdm: error: started on " + std::to_string(g_world.size) +
+                      " MPI processes, but this cdm was built without MPI (CDM_WITH_MPI off), so each would run the "
+                      "whole scene and write the same files. Expected mpirun -np 1 or no launcher, or a build with "
+                      "MPI; nothing was written\n");
+      return 2;
+    }
+    if (*verify && g_world.size > 1) {
+      // One write: the launcher forwards output in chunks and would cut a message written
+      // in pieces with its own lines.
+      if (g_world.rank == 0)
+        std::cerr << ("cdm: error: cdm verify was started on " + std::to_string(g_world.size) +
+                      " MPI processes; it runs each case on one process (its threads: -j N). Expected mpirun -np "
+                      "1 or no launcher; nothing was written\n");
+      return 2;
+    }
+    if (*run && g_world.size > 1 && g_world.rank != 0) {
+      // Rank 0 writes to the terminal (and the files: run_scene).
+      if (!std::freopen("/dev/null", "w", stdout))
+        throw std::runtime_error("cannot silence the output of rank " + std::to_string(g_world.rank));
     }
     if (*run) return run_scene(scene, out_dir, sets, restart, static_cast<std::uint64_t>(max_steps), quiet);
     if (*report) {
@@ -339,20 +387,15 @@ int main(int argc, char** argv) {
       return cdm::verification::verify(vo);
     }
   } catch (const cdm::SceneError& e) {
-    std::cerr << "cdm: error: " << e.what() << "\n";
-    return 2;
+    return fail(2, "cdm: error: ", e);
   } catch (const cdm::CheckpointError& e) {
-    std::cerr << "cdm: error: " << e.what() << "\n";
-    return 2;
+    return fail(2, "cdm: error: ", e);
   } catch (const cdm::OutputError& e) {
-    std::cerr << "cdm: output error: " << e.what() << "\n";
-    return 4;
+    return fail(4, "cdm: output error: ", e);
   } catch (const cdm::SimulationError& e) {
-    std::cerr << "cdm: the run went unstable and was stopped: " << e.what() << "\n";
-    return 3;
+    return fail(3, "cdm: the run went unstable and was stopped: ", e);
   } catch (const std::exception& e) {
-    std::cerr << "cdm: error: " << e.what() << "\n";
-    return 1;
+    return fail(1, "cdm: error: ", e);
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include "cdm/solver/contact/rolling_resistance_module.hpp"
 #include "cdm/solver/gravity_module.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/scene_loader.hpp"
 
 #include <algorithm>
@@ -63,12 +64,39 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   total_steps_ = static_cast<std::uint64_t>(step_count(spec_.end_time, spec_.dt));  // <= max_steps (loader)
   integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
   if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
+  split_among_ranks();
   // The particles live in the store now; the scene keeps only where they came from.
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::split_among_ranks() {
+  ranks_ = RankSplit::create();
+  if (!ranks_) return;
+  // What the distributed step covers so far (rank_split.hpp); anything else is refused
+  // before a rank writes a file.
+  std::string why;
+  if (gas_) why = "it has a gas (modules.gas, drag or a pressure gradient)";
+  else if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
+  else if (!spec_.meshes.empty()) why = "it has triangle-mesh walls ([[meshes]])";
+  else if (spec_.rolling != RollingModel::none) why = "it has rolling resistance (modules.rolling_resistance)";
+  else if (population_) why = "its population changes ([[insertions]] or [[outlets]])";
+  else if (!integrator_->set_ranks(ranks_.get()))
+    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the distributed step is velocity Verlet's)";
+  if (!why.empty())
+    throw SceneError(spec_.file + ": cannot run on " + std::to_string(ranks_->size()) + " MPI processes: " + why +
+                     "; the distributed run covers DEM scenes of spheres, walls and periodic axes with "
+                     "velocity Verlet so far. Expected mpirun -np 1 (or no launcher) for this scene");
+  contact_->set_ranks(ranks_.get());
+}
+
+int Simulation::ranks() const { return ranks_ ? ranks_->size() : 1; }
+
+void Simulation::synchronise_ranks() const {
+  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list());
+}
 
 std::vector<std::string> Simulation::module_names() const {
   std::vector<std::string> names;
@@ -127,6 +155,12 @@ void Simulation::update_population() {
 
 void Simulation::compute_forces(double t, integrators::ForceStart start) {
   if (contact_) contact_->set_time(t);
+  if (ranks_) {
+    // The list is built (and the particles sorted) from every particle's state, the same
+    // on every rank; between builds a rank needs only the slab above its own.
+    if (contact_->list().rebuild_due(particles_)) synchronise_ranks();
+    else ranks_->exchange_ghosts(particles_);
+  }
   sort_if_due();
   // Else the integrator zeroed the forces as it read them, or set them to the weight.
   if (start == integrators::ForceStart::stale) particles_.clear_forces();
@@ -144,7 +178,14 @@ void Simulation::check_state(double nonfinite) const {
 }
 
 void Simulation::complete_step() const {
-  if (integrator_->complete() != 0.0) check_state(1.0);
+  const double bad = integrator_->complete();
+  synchronise_ranks();  // the state is read: every rank gets all of it
+  if (bad != 0.0) check_state(1.0);
+}
+
+void Simulation::fail_not_finite() const {
+  synchronise_ranks();  // names the particles, whichever rank moved them
+  check_state(1.0);
 }
 
 const Simulation::CouplingBalance& Simulation::coupling_balance() const {
@@ -156,6 +197,7 @@ void Simulation::step() {
   const double t_new = static_cast<double>(steps_ + 1) * spec_.dt;
   // 1 if the integrator found the state not finite, 0 if none, -1 if not checked.
   const double nonfinite = integrator_->step(*this, {time_, t_new});
+  if (ranks_) ranks_->mark_stale();
   ++steps_;
   time_ = static_cast<double>(steps_) * spec_.dt;
   // Before the guards: a particle that left the gas domain through an outlet is gone.

@@ -6,6 +6,7 @@
 #include "cdm/solver/contact/hertz_mindlin.hpp"
 #include "cdm/solver/contact/linear_spring_dashpot.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/platform.hpp"
 #include "mesh_pass.hpp"
 
@@ -29,6 +30,7 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;
   const VerletList::Update u = list_.update(p);
+  if (ranks_ && (u.rebuilt || !ranks_->assigned_for(list_.builds()))) ranks_->assign(list_, p);
   if (u.rebuilt || damping_stale_) tabulate_damping(p);
   if (record_) {
     fn_pair_.resize(list_.size());
@@ -149,7 +151,6 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
 
   // Particle–particle, slab by slab: even slabs in parallel, then odd ones, each thread
   // in its own run of slabs (VerletList::thread_slabs).
-  const std::size_t nslab = list_.slab_count();
   const std::vector<std::uint32_t>& slab_start = list_.slab_start();
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
@@ -296,10 +297,16 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     }
     my_active += active;
   };
+  // This rank's slabs (all of them on one rank, rank_split.hpp); between the phases and
+  // after them the boundary slabs' forces move between the ranks.
+  const auto [first_slab, last_slab] = list_.rank_slabs();
   if (!threads) {
     // Same order as the threaded path: even slabs, then odd slabs.
-    for (std::size_t pass = 0; pass < 2; ++pass)
-      for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start[s], slab_start[s + 1], active, worst);
+    for (std::size_t pass = 0; pass < 2; ++pass) {
+      for (std::size_t s = first_slab + ((first_slab & 1) != pass); s < last_slab; s += 2)
+        pair_range(slab_start[s], slab_start[s + 1], active, worst);
+      if (ranks_) ranks_->boundary_forces(p, static_cast<int>(pass));
+    }
     list_.forget_slab_contacts();
   } else {
     list_.weigh_slabs();
@@ -316,6 +323,11 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         }
         if (pass == 0) {
 #pragma omp barrier
+          if (ranks_) {
+#pragma omp master
+            ranks_->boundary_forces(p, 0);
+#pragma omp barrier
+          }
         }
       }
 #pragma omp critical(cdm_contact_reduce)
@@ -324,6 +336,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         if (contact::worse_overlap(my_worst, worst)) worst = my_worst;
       }
     }
+    if (ranks_) ranks_->boundary_forces(p, 1);
   }
 
   // Particle–wall: the wall is a body of infinite mass; m_eff = m_i. Its surface moves
@@ -366,12 +379,14 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};
     if (contact::worse_overlap(rec, my_worst)) my_worst = rec;
   };
+  const std::uint8_t* const own = ranks_ ? ranks_->owned().data() : nullptr;
   // Only the wall candidates (listed at the build) can touch a wall; each is listed once.
   // Compiled twice: with General false (every wall a plane at rest, the common scene)
   // the loop is the plane loop alone, no other shape's code in it.
   auto wall_range = [&]<bool General>(std::size_t c0, std::size_t c1, std::size_t& my_active, OverlapRecord& my_worst) {
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t i = candidates[c];
+      if (own && !own[i]) continue;  // another rank's particle
       const std::size_t ii = i;
       for (std::uint32_t q = wall_begin[c]; q < wall_begin[c + 1]; ++q) {
         const std::size_t w = wall_ids[q];
@@ -431,6 +446,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     }
   }
   if (mesh_) mesh_pass<Friction, L>(p, resolve, hertz, step_velocity, step_spin, active, worst);
+  if (ranks_) ranks_->reduce_contacts(worst, active);
   n_active_ = active;
   worst_ = worst;
 }

@@ -12,16 +12,6 @@
 
 namespace cdm {
 
-namespace contact {
-/// The larger overlap, ties broken by the lower particle then partner index, so the
-/// record does not depend on the order threads report in.
-inline bool worse_overlap(const OverlapRecord& a, const OverlapRecord& b) {
-  if (a.ratio != b.ratio) return a.ratio > b.ratio;
-  if (a.particle != b.particle) return a.particle < b.particle;
-  return a.partner < b.partner;
-}
-}  // namespace contact
-
 template <bool Friction, ContactModule::LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
 void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,
                               StepSpin& step_spin, std::size_t& active, OverlapRecord& worst) {

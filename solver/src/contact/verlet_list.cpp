@@ -115,24 +115,24 @@ bool VerletList::needs_rebuild(const ParticleStore& p) const {
   return parallel_max(n, [&](std::size_t i) { return displacement(p, i); }) > lim2;
 }
 
-VerletList::Slabs VerletList::slabs(const ParticleStore& p) const {
+VerletList::Slabs VerletList::slabs(const double* x, const double* y, const double* z,
+                                    const std::vector<double>& radius, std::size_t n) const {
   // Slabs along the longest side of the particles' bounding box, each at least one
   // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
   // neighbouring slab. The slab count depends on the geometry only, never on threads.
   // A periodic axis is never cut (partners across its faces would sit in the first and
   // the last slab); with all three periodic, one slab.
-  const std::size_t n = p.size();
-  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
+  const double* axis_data[3] = {x, y, z};
   Slabs g;
   double rmax = 0.0;
   if (n) {
-    for (int a = 0; a < 3; ++a) g.lo[a] = g.hi[a] = (*axis_data[a])[0];
+    for (int a = 0; a < 3; ++a) g.lo[a] = g.hi[a] = axis_data[a][0];
     for (std::size_t i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
-        g.lo[a] = std::min(g.lo[a], (*axis_data[a])[i]);
-        g.hi[a] = std::max(g.hi[a], (*axis_data[a])[i]);
+        g.lo[a] = std::min(g.lo[a], axis_data[a][i]);
+        g.hi[a] = std::max(g.hi[a], axis_data[a][i]);
       }
-      rmax = std::max(rmax, p.radius[i]);
+      rmax = std::max(rmax, radius[i]);
     }
   }
   int axis = -1;
@@ -151,11 +151,27 @@ VerletList::Slabs VerletList::slabs(const ParticleStore& p) const {
 
 std::size_t VerletList::thread_first_slab(std::size_t t, std::size_t nt) const {
   const std::size_t nslab = slab_cost_.empty() ? 0 : slab_cost_.size() - 1;
-  if (t >= nt) return nslab;
-  // The first slab that starts at or after thread t's share of the estimated cost.
-  const std::uint64_t at = slab_cost_.empty() ? 0 : slab_cost_.back() * t / nt;
-  return static_cast<std::size_t>(std::lower_bound(slab_cost_.begin(), slab_cost_.begin() + nslab, at) -
+  const auto [first, last] = rank_split_ ? rank_slabs_ : std::pair<std::size_t, std::size_t>{0, nslab};
+  if (t >= nt || first >= last) return last;
+  // The first slab that starts at or after thread t's share of the estimated cost (of
+  // this rank's slabs).
+  const std::uint64_t c0 = slab_cost_[first], at = c0 + (slab_cost_[last] - c0) * t / nt;
+  return static_cast<std::size_t>(std::lower_bound(slab_cost_.begin() + static_cast<std::ptrdiff_t>(first),
+                                                   slab_cost_.begin() + static_cast<std::ptrdiff_t>(last), at) -
                                   slab_cost_.begin());
+}
+
+std::vector<std::uint32_t> VerletList::particle_slabs(const ParticleStore& p) const {
+  // As rebuild() cut them, from the same positions (x0_ is the build's p.x).
+  const std::size_t n = x0_.size();
+  const Slabs g = slabs(x0_.data(), y0_.data(), z0_.data(), p.radius, n);
+  const std::vector<double>& c = g.axis == 0 ? x0_ : g.axis == 1 ? y0_ : z0_;
+  std::vector<std::uint32_t> out(n, 0);
+  if (g.count == 1) return out;
+  const double lo_axis = g.lo[g.axis];
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = static_cast<std::uint32_t>(std::min(g.count - 1, static_cast<std::size_t>((c[i] - lo_axis) / g.width)));
+  return out;
 }
 
 std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
@@ -166,18 +182,23 @@ std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
 std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) const {
   const std::size_t n = p.size();
   const Slabs g = slabs(p);
-  // Cell coordinates (edge = one interaction range, 21 bits per axis: a wider box only
-  // coarsens the order), the slab axis most significant, then the other two.
+  // The slab first (12 bits: at most 4096 slabs), so that each slab's particles, and so
+  // each thread's and each rank's, are one run of slots; then cell coordinates (edge =
+  // one interaction range, 17 bits per axis: a wider box only coarsens the order), the
+  // slab axis most significant, then the other two.
   const std::vector<double>* data[3] = {&p.x, &p.y, &p.z};
   const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
   const double h = g.range > 0.0 ? g.range : 1.0;
-  constexpr double cmax = double((1 << 21) - 1);
+  constexpr double cmax = double((1 << 17) - 1);
+  const double lo_axis = g.lo[g.axis];
   std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
   parallel_for(n, [&](std::size_t i) {
-    std::uint64_t k = 0;
+    // The slab as rebuild() will cut it from these positions.
+    std::uint64_t k =
+        g.count == 1 ? 0 : std::min<std::size_t>(g.count - 1, static_cast<std::size_t>(((*data[g.axis])[i] - lo_axis) / g.width));
     for (int a : ax) {
       const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
-      k = (k << 21) | static_cast<std::uint64_t>(c);
+      k = (k << 17) | static_cast<std::uint64_t>(c);
     }
     key[i] = {k, static_cast<std::uint32_t>(i)};
   });

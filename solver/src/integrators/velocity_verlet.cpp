@@ -2,6 +2,7 @@
 
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/rank_split.hpp"
 #include "verlet_kernels.hpp"
 
 namespace cdm::integrators {
@@ -45,13 +46,25 @@ double VelocityVerlet::final_kick() {
   const double h = 0.5 * dt_;
   const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
   const Kick& kick = kick_;
-  return parallel_max(p.size(), [&](std::size_t i) {
+  auto one = [&](std::size_t i) {
     Vec3 v, w;
     verlet::verlet_final_velocity(a, rot, i, h, kick, v, w);
     p.vx[i] = v.x; p.vy[i] = v.y; p.vz[i] = v.z;
     if (rot) { p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z; }
     return verlet::verlet_state_finite(a, rot, i, v, w) ? 0.0 : 1.0;
-  });
+  };
+  if (!ranks_) return parallel_max(p.size(), one);
+  double bad = 0.0;
+  for (const auto& [i0, i1] : ranks_->own_runs(p.size()))
+    bad = std::max(bad, parallel_max(i1 - i0, [&](std::size_t k) { return one(i0 + k); }));
+  return ranks_->max(bad);
+}
+
+bool VelocityVerlet::set_ranks(RankSplit* ranks) {
+  if (!deferred_) return false;
+  ranks_ = ranks;
+  ranks->set_extra_arrays({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
+  return true;
 }
 
 double VelocityVerlet::complete() {
@@ -101,7 +114,8 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   // largest drift, which the module adds to that bound.
   constexpr double not_finite = std::numeric_limits<double>::infinity();
   const bool listed = contact_ && contact_->list().listed(n);
-  const bool measure = listed && contact_->list().displacement_needed();
+  // Split among ranks, every step measures: the ranks' bounds on the drift would differ.
+  const bool measure = listed && (ranks_ || contact_->list().displacement_needed());
   if (measure) {
     a.x0 = contact_->list().build_positions(0); a.y0 = contact_->list().build_positions(1); a.z0 = contact_->list().build_positions(2);
   }
@@ -133,13 +147,23 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   }
   // One contiguous range per thread, about the particles whose forces the same
   // thread's part of the pair loop wrote (VerletList::thread_slabs).
-  const double worst = parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+  auto pass = [&](std::size_t i0, std::size_t i1) {
     return verlet::with_drag_kick(dk, [&]<verlet::DragKick D>() {
       return verlet::with_flags([&]<bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One>() {
         return verlet::verlet_pass<Pending, Rot, Wrap, Measure, Grav, One, D>(a, box, dt, i0, i1);
       }, pending, rot, wrap, measure, grav, one);
     });
-  });
+  };
+  double worst = 0.0;
+  if (!ranks_) {
+    worst = parallel_max_ranges(n, pass);
+  } else {  // this rank's particles; the largest drift (or not finite) over all ranks
+    for (const auto& [r0, r1] : ranks_->own_runs(p.size()))
+      worst = std::max(worst, parallel_max_ranges(r1 - r0, [&](std::size_t i0, std::size_t i1) {
+                         return pass(r0 + i0, r0 + i1);
+                       }));
+    worst = ranks_->max(worst);
+  }
   kick_pending_ = false;
   if (worst == not_finite) host.fail_not_finite();  // names the state at t (the clock is still at t)
   if (measure) contact_->list().set_displacement(worst);

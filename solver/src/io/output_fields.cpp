@@ -6,10 +6,20 @@
 
 namespace cdm {
 
+namespace {
+/// A copy of the run's contacts that evaluates every contact on this process (whatever
+/// the ranks share), so that the run itself is not changed.
+ContactModule probe_of(const Simulation& sim) {
+  ContactModule probe = *sim.contact();
+  probe.set_ranks(nullptr);
+  return probe;
+}
+}  // namespace
+
 std::vector<double> contact_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
   ParticleStore p = sim.particles();
-  ContactModule probe = *sim.contact();
+  ContactModule probe = probe_of(sim);
   p.clear_forces();
   probe.add_forces(p, 0.0);
   std::vector<double> f(3 * p.size());
@@ -24,7 +34,7 @@ ContactNetwork contact_network(const Simulation& sim) {
   ContactNetwork net;
   if (!sim.contact()) return net;
   ParticleStore p = sim.particles();
-  ContactModule probe = *sim.contact();
+  ContactModule probe = probe_of(sim);
   probe.set_recording(true);
   p.clear_forces();
   probe.add_forces(p, 0.0);

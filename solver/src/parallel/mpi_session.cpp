@@ -78,6 +78,15 @@ WorldPlace mpi_world() {
   return w;
 }
 
+void abort_world(int rc) {
+  int initialised = 0, finalized = 0, size = 1;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalized);
+  if (!initialised || finalized) return;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size > 1) MPI_Abort(MPI_COMM_WORLD, rc);
+}
+
 #else
 
 bool built_with_mpi() { return false; }
@@ -97,6 +106,8 @@ WorldPlace mpi_world() {
   w.rank = env_int({"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"}, 0);
   return w;
 }
+
+void abort_world(int) {}
 
 #endif
 

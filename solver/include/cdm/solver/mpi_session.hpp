@@ -32,4 +32,8 @@ struct WorldPlace {
 };
 WorldPlace mpi_world();
 
+/// Stop every process of a run of several with exit code @p rc (MPI_Abort); returns
+/// when there is only one (or no MPI).
+void abort_world(int rc);
+
 }  // namespace cdm

@@ -19,6 +19,7 @@
 #include "cdm/solver/integrators/integrator.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/population.hpp"
+#include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/run_guards.hpp"
 #include "cdm/solver/scene.hpp"
 
@@ -44,6 +45,12 @@ class Simulation : private integrators::StepHost {
     return particles_;
   }
   const ParticleStore& particles() const { complete_step(); return particles_; }
+  /// How many particles there are (without completing the step or gathering ranks).
+  std::size_t particle_count() const { return particles_.size(); }
+  /// The MPI processes the run is shared among (1 without a launcher).
+  int ranks() const;
+  /// Whether @p flag is set on any of the processes (a collective call when several).
+  bool any_rank(bool flag) const { return ranks_ ? ranks_->any(flag) : flag; }
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
   std::uint64_t steps() const { return steps_; }
@@ -94,7 +101,7 @@ class Simulation : private integrators::StepHost {
   void ensure_forces() override {
     if (!forces_valid_) compute_forces(time_);
   }
-  void fail_not_finite() const override { check_state(1.0); }
+  void fail_not_finite() const override;
 
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
@@ -122,12 +129,18 @@ class Simulation : private integrators::StepHost {
   /// Finish the step the integrator left pending, if any, and check the state it gives.
   void complete_step() const;
   void build_gas();
+  /// Under mpirun with several processes: share the particles' work among them
+  /// (rank_split.hpp), or refuse a scene the distributed step does not cover.
+  void split_among_ranks();
+  /// Every rank gets the whole state (a no-op on one rank or when nothing is stale).
+  void synchronise_ranks() const;
   void gas_step();
 
   SceneSpec spec_;
   ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   ContactModule* contact_ = nullptr;
+  std::unique_ptr<RankSplit> ranks_;  // several MPI processes (split_among_ranks)
   const ForceModule* gravity_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;

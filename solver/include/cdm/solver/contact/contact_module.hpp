@@ -15,12 +15,24 @@
 
 namespace cdm {
 
+class RankSplit;
+
 /// Largest overlap relative to a radius seen in the last force evaluation.
 struct OverlapRecord {
   double ratio = 0.0;         // overlap / radius of the smaller partner [-]
   std::uint32_t particle = 0; // particle whose radius that is
   long partner = -1;          // other particle, or -1 - wall index for a wall (walls, then meshes)
 };
+
+namespace contact {
+/// The larger overlap, ties broken by the lower particle then partner index, so the
+/// record does not depend on the order threads (or ranks) report in.
+inline bool worse_overlap(const OverlapRecord& a, const OverlapRecord& b) {
+  if (a.ratio != b.ratio) return a.ratio > b.ratio;
+  if (a.particle != b.particle) return a.particle < b.particle;
+  return a.partner < b.partner;
+}
+}  // namespace contact
 
 /// Normal contact between particles and with walls, each pair of materials with its own
 /// force law (PairParams::law): the linear spring–dashpot (contact/
@@ -79,6 +91,12 @@ class ContactModule final : public ForceModule {
   /// The wall or mesh an OverlapRecord's negative partner names ("wall 'x'", "mesh 'y'").
   std::string wall_name(long partner) const;
   const PairTable& pairs() const { return pairs_; }
+  /// The MPI ranks the pairs and walls are split among (rank_split.hpp), or nullptr: every
+  /// particle's contacts here. A copy that evaluates alone sets nullptr.
+  void set_ranks(RankSplit* r) {
+    ranks_ = r;
+    if (!r) list_.clear_rank_slabs();
+  }
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
@@ -155,6 +173,7 @@ class ContactModule final : public ForceModule {
   OverlapRecord worst_;
   std::size_t n_active_ = 0;
   std::optional<MeshContacts> mesh_;
+  RankSplit* ranks_ = nullptr;  // set_ranks
 };
 
 }  // namespace cdm

@@ -52,6 +52,8 @@ class VerletList {
   Update update(const ParticleStore& p);
 
   double skin() const { return skin_; }
+  /// Whether tangential history is kept (per pair, and per particle and wall).
+  bool keeps_history() const { return history_; }
   /// The walls where they stand at time() (moved by their motion).
   const std::vector<Wall>& walls() const { return posed_; }
   /// Set the time [s] of the positions the next update and evaluation see: the moving
@@ -110,7 +112,7 @@ class VerletList {
     drift_bound_ += std::sqrt(d2);
     if (drift_bound_ < drift_limit()) displacement_ = drift_bound_ * drift_bound_;
   }
-  /// A spatial order of the particles (for ParticleStore::permute): by cells one
+  /// A spatial order of the particles (for ParticleStore::permute): by slab, then by cells one
   /// interaction range wide, the slab axis slowest, so that each slab's particles, and
   /// the partners of a particle, sit close together in memory. Deterministic: ties keep
   /// the current order.
@@ -152,6 +154,21 @@ class VerletList {
   /// cost (inside a parallel region; all outside one).
   std::pair<std::size_t, std::size_t> thread_slabs() const;
 
+  // The share of the slabs of this MPI rank (rank_split.hpp): its threads split
+  // [first, last) only. The whole list when not set.
+  void set_rank_slabs(std::size_t first, std::size_t last) {
+    rank_slabs_ = {first, last};
+    rank_split_ = true;
+  }
+  void clear_rank_slabs() { rank_split_ = false; }
+  /// The slabs the pair loop visits: this rank's (set_rank_slabs), or all.
+  std::pair<std::size_t, std::size_t> rank_slabs() const {
+    return rank_split_ ? rank_slabs_ : std::pair<std::size_t, std::size_t>{0, slab_count()};
+  }
+  /// Each particle's slab at the last build (the slab the build gave its pairs), from
+  /// the build positions: listed(n) particles.
+  std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;
+
   /// The list and its history, for checkpoints. The build flag and count are put by the
   /// caller, ahead of its own counters (the checkpoint's layout), and given back to
   /// load_state.
@@ -169,7 +186,9 @@ class VerletList {
     std::size_t count = 1; // slabs
     double width = 1.0;    // slab width along axis [m]
   };
-  Slabs slabs(const ParticleStore& p) const;
+  Slabs slabs(const ParticleStore& p) const { return slabs(p.x.data(), p.y.data(), p.z.data(), p.radius, p.size()); }
+  Slabs slabs(const double* x, const double* y, const double* z, const std::vector<double>& radius,
+              std::size_t n) const;
   /// Thread t's first slab of nt in thread_slabs.
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
   void rebuild(const ParticleStore& p);
@@ -197,6 +216,8 @@ class VerletList {
   static constexpr std::uint64_t kTouchCost = 3;
   std::vector<std::uint32_t> slab_active_;
   std::vector<std::uint64_t> slab_cost_;
+  std::pair<std::size_t, std::size_t> rank_slabs_{0, 0};  // set_rank_slabs
+  bool rank_split_ = false;
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)

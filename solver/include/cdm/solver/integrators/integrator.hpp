@@ -16,6 +16,7 @@
 
 namespace cdm {
 class ContactModule;
+class RankSplit;
 }
 
 namespace cdm::integrators {
@@ -65,6 +66,9 @@ class Integrator {
   virtual void masses_changed() {}
   /// Reorder the integrator's per-particle arrays (slot i takes what slot @p from[i] held).
   virtual void permute(const std::vector<std::uint32_t>& /*from*/) {}
+  /// Move only this MPI rank's particles (rank_split.hpp), telling @p ranks which
+  /// per-particle arrays of its own a step carries; false when this integrator cannot.
+  virtual bool set_ranks(RankSplit* /*ranks*/) { return false; }
 };
 
 /// What an integrator is built from: the scene, the particles, the gas (or nullptr),

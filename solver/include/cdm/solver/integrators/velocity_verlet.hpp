@@ -32,6 +32,7 @@ class VelocityVerlet final : public Integrator {
   void discard_pending() override { kick_pending_ = false; }
   void masses_changed() override { one_mass_ = -1; }
   void permute(const std::vector<std::uint32_t>& from) override;
+  bool set_ranks(RankSplit* ranks) override;
 
  private:
   /// The one fused pass per step where nothing reads the velocities between steps.
@@ -56,6 +57,7 @@ class VelocityVerlet final : public Integrator {
   int one_mass_ = -1;
   // v(t+Δt/2) and ω(t+Δt/2), kept between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
+  RankSplit* ranks_ = nullptr;  // set_ranks: the passes move this rank's particles only
 };
 
 }  // namespace cdm::integrators

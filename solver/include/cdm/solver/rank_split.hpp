@@ -1,0 +1,119 @@
+#pragma once
+/// @file rank_split.hpp
+/// @brief The particles' work split among MPI ranks (mpirun -np N cdm run), with results
+/// identical to one rank's.
+///
+/// Every rank holds every particle; each rank moves and resolves only its own. The
+/// Verlet list's slabs (verlet_list.hpp) are dealt out in contiguous runs, one per rank,
+/// about equal in listed pairs plus particles, at every build. A rank owns the particles
+/// of its slabs (each particle's slab at the build) and the pairs listed in them, and
+/// within the rank its threads split those slabs as before. Per step:
+///  - the integrator's pass moves the rank's own particles;
+///  - exchange_ghosts(): each rank receives the moved state of the first slab of the
+///    rank above (the pairs of its last slab reach into it);
+///  - the pair loop's even phase, then boundary_forces(0), the odd phase, then
+///    boundary_forces(1): the forces on a boundary slab's particles travel between the
+///    two ranks so that they receive their contributions in the one-rank order (even
+///    slabs before odd ones); the wall contacts follow on the owner alone;
+///  - the largest displacement, the worst overlap and the not-finite flag are reduced
+///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
+/// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
+/// whole state (each rank's own particles, wall and pair histories) before the list is
+/// built again and whenever the state is read (output, checkpoints, the end), after
+/// which every rank does the same build, sort and output arithmetic. Each particle's
+/// force is thus summed in the same order as on one rank: results are bit-identical.
+///
+/// What it does not do yet (issue #36): memory is not divided (each rank holds all the
+/// particles and the list), the list is built on every rank in full, and scenes with a
+/// gas, triangle meshes, rolling resistance, insertions or outlets, or another
+/// integrator than velocity Verlet run on one rank only (distributed_unsupported()).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cdm/solver/particle_store.hpp"
+
+namespace cdm {
+
+class VerletList;
+struct OverlapRecord;
+struct SceneSpec;
+
+class RankSplit {
+ public:
+  /// On MPI_COMM_WORLD; nullptr when the world has one rank (or the build has no MPI).
+  static std::unique_ptr<RankSplit> create();
+  ~RankSplit();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  /// The per-particle arrays besides the store's that the step carries (the
+  /// integrator's half-step velocities), exchanged with the store's.
+  void set_extra_arrays(std::vector<std::vector<double>*> extra) { extra_ = std::move(extra); }
+
+  /// Deal the slabs of @p list out (after each build, or a list loaded from a
+  /// checkpoint): the list's threads then split this rank's slabs only.
+  void assign(VerletList& list, const ParticleStore& p);
+  /// Whether ownership follows build number @p builds of the list.
+  bool assigned_for(std::uint64_t builds) const { return assigned_ && builds == builds_; }
+
+  /// This rank's particles as runs of slots [first, last); all @p n of them until the
+  /// first assign() (every rank then holds and moves the same whole state).
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& own_runs(std::size_t n) {
+    if (!assigned_) runs_.assign(1, {0, static_cast<std::uint32_t>(n)});
+    return runs_;
+  }
+  /// 1 where slot i is this rank's particle.
+  const std::vector<std::uint8_t>& owned() const { return owned_; }
+
+  /// After the integrator's pass: receive the first slab of the rank above.
+  void exchange_ghosts(ParticleStore& p);
+  /// After phase @p pass (0 even, 1 odd) of the pair loop: the boundary slabs' forces
+  /// and torques move on in the one-rank order. Called from one thread.
+  void boundary_forces(ParticleStore& p, int pass);
+
+  /// Every rank gets the whole state: every particle's, the wall history of the
+  /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
+  void synchronise(ParticleStore& p, VerletList& list);
+  /// The ranks' particles diverged (a step was taken).
+  void mark_stale() { stale_ = assigned_; }
+  bool stale() const { return stale_; }
+
+  /// The largest of @p x over the ranks.
+  double max(double x) const;
+  /// The worst overlap over the ranks (the one-rank choice among ties: contact::worse_overlap)
+  /// and the sum of the active contacts.
+  void reduce_contacts(OverlapRecord& worst, std::size_t& active) const;
+  /// Whether @p flag is set on any rank.
+  bool any(bool flag) const;
+
+ private:
+  RankSplit(int rank, int size) : rank_(rank), size_(size) {}
+  /// The per-particle arrays exchanged (the store's dynamic ones and extra_).
+  std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p) const;
+  /// Send the values of @p arrays at @p send_idx to @p to and set those at @p recv_idx
+  /// from @p from (either rank -1: none).
+  void swap_values(const std::vector<std::vector<double>*>& arrays, const std::vector<std::uint32_t>& send_idx,
+                   int to, const std::vector<std::uint32_t>& recv_idx, int from);
+
+  int rank_, size_;
+  std::vector<std::vector<double>*> extra_;
+  bool assigned_ = false, stale_ = false;
+  std::uint64_t builds_ = 0;
+  std::vector<int> slab_owner_;                      // per slab
+  std::vector<std::uint32_t> slab_first_;            // per rank: first slab (size_ + 1 entries)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> runs_;
+  std::vector<std::vector<std::uint32_t>> rank_particles_;  // per rank, in slot order
+  std::vector<std::uint8_t> owned_;
+  // The lower boundary: this rank's first slab (sent down), shared with rank below_;
+  // the upper one: the first slab of rank above_ (ghosts).
+  std::vector<std::uint32_t> lower_, upper_;
+  int below_ = -1, above_ = -1;
+  bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
+  std::vector<double> send_, recv_;
+};
+
+}  // namespace cdm

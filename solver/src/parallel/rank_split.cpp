@@ -1,0 +1,279 @@
+#include "cdm/solver/rank_split.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/contact/verlet_list.hpp"
+#include "cdm/solver/mpi_session.hpp"
+
+#ifdef CDM_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace cdm {
+
+RankSplit::~RankSplit() = default;
+
+std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p) const {
+  std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz};
+  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz});
+  for (auto* e : extra_)
+    if (e->size() == p.size()) a.push_back(e);
+  return a;
+}
+
+void RankSplit::assign(VerletList& list, const ParticleStore& p) {
+  const std::size_t n = p.size(), nslab = list.slab_count();
+  const std::vector<std::uint32_t> slab_of = list.particle_slabs(p);
+  const std::vector<std::uint32_t>& start = list.slab_start();
+  // Each slab's cost: its listed pairs (the pair loop) and its particles (the pass).
+  std::vector<std::uint64_t> cost(nslab + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cost[slab_of[i] + 1];
+  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s] + (start[s + 1] - start[s]);
+  const auto size = static_cast<std::size_t>(size_);
+  slab_first_.assign(size + 1, static_cast<std::uint32_t>(nslab));
+  slab_first_[0] = 0;
+  for (std::size_t r = 1; r < size; ++r) {
+    const std::uint64_t at = cost.back() * r / size;
+    slab_first_[r] = static_cast<std::uint32_t>(std::lower_bound(cost.begin(), cost.end() - 1, at) - cost.begin());
+  }
+  slab_owner_.assign(nslab, 0);
+  for (std::size_t r = 0; r < size; ++r)
+    for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
+  rank_particles_.assign(size, {});
+  for (std::size_t i = 0; i < n; ++i)
+    rank_particles_[static_cast<std::size_t>(slab_owner_[slab_of[i]])].push_back(static_cast<std::uint32_t>(i));
+  const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
+  owned_.assign(n, 0);
+  runs_.clear();
+  for (std::uint32_t i : rank_particles_[static_cast<std::size_t>(rank_)]) {
+    owned_[i] = 1;
+    if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
+    else runs_.push_back({i, i + 1});
+  }
+  lower_.clear();
+  upper_.clear();
+  below_ = above_ = -1;
+  if (s0 < s1) {
+    if (s0 > 0) {
+      below_ = slab_owner_[s0 - 1];
+      lower_odd_ = (s0 & 1) != 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (slab_of[i] == s0) lower_.push_back(static_cast<std::uint32_t>(i));
+    }
+    if (s1 < nslab) {
+      above_ = slab_owner_[s1];
+      upper_odd_ = (s1 & 1) != 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (slab_of[i] == s1) upper_.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  list.set_rank_slabs(s0, s1);
+  assigned_ = true;
+  stale_ = false;
+  builds_ = list.builds();
+}
+
+#ifdef CDM_WITH_MPI
+
+std::unique_ptr<RankSplit> RankSplit::create() {
+  const WorldPlace w = mpi_world();
+  if (w.size <= 1) return nullptr;
+  return std::unique_ptr<RankSplit>(new RankSplit(w.rank, w.size));
+}
+
+namespace {
+/// One message of an exchange: the values at @p idx, to or from @p rank.
+struct Leg {
+  const std::vector<std::uint32_t>* idx;
+  int rank;
+};
+
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+
+/// Sends each of @p sends and receives each of @p recvs, the values of @p arrays at the
+/// legs' slots, particle by particle.
+void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector<Leg>& sends,
+              const std::vector<Leg>& recvs, int tag) {
+  const std::size_t k = arrays.size();
+  std::vector<std::vector<double>> out(sends.size()), in(recvs.size());
+  std::vector<MPI_Request> req;
+  for (std::size_t m = 0; m < recvs.size(); ++m) {
+    in[m].resize(recvs[m].idx->size() * k);
+    req.emplace_back();
+    check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, tag, MPI_COMM_WORLD,
+                    &req.back()),
+          "MPI_Irecv");
+  }
+  for (std::size_t m = 0; m < sends.size(); ++m) {
+    std::vector<double>& b = out[m];
+    b.resize(sends[m].idx->size() * k);
+    std::size_t at = 0;
+    for (std::uint32_t i : *sends[m].idx)
+      for (const auto* a : arrays) b[at++] = (*a)[i];
+    req.emplace_back();
+    check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, tag, MPI_COMM_WORLD,
+                    &req.back()),
+          "MPI_Isend");
+  }
+  check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+  for (std::size_t m = 0; m < recvs.size(); ++m) {
+    std::size_t at = 0;
+    for (std::uint32_t i : *recvs[m].idx)
+      for (auto* a : arrays) (*a)[i] = in[m][at++];
+  }
+}
+}  // namespace
+
+void RankSplit::exchange_ghosts(ParticleStore& p) {
+  if (!assigned_) return;
+  std::vector<Leg> sends, recvs;
+  if (below_ >= 0) sends.push_back({&lower_, below_});
+  if (above_ >= 0) recvs.push_back({&upper_, above_});
+  exchange(dynamic_arrays(p), sends, recvs, 11);
+}
+
+void RankSplit::boundary_forces(ParticleStore& p, int pass) {
+  if (!assigned_) return;
+  std::vector<std::vector<double>*> f = {&p.fx, &p.fy, &p.fz};
+  if (p.has_rotation()) f.insert(f.end(), {&p.tx, &p.ty, &p.tz});
+  // A boundary slab's particles take their contributions from the pairs of the slab
+  // below (the lower rank's) and of their own slab (the upper rank's): of the even one
+  // of the two first. An odd boundary slab: the lower rank adds in the even phase, then
+  // hands the forces up. An even one: the upper rank adds in the even phase, hands them
+  // down, the lower one adds in the odd phase and hands them back.
+  std::vector<Leg> sends, recvs;
+  if (below_ >= 0) {
+    if (pass == 0 && lower_odd_) recvs.push_back({&lower_, below_});
+    if (pass == 0 && !lower_odd_) sends.push_back({&lower_, below_});
+    if (pass == 1 && !lower_odd_) recvs.push_back({&lower_, below_});
+  }
+  if (above_ >= 0) {
+    if (pass == 0 && upper_odd_) sends.push_back({&upper_, above_});
+    if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
+    if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
+  }
+  exchange(f, sends, recvs, 12 + pass);
+}
+
+void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
+  if (!stale_) return;
+  const std::vector<std::vector<double>*> arrays = dynamic_arrays(p);
+  const std::size_t n = p.size(), nw = list.walls().size();
+  const bool wall_rows = list.keeps_history() && nw > 0 && list.listed(n);
+  Vec3* const wh = list.wall_history();
+  std::uint8_t* const wt = list.wall_touch();
+  const std::size_t per = arrays.size() + (wall_rows ? 4 * nw : 0);
+  const auto size = static_cast<std::size_t>(size_);
+  std::vector<int> counts(size), displs(size);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    counts[r] = static_cast<int>(rank_particles_[r].size() * per);
+    displs[r] = static_cast<int>(total);
+    total += rank_particles_[r].size() * per;
+  }
+  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
+  send_.resize(mine.size() * per);
+  std::size_t at = 0;
+  for (std::uint32_t i : mine) {
+    for (const auto* a : arrays) send_[at++] = (*a)[i];
+    if (wall_rows)
+      for (std::size_t w = 0; w < nw; ++w) {
+        const Vec3 h = wh[i * nw + w];
+        send_[at++] = h.x; send_[at++] = h.y; send_[at++] = h.z;
+        send_[at++] = wt[i * nw + w];
+      }
+  }
+  recv_.resize(total);
+  check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                       displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  at = 0;
+  for (std::size_t r = 0; r < size; ++r)
+    for (std::uint32_t i : rank_particles_[r]) {
+      for (auto* a : arrays) (*a)[i] = recv_[at++];
+      if (wall_rows)
+        for (std::size_t w = 0; w < nw; ++w) {
+          wh[i * nw + w] = {recv_[at], recv_[at + 1], recv_[at + 2]};
+          wt[i * nw + w] = static_cast<std::uint8_t>(recv_[at + 3]);
+          at += 4;
+        }
+    }
+  // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
+  if (list.keeps_history() && list.size() > 0) {
+    const std::vector<std::uint32_t>& start = list.slab_start();
+    Vec3* const ph = list.pair_history();
+    std::uint8_t* const pt = list.pair_touch();
+    total = 0;
+    for (std::size_t r = 0; r < size; ++r) {
+      const std::size_t k0 = start[slab_first_[r]], k1 = start[slab_first_[r + 1]];
+      counts[r] = static_cast<int>(4 * (k1 - k0));
+      displs[r] = static_cast<int>(total);
+      total += 4 * (k1 - k0);
+    }
+    const std::size_t k0 = start[slab_first_[static_cast<std::size_t>(rank_)]],
+                      k1 = start[slab_first_[static_cast<std::size_t>(rank_) + 1]];
+    send_.resize(4 * (k1 - k0));
+    at = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      send_[at++] = ph[k].x; send_[at++] = ph[k].y; send_[at++] = ph[k].z;
+      send_[at++] = pt[k];
+    }
+    recv_.resize(total);
+    check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                         displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    at = 0;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
+      pt[k] = static_cast<std::uint8_t>(recv_[at + 3]);
+      at += 4;
+    }
+  }
+  stale_ = false;
+}
+
+double RankSplit::max(double x) const {
+  double out = x;
+  check(MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  return out;
+}
+
+bool RankSplit::any(bool flag) const {
+  int in = flag ? 1 : 0, out = 0;
+  check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  return out != 0;
+}
+
+void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const {
+  const double mine[4] = {worst.ratio, static_cast<double>(worst.particle), static_cast<double>(worst.partner),
+                          static_cast<double>(active)};
+  std::vector<double> all(4 * static_cast<std::size_t>(size_));
+  check(MPI_Allgather(mine, 4, MPI_DOUBLE, all.data(), 4, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
+  OverlapRecord w;
+  std::size_t sum = 0;
+  for (std::size_t r = 0; r < static_cast<std::size_t>(size_); ++r) {
+    const OverlapRecord rec{all[4 * r], static_cast<std::uint32_t>(all[4 * r + 1]), static_cast<long>(all[4 * r + 2])};
+    if (contact::worse_overlap(rec, w)) w = rec;
+    sum += static_cast<std::size_t>(all[4 * r + 3]);
+  }
+  worst = w;
+  active = sum;
+}
+
+#else  // a build without MPI has one rank: create() gives none, so nothing below runs
+
+std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
+void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::boundary_forces(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::synchronise(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
+double RankSplit::max(double x) const { return x; }
+bool RankSplit::any(bool flag) const { return flag; }
+void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
+
+#endif
+
+}  // namespace cdm
