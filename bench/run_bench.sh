@@ -23,8 +23,9 @@
 # to the summary.
 # Environment: REPS (default 3), CDM (default build/release/app/cdm), OUT (default bench/results),
 # PROBE (default build/release/bench/pass_probe), CODES (default "cdm lammps liggghts cdm2
-# lammps2 liggghts2": the runs of each repetition, in this order). The peers' peak memory on
-# two ranks is not reported: /usr/bin/time sees only the largest rank.
+# cdmmpi2 lammps2 liggghts2": the runs of each repetition, in this order; cdmmpi2 is cdm on
+# two MPI ranks of one thread). The peak memory on two ranks is not reported: /usr/bin/time
+# sees only the largest rank (or mpirun).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
@@ -35,11 +36,11 @@ reps="${REPS:-3}"
 out="${OUT:-$here/results}"
 problems=("$@")
 [ ${#problems[@]} -gt 0 ] || problems=(settle1e4early settle1e4 settle1e5 settle1e6 chute32k)
-read -r -a codes <<< "${CODES:-cdm lammps liggghts cdm2 lammps2 liggghts2}"
+read -r -a codes <<< "${CODES:-cdm lammps liggghts cdm2 cdmmpi2 lammps2 liggghts2}"
 for code in "${codes[@]}"; do
   case $code in
-    cdm|cdm2|lammps|lammps2|liggghts|liggghts2) ;;
-    *) echo "CODES: unknown code '$code' (expected cdm, cdm2, lammps, lammps2, liggghts, liggghts2)" >&2; exit 2 ;;
+    cdm|cdm2|cdmmpi2|lammps|lammps2|liggghts|liggghts2) ;;
+    *) echo "CODES: unknown code '$code' (expected cdm, cdm2, cdmmpi2, lammps, lammps2, liggghts, liggghts2)" >&2; exit 2 ;;
   esac
 done
 
@@ -84,10 +85,11 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb s
   local n=$((nx * ny * 25)) rss segs
   [ "$prob" = chute32k ] && n=32000
   case $code in
-    cdm|cdm2)
-      local threads=1; [ "$code" = cdm2 ] && threads=2
+    cdm|cdm2|cdmmpi2)
+      local threads=1 launch=(); [ "$code" = cdm2 ] && threads=2
+      [ "$code" = cdmmpi2 ] && launch=(mpirun -np 2)  # two processes of one thread
       if [ "$prob" = chute32k ]; then
-        OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "$cdm" run "$here/scenes/chute32k.toml" -o "$dir" -q \
+        OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/time.txt" "${launch[@]}" "$cdm" run "$here/scenes/chute32k.toml" -o "$dir" -q \
           --set integrator.end_time=1.0 --restart "$out/prep/cdm/checkpoint.cdmck" --max-steps "$steps" > "$dir/log.txt"
         rm -f "$dir/checkpoint.cdmck"
         segs=$(awk '/^loop time/ {print $3}' "$dir/log.txt")
@@ -100,7 +102,7 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb s
         lx=$(awk -v n="$nx" 'BEGIN{printf "%.6g", n*1.1e-3}'); ly=$(awk -v n="$ny" 'BEGIN{printf "%.6g", n*1.1e-3}')
         for k in $(seq 1 "$nseg"); do
           mkdir -p "$dir/seg$k"
-          OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/seg$k/time.txt" "$cdm" run "$here/scenes/settle_1e4.toml" \
+          OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$dir/seg$k/time.txt" "${launch[@]}" "$cdm" run "$here/scenes/settle_1e4.toml" \
             -o "$dir/seg$k" -q --set "lattices[0].count=[$nx,$ny,25]" --set "walls[2].point=[$lx,0.0,0.0]" \
             --set "walls[4].point=[0.0,$ly,0.0]" --set output.particles=false --set integrator.end_time=1.0 \
             "${restart[@]}" --max-steps "$seg" > "$dir/seg$k/log.txt"
@@ -110,7 +112,8 @@ run_one() {  # code problem rep -> appends "code problem N steps loop_s rss_kb s
         rm -f "$dir/seg$nseg/checkpoint.cdmck"
         segs=$(cat "$dir"/seg*/log.txt | awk '/^loop time/ {printf "%s%s", sep, $3; sep = ","}')
         rss=$(peak_rss "$dir"/seg*)
-      fi ;;
+      fi
+      [ "$code" = cdmmpi2 ] && rss=0 ;;  # two ranks: not measured (time sees only mpirun)
     *)
       if [ "$prob" = chute32k ]; then
         peer "$code" "$dir" "in.chute.${code%2}" -var nsteps "$steps" -var data "$out/prep/chute32k.data"

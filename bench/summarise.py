@@ -5,7 +5,7 @@
 
 RUNS has one line per run: code problem N steps loop_s rss_kb segments, where code is
 cdm, lammps or liggghts (one core) or the same with a 2 (two cores: cdm on two OpenMP
-threads, a peer on two MPI ranks), rss_kb is 0 where it was not measured, and segments
+threads, a peer on two MPI ranks), or cdmmpi2 (cdm on two MPI ranks of one thread), rss_kb is 0 where it was not measured, and segments
 are the loop times of the run's segments, comma-separated. Prints Markdown:
 
 - per problem and code: loop time (median and each repetition), particle-steps per
@@ -22,11 +22,17 @@ import statistics
 import sys
 from collections import defaultdict
 
-CODES = ("cdm", "cdm2", "lammps", "lammps2", "liggghts", "liggghts2")
+CODES = ("cdm", "cdm2", "cdmmpi2", "lammps", "lammps2", "liggghts", "liggghts2")
 
 
 def one_core(code):
+    if code == "cdmmpi2":  # cdm on two MPI processes of one thread
+        return "cdm"
     return code[:-1] if code.endswith("2") else code
+
+
+def label(code):
+    return "cdm, 2 MPI ranks" if code == "cdmmpi2" else one_core(code)
 
 
 def cores(code):
@@ -96,7 +102,7 @@ def main():
             vs = fmt_ratio(m / med[(prob, cdm)]) if (prob, cdm) in med else "-"
             scale = fmt_ratio(med[(prob, one_core(code))] / m) if c == 2 and (prob, one_core(code)) in med else "-"
             each = ", ".join(fmt_s(r[0]) for r in rows)
-            out.append(f"| {prob} | {one_core(code)} | {c} | {n} | {steps} | {fmt_s(m)} | {each} | "
+            out.append(f"| {prob} | {label(code)} | {c} | {n} | {steps} | {fmt_s(m)} | {each} | "
                        f"{n * steps / m / c:.3g} | {rss_s} | {vs} | {scale} |")
 
     # Per segment, where a problem was timed in several.

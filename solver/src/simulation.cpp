@@ -156,9 +156,18 @@ void Simulation::update_population() {
 void Simulation::compute_forces(double t, integrators::ForceStart start) {
   if (contact_) contact_->set_time(t);
   if (ranks_) {
+    // Where the integrator's drift bound reached the margin without a measure, the list
+    // would measure every particle: each rank measures its own, the largest counts.
+    VerletList& list = contact_->list();
+    if (list.listed(particles_.size()) && !list.displacement_known()) {
+      double d2 = 0.0;
+      for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
+        for (std::size_t i = i0; i < i1; ++i) d2 = std::max(d2, list.displacement(particles_, i));
+      list.set_displacement(ranks_->max(d2));
+    }
     // The list is built (and the particles sorted) from every particle's state, the same
     // on every rank; between builds a rank needs only the slab above its own.
-    if (contact_->list().rebuild_due(particles_)) synchronise_ranks();
+    if (list.rebuild_due(particles_)) synchronise_ranks();
     else ranks_->exchange_ghosts(particles_);
   }
   sort_if_due();

@@ -114,8 +114,7 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   // largest drift, which the module adds to that bound.
   constexpr double not_finite = std::numeric_limits<double>::infinity();
   const bool listed = contact_ && contact_->list().listed(n);
-  // Split among ranks, every step measures: the ranks' bounds on the drift would differ.
-  const bool measure = listed && (ranks_ || contact_->list().displacement_needed());
+  const bool measure = listed && contact_->list().displacement_needed();
   if (measure) {
     a.x0 = contact_->list().build_positions(0); a.y0 = contact_->list().build_positions(1); a.z0 = contact_->list().build_positions(2);
   }

@@ -95,6 +95,8 @@ class VerletList {
   /// restarts from it: no particle is farther than its square root from its build
   /// position, so later drifts add to that instead of to the bound that called for the
   /// measure, and the steps after a measure below the margin need not measure again.
+  /// Whether the next update has a measured (or bounded) displacement to go by.
+  bool displacement_known() const { return displacement_ >= 0.0; }
   void set_displacement(double d2) {
     displacement_ = d2;
     if (d2 >= 0.0) drift_bound_ = std::sqrt(d2);
