@@ -16,6 +16,7 @@
 #include <omp.h>
 #include <optional>
 #include <sstream>
+#include <thread>
 #include <unistd.h>
 #include <filesystem>
 #include <iostream>
@@ -92,13 +93,16 @@ struct Scratch {
 std::optional<Scratch> g_scratch;
 
 /// Reports @p e and gives exit code @p rc. Among several processes, a failure on one
-/// would leave the others waiting for it: the whole run is stopped (MPI_Abort). Each
-/// process fails alike on a bad scene or an unstable state, so rank 0 reports it once.
+/// would leave the others waiting for it: the whole run is stopped (MPI_Abort). Every
+/// process fails alike on a bad scene or an unstable state, so rank 0 reports and stops
+/// the run; another rank reports only if it is still running a moment later (rank 0 did
+/// not fail with it).
 int fail(int rc, const char* prefix, const std::exception& e) {
-  if (g_world.size <= 1 || g_world.rank == 0 || rc == 1 || rc == 4)
-    std::cerr << (std::string(prefix) + e.what() + (g_world.size > 1 ? " (rank " + std::to_string(g_world.rank) + ")" : "") + "\n");
-  std::cerr.flush();
   g_scratch.reset();
+  if (g_world.size > 1 && g_world.rank != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+  std::cerr << (std::string(prefix) + e.what() +
+                (g_world.size > 1 ? " (rank " + std::to_string(g_world.rank) + ")" : std::string()) + "\n");
+  std::cerr.flush();
   if (g_world.size > 1) cdm::abort_world(rc);
   return rc;
 }
@@ -176,7 +180,14 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   if (spec.t_col_min > 0) std::cout << " (t_col/" << spec.t_col_min / spec.dt << ")";
   std::cout << ", " << sim.total_steps() << " steps";
   if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
-  std::cout << "\n" << std::flush;
+  std::cout << "\n";
+  if (sim.ranks() > 1 && sim.unshared().empty())
+    std::cout << "cdm run: the particles' work is shared among " << sim.ranks() << " MPI processes\n";
+  else if (sim.ranks() > 1)
+    std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene (no speed-up), since "
+              << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
+              << "or without a gas, stepped by velocity Verlet, so far\n";
+  std::cout << std::flush;
   if (sim.ranks() > 1 && g_world.rank != 0) {
     // Every process runs the observers alike (they gather the state at the same steps);
     // rank 0 writes the files, the others into a scratch folder.
@@ -250,7 +261,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   progress.end_line();
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
-                                                  std::to_string(omp_get_max_threads()) + " thread(s)"
+                                                  std::to_string(omp_get_max_threads()) + " thread(s)" +
+                                                  (sim.unshared().empty() ? "" : ", each the whole scene")
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
               loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),

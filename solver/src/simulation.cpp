@@ -75,24 +75,25 @@ Simulation::~Simulation() = default;
 void Simulation::split_among_ranks() {
   ranks_ = RankSplit::create();
   if (!ranks_) return;
-  // What the distributed step covers so far (rank_split.hpp); anything else is refused
-  // before a rank writes a file.
+  world_size_ = ranks_->size();
+  // What the distributed step covers so far (rank_split.hpp). Any other scene runs whole
+  // on every process, alike (the same results; rank 0 writes them).
   std::string why;
-  if (gas_) why = "it has a gas (modules.gas, drag or a pressure gradient)";
-  else if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
+  if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
   else if (!spec_.meshes.empty()) why = "it has triangle-mesh walls ([[meshes]])";
   else if (spec_.rolling != RollingModel::none) why = "it has rolling resistance (modules.rolling_resistance)";
   else if (population_) why = "its population changes ([[insertions]] or [[outlets]])";
   else if (!integrator_->set_ranks(ranks_.get()))
-    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the distributed step is velocity Verlet's)";
-  if (!why.empty())
-    throw SceneError(spec_.file + ": cannot run on " + std::to_string(ranks_->size()) + " MPI processes: " + why +
-                     "; the distributed run covers DEM scenes of spheres, walls and periodic axes with "
-                     "velocity Verlet so far. Expected mpirun -np 1 (or no launcher) for this scene");
+    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's)";
+  if (!why.empty()) {
+    unshared_ = why;
+    ranks_.reset();
+    return;
+  }
   contact_->set_ranks(ranks_.get());
 }
 
-int Simulation::ranks() const { return ranks_ ? ranks_->size() : 1; }
+int Simulation::ranks() const { return world_size_; }
 
 void Simulation::synchronise_ranks() const {
   if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list());
@@ -214,11 +215,25 @@ void Simulation::step() {
   // Evaluated once per gas step, the gas reads the particles' positions at the first
   // sub-step (the drag and ∇P at the particles) and at the gas step (the deposits) only.
   const bool gas_read = !lagged() || substep_ == 0 || substep_ + 1 == substeps_;
-  guards().check(time_, steps_, nonfinite, gas_read);
+  bool domain_check = gas_read;
+  if (ranks_ && gas_ && gas_read) {
+    // Among ranks each looks at its own particles; if any left the gas domain, the
+    // guards name them from the whole state.
+    bool out = false;
+    for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
+      for (std::size_t i = i0; i < i1 && !out; ++i) out = !gas_->contains(particles_.position(i));
+    domain_check = ranks_->any(out);
+    if (domain_check) synchronise_ranks();
+  }
+  guards().check(time_, steps_, nonfinite, domain_check);
   if (solver_) {
     // The impulses are gathered over the gas step and deposited at the gas step when the
     // drag is evaluated once per gas step or the gas takes it implicitly (implicit_drag.hpp).
-    if (exchange_->two_way() && !implicit_drag_ && !lagged()) exchange_->deposit_impulses(particles_);
+    if (exchange_->two_way() && !implicit_drag_ && !lagged()) {
+      // Every rank deposits every particle's impulse, in the one-process order.
+      if (ranks_) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.jx, &particles_.jy, &particles_.jz});
+      exchange_->deposit_impulses(particles_);
+    }
     if (++substep_ == substeps_) {
       substep_ = 0;
       complete_step();  // the gas step reads the particles' state at the step's end

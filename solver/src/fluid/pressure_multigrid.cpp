@@ -1,6 +1,6 @@
 /// @file pressure_multigrid.cpp
 /// @brief The multigrid backend of PressureSolver: hypre's Struct PCG preconditioned by
-/// one V(1,1)-cycle of PFMG, on MPI_COMM_WORLD.
+/// one V(1,1)-cycle of PFMG, on MPI_COMM_SELF: each process solves the whole grid.
 ///
 /// PFMG with Jacobi smoothing converges in 10–15 iterations (tolerance 1e-10) on every
 /// grid of tests/coupling/test_pressure_solver.cpp: periodic axes of 2, 3, 4, 5, 6, 9, 10,
@@ -8,9 +8,11 @@
 /// hypre's SMG, the other Struct multigrid, is no fallback: on the periodic grids it did
 /// not converge (relative residual 0.7 after one iteration, or 4e-4 after 1000).
 ///
-/// Ownership: each rank owns one box of cells (owned_box); for now rank 0 owns the whole
-/// grid and the others none, so only rank 0 sets and reads values. A domain-decomposed
-/// run changes owned_box and the gather of φ, nothing else.
+/// Ownership: each rank of the solver's communicator owns one box of cells (owned_box);
+/// on MPI_COMM_SELF the one rank owns the whole grid. Under mpirun every process holds
+/// the whole gas and steps it alike (rank_split.hpp), so each solves the same system and
+/// gets the same φ. A gas distributed among the processes would put the solver on their
+/// communicator and change owned_box and the gather of φ, nothing else.
 #include <HYPRE_struct_ls.h>
 #include <mpi.h>
 
@@ -50,7 +52,7 @@ void check(HYPRE_Int rc, const char* what) {
 }  // namespace
 
 struct PressureSolver::Multigrid::Hypre {
-  MPI_Comm comm = MPI_COMM_WORLD;
+  MPI_Comm comm = MPI_COMM_SELF;
   int ndim = 3;
   Box box;
   HYPRE_StructGrid grid = nullptr;

@@ -61,7 +61,6 @@ double VelocityVerlet::final_kick() {
 }
 
 bool VelocityVerlet::set_ranks(RankSplit* ranks) {
-  if (!deferred_) return false;
   ranks_ = ranks;
   ranks->set_extra_arrays({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
   return true;
@@ -70,6 +69,7 @@ bool VelocityVerlet::set_ranks(RankSplit* ranks) {
 double VelocityVerlet::complete() {
   if (!kick_pending_) return 0.0;
   kick_pending_ = false;
+  if (ranks_) ranks_->mark_stale();  // this rank's particles move on
   return final_kick();
 }
 
@@ -85,9 +85,14 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   const PeriodicBox box = box_;
   const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);
   const Kick& kick = kick_;
-  parallel_for(n, [&](std::size_t i) {
+  auto first_half = [&](std::size_t i) {
     verlet::verlet_first_half(a, rot, false, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
-  });
+  };
+  if (!ranks_) {
+    parallel_for(n, first_half);
+  } else {
+    for (const auto& [i0, i1] : ranks_->own_runs(n)) parallel_for(i1 - i0, [&](std::size_t k) { first_half(i0 + k); });
+  }
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new, ForceStart::zeroed);

@@ -18,6 +18,9 @@ RankSplit::~RankSplit() = default;
 std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p) const {
   std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz};
   if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz});
+  // The drag's per-particle state (relaxed drag: K and u_g; two-way: F_d and the impulse J).
+  for (auto* d : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz, &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz})
+    if (d->size() == p.size()) a.push_back(d);
   for (auto* e : extra_)
     if (e->size() == p.size()) a.push_back(e);
   return a;
@@ -168,13 +171,6 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
   std::uint8_t* const wt = list.wall_touch();
   const std::size_t per = arrays.size() + (wall_rows ? 4 * nw : 0);
   const auto size = static_cast<std::size_t>(size_);
-  std::vector<int> counts(size), displs(size);
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < size; ++r) {
-    counts[r] = static_cast<int>(rank_particles_[r].size() * per);
-    displs[r] = static_cast<int>(total);
-    total += rank_particles_[r].size() * per;
-  }
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
   send_.resize(mine.size() * per);
   std::size_t at = 0;
@@ -187,10 +183,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
         send_[at++] = wt[i * nw + w];
       }
   }
-  recv_.resize(total);
-  check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                       displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-        "MPI_Allgatherv");
+  allgather_particles(per);
   at = 0;
   for (std::size_t r = 0; r < size; ++r)
     for (std::uint32_t i : rank_particles_[r]) {
@@ -207,7 +200,8 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
     const std::vector<std::uint32_t>& start = list.slab_start();
     Vec3* const ph = list.pair_history();
     std::uint8_t* const pt = list.pair_touch();
-    total = 0;
+    std::vector<int> counts(size), displs(size);
+    std::size_t total = 0;
     for (std::size_t r = 0; r < size; ++r) {
       const std::size_t k0 = start[slab_first_[r]], k1 = start[slab_first_[r + 1]];
       counts[r] = static_cast<int>(4 * (k1 - k0));
@@ -234,6 +228,36 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
     }
   }
   stale_ = false;
+}
+
+void RankSplit::allgather_particles(std::size_t per) {
+  const auto size = static_cast<std::size_t>(size_);
+  std::vector<int> counts(size), displs(size);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    counts[r] = static_cast<int>(rank_particles_[r].size() * per);
+    displs[r] = static_cast<int>(total);
+    total += rank_particles_[r].size() * per;
+  }
+  recv_.resize(total);
+  check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                       displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+}
+
+void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
+  if (!stale_) return;  // every rank holds the same state already
+  const std::size_t per = arrays.size();
+  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
+  send_.resize(mine.size() * per);
+  std::size_t at = 0;
+  for (std::uint32_t i : mine)
+    for (const auto* a : arrays) send_[at++] = (*a)[i];
+  allgather_particles(per);
+  at = 0;
+  for (const auto& own : rank_particles_)
+    for (std::uint32_t i : own)
+      for (auto* a : arrays) (*a)[i] = recv_[at++];
 }
 
 double RankSplit::max(double x) const {
@@ -270,6 +294,7 @@ std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
 void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::boundary_forces(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 double RankSplit::max(double x) const { return x; }
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}

@@ -78,6 +78,9 @@ class RankSplit {
   /// Every rank gets the whole state: every particle's, the wall history of the
   /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
   void synchronise(ParticleStore& p, VerletList& list);
+  /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
+  /// from the rank that owns it; nothing else changes.
+  void gather(const std::vector<std::vector<double>*>& arrays);
   /// The ranks' particles diverged (a step was taken).
   void mark_stale() { stale_ = assigned_; }
   bool stale() const { return stale_; }
@@ -113,6 +116,8 @@ class RankSplit {
   std::vector<std::uint32_t> lower_, upper_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
+  /// MPI_Allgatherv of send_ into recv_, @p per values per particle of each rank's.
+  void allgather_particles(std::size_t per);
   std::vector<double> send_, recv_;
 };
 

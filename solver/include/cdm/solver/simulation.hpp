@@ -47,8 +47,11 @@ class Simulation : private integrators::StepHost {
   const ParticleStore& particles() const { complete_step(); return particles_; }
   /// How many particles there are (without completing the step or gathering ranks).
   std::size_t particle_count() const { return particles_.size(); }
-  /// The MPI processes the run is shared among (1 without a launcher).
+  /// The MPI processes of the run (1 without a launcher).
   int ranks() const;
+  /// Why the processes each run the whole scene instead of sharing it (empty when they
+  /// share it, or on one process): what the distributed step does not cover yet.
+  const std::string& unshared() const { return unshared_; }
   /// Whether @p flag is set on any of the processes (a collective call when several).
   bool any_rank(bool flag) const { return ranks_ ? ranks_->any(flag) : flag; }
   double time() const { return time_; }
@@ -130,7 +133,8 @@ class Simulation : private integrators::StepHost {
   void complete_step() const;
   void build_gas();
   /// Under mpirun with several processes: share the particles' work among them
-  /// (rank_split.hpp), or refuse a scene the distributed step does not cover.
+  /// (rank_split.hpp), or, for a scene the distributed step does not cover, say why
+  /// (unshared()).
   void split_among_ranks();
   /// Every rank gets the whole state (a no-op on one rank or when nothing is stale).
   void synchronise_ranks() const;
@@ -140,7 +144,9 @@ class Simulation : private integrators::StepHost {
   ParticleStore particles_;
   std::vector<std::unique_ptr<ForceModule>> modules_;
   ContactModule* contact_ = nullptr;
-  std::unique_ptr<RankSplit> ranks_;  // several MPI processes (split_among_ranks)
+  std::unique_ptr<RankSplit> ranks_;  // several MPI processes sharing the scene (split_among_ranks)
+  int world_size_ = 1;                // MPI processes
+  std::string unshared_;              // see unshared()
   const ForceModule* gravity_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;
