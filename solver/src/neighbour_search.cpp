@@ -162,9 +162,10 @@ bool CellListSearch::find_contacts(const ParticleStore& p, double margin,
     // (a few pairs each, not a sort of them all).
     std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), by_pair);
   };
+  const std::size_t r0 = std::min(rows_.first, n), r1 = std::min(rows_.second, n);
   if (!threads) {
     chunks[0].reserve(expected);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = r0; i < r1; ++i) {
       row(i, chunks[0]);
       if (chunks[0].size() > limit) return false;
     }
@@ -184,7 +185,8 @@ bool CellListSearch::find_contacts(const ParticleStore& p, double margin,
       chunks.resize(nt);
       for (auto& c : chunks) c.clear();
     }
-    const auto [i0, i1] = thread_range(n);
+    const auto [k0, k1] = thread_range(r1 - r0);
+    const std::size_t i0 = r0 + k0, i1 = r0 + k1;
     chunks[t].reserve(expected / nt + 64);
     for (std::size_t i = i0; i < i1; ++i) {
       row(i, chunks[t]);

@@ -95,8 +95,8 @@ void Simulation::split_among_ranks() {
 
 int Simulation::ranks() const { return world_size_; }
 
-void Simulation::synchronise_ranks() const {
-  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list());
+void Simulation::synchronise_ranks(bool for_build) const {
+  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list(), for_build);
 }
 
 std::vector<std::string> Simulation::module_names() const {
@@ -168,7 +168,7 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
     }
     // The list is built (and the particles sorted) from every particle's state, the same
     // on every rank; between builds a rank needs only the slab above its own.
-    if (list.rebuild_due(particles_)) synchronise_ranks();
+    if (list.rebuild_due(particles_)) synchronise_ranks(true);
     else ranks_->exchange_ghosts(particles_);
   }
   sort_if_due();

@@ -64,6 +64,12 @@ void ContactModule::dispatch(ParticleStore& p, double dt) {
   }
 }
 
+void ContactModule::set_ranks(RankSplit* r) {
+  ranks_ = r;
+  list_.set_search_share(r);
+  if (!r) list_.clear_rank_slabs();
+}
+
 void ContactModule::save_state(OutArchive& a) const {
   a.put(static_cast<std::uint8_t>(list_.built()));
   a.put(static_cast<std::uint64_t>(list_.builds()));

@@ -336,7 +336,12 @@ void VerletList::rebuild(const ParticleStore& p) {
   // they rarely grow by doubling. One chunk per thread (each lists its own particles'
   // pairs), in (i, j) order chunk after chunk.
   std::vector<std::vector<ContactPair>> candidates;
+  if (share_) {
+    const auto [first, last] = share_->rows(n);
+    search_.set_rows(first, last);
+  }
   search_.find_contacts(p, skin_, candidates, box_, last_size + last_size / 8 + 64);
+  if (share_) share_->gather_candidates(candidates);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
   std::size_t listed = 0;
   for (auto& chunk : candidates) {

@@ -162,7 +162,7 @@ void RankSplit::boundary_forces(ParticleStore& p, int pass) {
   exchange(f, sends, recvs, 12 + pass);
 }
 
-void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
+void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
   if (!stale_) return;
   const std::vector<std::vector<double>*> arrays = dynamic_arrays(p);
   const std::size_t n = p.size(), nw = list.walls().size();
@@ -196,36 +196,43 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list) {
         }
     }
   // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
+  // First the contact flags, in place; then the history of the pairs in contact, or for
+  // a build, which carries only theirs, of every pair.
   if (list.keeps_history() && list.size() > 0) {
     const std::vector<std::uint32_t>& start = list.slab_start();
     Vec3* const ph = list.pair_history();
     std::uint8_t* const pt = list.pair_touch();
+    auto first_pair = [&](std::size_t r) { return static_cast<std::size_t>(start[slab_first_[r]]); };
     std::vector<int> counts(size), displs(size);
+    for (std::size_t r = 0; r < size; ++r) {
+      counts[r] = static_cast<int>(first_pair(r + 1) - first_pair(r));
+      displs[r] = static_cast<int>(first_pair(r));
+    }
+    check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_UINT8_T, pt, counts.data(), displs.data(), MPI_UINT8_T,
+                         MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    auto sent = [&](std::size_t k) { return !for_build || pt[k] != 0; };
     std::size_t total = 0;
     for (std::size_t r = 0; r < size; ++r) {
-      const std::size_t k0 = start[slab_first_[r]], k1 = start[slab_first_[r + 1]];
-      counts[r] = static_cast<int>(4 * (k1 - k0));
+      std::size_t c = 0;
+      for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += sent(k) ? 3 : 0;
+      counts[r] = static_cast<int>(c);
       displs[r] = static_cast<int>(total);
-      total += 4 * (k1 - k0);
+      total += c;
     }
-    const std::size_t k0 = start[slab_first_[static_cast<std::size_t>(rank_)]],
-                      k1 = start[slab_first_[static_cast<std::size_t>(rank_) + 1]];
-    send_.resize(4 * (k1 - k0));
-    at = 0;
-    for (std::size_t k = k0; k < k1; ++k) {
-      send_[at++] = ph[k].x; send_[at++] = ph[k].y; send_[at++] = ph[k].z;
-      send_[at++] = pt[k];
-    }
+    send_.clear();
+    for (std::size_t k = first_pair(static_cast<std::size_t>(rank_)); k < first_pair(static_cast<std::size_t>(rank_) + 1); ++k)
+      if (sent(k)) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
     recv_.resize(total);
     check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
                          displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
           "MPI_Allgatherv");
     at = 0;
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
-      pt[k] = static_cast<std::uint8_t>(recv_[at + 3]);
-      at += 4;
-    }
+    for (std::size_t k = 0; k < list.size(); ++k)
+      if (sent(k)) {
+        ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
+        at += 3;
+      }
   }
   stale_ = false;
 }
@@ -258,6 +265,34 @@ void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
   for (const auto& own : rank_particles_)
     for (std::uint32_t i : own)
       for (auto* a : arrays) (*a)[i] = recv_[at++];
+}
+
+std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
+  const auto r = static_cast<std::size_t>(rank_), p = static_cast<std::size_t>(size_);
+  return {n * r / p, n * (r + 1) / p};
+}
+
+void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>& chunks) {
+  std::vector<std::uint32_t> mine;
+  for (const auto& c : chunks)
+    for (const ContactPair& cp : c) mine.insert(mine.end(), {cp.i, cp.j});
+  const auto size = static_cast<std::size_t>(size_);
+  std::vector<int> counts(size), displs(size);
+  const int count = static_cast<int>(mine.size());
+  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    displs[r] = static_cast<int>(total);
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<std::uint32_t> all(total);
+  check(MPI_Allgatherv(mine.data(), count, MPI_UINT32_T, all.data(), counts.data(), displs.data(), MPI_UINT32_T,
+                       MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  // One chunk of every row's pairs, in row order (the overlap is not needed by the build).
+  chunks.assign(1, {});
+  chunks[0].reserve(total / 2);
+  for (std::size_t k = 0; k + 1 < total; k += 2) chunks[0].push_back({all[k], all[k + 1], 0.0});
 }
 
 double RankSplit::max(double x) const {
@@ -293,9 +328,11 @@ void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const
 std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
 void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::boundary_forces(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::synchronise(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 double RankSplit::max(double x) const { return x; }
+std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { return {0, n}; }
+void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>&) {}
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
 

@@ -7,6 +7,7 @@
 /// (particles must lie inside the box along those axes).
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/particle_store.hpp"
@@ -40,9 +41,14 @@ class CellListSearch {
   /// copied whole). @p expected: about how many pairs to expect in all (capacity).
   bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX);
+  /// Only the rows of particles i in [first, last) (their pairs with every j > i) are
+  /// listed by the chunked find_contacts: processes that share the search each list a
+  /// run of rows (RankSplit). All rows when never set.
+  void set_rows(std::size_t first, std::size_t last) { rows_ = {first, last}; }
 
  private:
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
+  std::pair<std::size_t, std::size_t> rows_{0, SIZE_MAX};  // set_rows
 };
 
 }  // namespace cdm

@@ -33,19 +33,21 @@
 #include <utility>
 #include <vector>
 
+#include "cdm/solver/contact/verlet_list.hpp"
 #include "cdm/solver/particle_store.hpp"
 
 namespace cdm {
 
-class VerletList;
 struct OverlapRecord;
 struct SceneSpec;
 
-class RankSplit {
+class RankSplit final : public SearchShare {
  public:
   /// On MPI_COMM_WORLD; nullptr when the world has one rank (or the build has no MPI).
   static std::unique_ptr<RankSplit> create();
   ~RankSplit();
+  RankSplit(const RankSplit&) = delete;
+  RankSplit& operator=(const RankSplit&) = delete;
 
   int rank() const { return rank_; }
   int size() const { return size_; }
@@ -77,7 +79,9 @@ class RankSplit {
 
   /// Every rank gets the whole state: every particle's, the wall history of the
   /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
-  void synchronise(ParticleStore& p, VerletList& list);
+  /// @p for_build: the list is built next, which carries the history of the pairs in
+  /// contact only, so only theirs is sent.
+  void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);
@@ -92,6 +96,11 @@ class RankSplit {
   void reduce_contacts(OverlapRecord& worst, std::size_t& active) const;
   /// Whether @p flag is set on any rank.
   bool any(bool flag) const;
+
+  // The contact search at a build (SearchShare): rank r lists the r-th of size() equal
+  // runs of rows, and every rank then gets all the candidates.
+  std::pair<std::size_t, std::size_t> rows(std::size_t n) const override;
+  void gather_candidates(std::vector<std::vector<ContactPair>>& chunks) override;
 
  private:
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}

@@ -136,8 +136,9 @@ class Simulation : private integrators::StepHost {
   /// (rank_split.hpp), or, for a scene the distributed step does not cover, say why
   /// (unshared()).
   void split_among_ranks();
-  /// Every rank gets the whole state (a no-op on one rank or when nothing is stale).
-  void synchronise_ranks() const;
+  /// Every rank gets the whole state (a no-op on one rank or when nothing is stale);
+  /// @p for_build: for the list build that follows (RankSplit::synchronise).
+  void synchronise_ranks(bool for_build = false) const;
   void gas_step();
 
   SceneSpec spec_;

@@ -93,10 +93,7 @@ class ContactModule final : public ForceModule {
   const PairTable& pairs() const { return pairs_; }
   /// The MPI ranks the pairs and walls are split among (rank_split.hpp), or nullptr: every
   /// particle's contacts here. A copy that evaluates alone sets nullptr.
-  void set_ranks(RankSplit* r) {
-    ranks_ = r;
-    if (!r) list_.clear_rank_slabs();
-  }
+  void set_ranks(RankSplit* r);
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;

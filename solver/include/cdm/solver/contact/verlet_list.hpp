@@ -35,6 +35,18 @@
 
 namespace cdm {
 
+/// Processes that share the contact search (RankSplit): each lists the rows rows(n) of
+/// the candidates (particles i's pairs with every j > i), and gather_candidates() leaves
+/// every process the candidates of all rows, in row order: the one-process list.
+class SearchShare {
+ public:
+  virtual std::pair<std::size_t, std::size_t> rows(std::size_t n) const = 0;
+  virtual void gather_candidates(std::vector<std::vector<ContactPair>>& chunks) = 0;
+
+ protected:
+  ~SearchShare() = default;
+};
+
 class VerletList {
  public:
   /// @p skin [m]: the list's margin; 0 rebuilds at every update. With @p with_history
@@ -163,6 +175,11 @@ class VerletList {
     rank_split_ = true;
   }
   void clear_rank_slabs() { rank_split_ = false; }
+  /// Share the search at each build among processes (nullptr: search alone).
+  void set_search_share(SearchShare* s) {
+    share_ = s;
+    if (!s) search_.set_rows(0, SIZE_MAX);
+  }
   /// The slabs the pair loop visits: this rank's (set_rank_slabs), or all.
   std::pair<std::size_t, std::size_t> rank_slabs() const {
     return rank_split_ ? rank_slabs_ : std::pair<std::size_t, std::size_t>{0, slab_count()};
@@ -220,6 +237,7 @@ class VerletList {
   std::vector<std::uint64_t> slab_cost_;
   std::pair<std::size_t, std::size_t> rank_slabs_{0, 0};  // set_rank_slabs
   bool rank_split_ = false;
+  SearchShare* share_ = nullptr;  // set_search_share
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
