@@ -19,14 +19,16 @@
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles, wall and pair histories) before the list is
-/// built again and whenever the state is read (output, checkpoints, the end), after
-/// which every rank does the same build, sort and output arithmetic. Each particle's
-/// force is thus summed in the same order as on one rank: results are bit-identical.
+/// built again and whenever the state is read (output, checkpoints, the gas step, the
+/// end), after which every rank does the same sort, build and output arithmetic; the
+/// build's search is shared (each rank lists a run of rows, SearchShare). Each
+/// particle's force is thus summed in the same order as on one rank: results are
+/// bit-identical. With a gas every rank holds the whole gas and steps it alike.
 ///
 /// What it does not do yet (issue #36): memory is not divided (each rank holds all the
-/// particles and the list), the list is built on every rank in full, and scenes with a
-/// gas, triangle meshes, rolling resistance, insertions or outlets, or another
-/// integrator than velocity Verlet run on one rank only (distributed_unsupported()).
+/// particles, the list and the gas), the gas step is not shared, and scenes with
+/// triangle meshes, rolling resistance, insertions or outlets, another integrator than
+/// velocity Verlet, or no contacts are run whole by every rank (Simulation::unshared()).
 #include <cstdint>
 #include <memory>
 #include <string>
