@@ -25,10 +25,10 @@
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas and steps it alike.
 ///
-/// What it does not do yet (issue #36): memory is not divided (each rank holds all the
-/// particles, the list and the gas), the gas step is not shared, and scenes with
-/// triangle meshes, rolling resistance, insertions or outlets, another integrator than
-/// velocity Verlet, or no contacts are run whole by every rank (Simulation::unshared()).
+/// Limits: memory is not divided (each rank holds all the particles, the list and the
+/// gas), the gas step is not shared, and scenes with triangle meshes, rolling
+/// resistance, insertions or outlets, another integrator than velocity Verlet, or no
+/// contacts are run whole by every rank (Simulation::unshared()).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -51,7 +51,6 @@ class RankSplit final : public SearchShare {
   RankSplit(const RankSplit&) = delete;
   RankSplit& operator=(const RankSplit&) = delete;
 
-  int rank() const { return rank_; }
   int size() const { return size_; }
 
   /// The per-particle arrays besides the store's that the step carries (the
@@ -89,7 +88,6 @@ class RankSplit final : public SearchShare {
   void gather(const std::vector<std::vector<double>*>& arrays);
   /// The ranks' particles diverged (a step was taken).
   void mark_stale() { stale_ = assigned_; }
-  bool stale() const { return stale_; }
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
