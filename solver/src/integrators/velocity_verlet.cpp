@@ -79,6 +79,9 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   const double dt = dt_;
   const bool rot = p.has_rotation();
   host.ensure_forces();
+  // This rank's particles move on: a gather since the last step (a gas step, an output)
+  // no longer holds, and a build at this step must gather again.
+  if (ranks_) ranks_->mark_stale();
   hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
   if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
   if (deferred_) return step_deferred(host, times);
