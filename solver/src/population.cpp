@@ -25,9 +25,9 @@ Population::Population(const SceneSpec& spec)
   for (const auto& in : spec.insertions) feeds_.push_back({std::mt19937_64(in.seed), 0, false});
 }
 
-bool Population::any_leaving(const ParticleStore& p) const {
+bool Population::any_leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const {
   if (spec_.outlets.empty()) return false;
-  return parallel_max(p.size(), [&](std::size_t i) { return leaving(p.position(i)) ? 1.0 : 0.0; }) != 0.0;
+  return parallel_max(i1 - i0, [&](std::size_t k) { return leaving(p.position(i0 + k)) ? 1.0 : 0.0; }) != 0.0;
 }
 
 std::vector<std::uint32_t> Population::remove(ParticleStore& p, const std::function<void(std::size_t)>& before_removal) {

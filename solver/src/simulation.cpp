@@ -81,8 +81,6 @@ void Simulation::split_among_ranks() {
   std::string why;
   if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
   else if (!spec_.meshes.empty()) why = "it has triangle-mesh walls ([[meshes]])";
-  else if (spec_.rolling != RollingModel::none) why = "it has rolling resistance (modules.rolling_resistance)";
-  else if (population_) why = "its population changes ([[insertions]] or [[outlets]])";
   else if (!integrator_->set_ranks(ranks_.get()))
     why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's)";
   if (!why.empty()) {
@@ -130,7 +128,14 @@ void Simulation::remap(const std::vector<std::uint32_t>& from) {
 
 void Simulation::update_population() {
   Population& pop = *population_;
-  const bool leaving = pop.any_leaving(particles_);
+  // Among ranks each looks at its own particles, and all take part if any has one leaving.
+  bool leaving = false;
+  if (!ranks_) {
+    leaving = pop.any_leaving(particles_, 0, particles_.size());
+  } else {
+    for (const auto& [i0, i1] : ranks_->own_runs(particles_.size())) leaving = leaving || pop.any_leaving(particles_, i0, i1);
+    leaving = ranks_->any(leaving);
+  }
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
   complete_step();  // the state at the step's end, velocities included
@@ -152,6 +157,9 @@ void Simulation::update_population() {
       remap(from);
     }
   }
+  // Every rank changed the whole state alike; the slots moved, so each moves all the
+  // particles until the list, built again at the next step, deals the slabs out anew.
+  if (ranks_) ranks_->unassign();
 }
 
 void Simulation::compute_forces(double t, integrators::ForceStart start) {

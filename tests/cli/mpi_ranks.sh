@@ -3,12 +3,13 @@
 # results bit-identical to one process: the particle tables, run logs, VTK files (with the
 # contact network) and final checkpoints of a settling bed (walls, friction; 5000
 # particles, so that 2 threads per process split the slabs too) and of a periodic chute
-# (a fixed base; slabs along the one axis that is not periodic; logged every few steps,
-# so that list builds fall on steps that follow a gather) and of the fluidisation case's
-# bed (a gas, two-way drag) are compared, byte for
+# (a fixed base; slabs along the one axis that is not periodic) and of the fluidisation
+# case's bed (a gas, two-way drag) are compared, byte for
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
-# as the uninterrupted one. The Mueller bed (a gas, two-way drag) is compared on 2
+# as the uninterrupted one; the settling bed with rolling resistance is compared on 3
+# processes, a bed fed from above (insertions, an outlet) on 2, and the chute logged every
+# few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process, says so, and gives one process's results.
 set -u
@@ -31,12 +32,23 @@ same() {
   [ "$(cd "$b" && find . -type f | wc -l)" -eq "$n" ] || fail "$tag: not the same files as one process's"
 }
 
+# shared TAG NP SCENE ARGS...: run on one process, then shared among NP: the same files.
+shared() {
+  local tag=$1 np=$2 dir=${1// /-}
+  shift 2
+  "$cdm" run "$@" -q -j 1 -o "$work/$dir-1" > /dev/null || fail "$tag: one process"
+  "${launch[@]}" -np "$np" "$cdm" run "$@" -q -j 1 -o "$work/$dir-$np" > "$work/$dir-$np.out" 2>&1 ||
+    fail "$tag: $np processes: $(tail -5 "$work/$dir-$np.out")"
+  grep -q "shared among $np MPI processes" "$work/$dir-$np.out" || fail "$tag: not shared among $np processes"
+  same "$tag, $np processes" "$work/$dir-1" "$work/$dir-$np"
+}
+
 settle=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]' --set integrator.end_time=0.03
         --set output.interval=0.01 --set output.log_interval=0.005 --set output.vtk=true --set output.contacts=true
         --set output.checkpoint_interval=0.015)
 chute=("$src/bench/scenes/chute32k.toml" --set 'periodic.x=[0.0,0.022]' --set 'periodic.y=[0.0,0.011]'
        --set 'lattices[0].count=[20,10,1]' --set 'lattices[1].count=[20,10,20]' --set integrator.end_time=0.02
-       --set output.interval=0.005 --set output.particles=true --set output.log_interval=1.0e-5)
+       --set output.interval=0.005 --set output.particles=true --set output.log_interval=0.005)
 
 # The fluidisation case's bed (periodic in x and z, a gas with two-way drag, the drag
 # updated explicitly: velocity Verlet without the deferred kick) under an inflow.
@@ -55,6 +67,10 @@ for case in settle chute fluid; do
   grep -q "on 4 processes of 1 thread" "$work/$case-4.out" || fail "$case: the run does not say it ran on 4 processes"
 done
 
+# Logged every 1e-5 s (about every 6 steps; each line gathers the state), so that list
+# builds fall on steps that follow a gather: the chute on 2 processes.
+shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
+
 "${launch[@]}" -np 2 "$cdm" run "${settle[@]}" -q -j 2 -o "$work/settle-2x2" > "$work/settle-2x2.out" 2>&1 ||
   fail "settle: 2 processes of 2 threads: $(tail -5 "$work/settle-2x2.out")"
 same "settle, 2 processes of 2 threads" "$work/settle-1" "$work/settle-2x2"
@@ -68,6 +84,18 @@ cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
 for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/settle-1/$f" "$work/split/$f" || fail "restart on 3 processes: $f differs from the uninterrupted run"
 done
+
+# Rolling resistance (its pass reads the torques accumulated so far, and the ghosts'
+# torques arrive first): the settling bed with it, on 3 processes (a middle rank).
+rolling=("${settle[@]}" --set 'modules.rolling_resistance="constant_torque"' --set 'contacts[0].rolling_mu=0.1'
+         --set 'contacts[1].rolling_mu=0.2')
+shared "rolling resistance" 3 "${rolling[@]}"
+
+# Insertions (from 0.05 s) and an outlet (the lattice's corner leaves at once): particles
+# enter and leave the whole, gathered state alike on every process.
+fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.07 --set output.log_interval=0.002
+     --set output.interval=0.01)
+shared "bed fed from above" 2 "${fed[@]}"
 
 # A gas with two-way drag deposited at every step (the Mueller bed's first 300 steps,
 # VTK of particles and gas): bit-identical on 2 processes.
@@ -88,4 +116,4 @@ gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integr
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, Mueller on 2, a scene without contacts run whole on each"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance on 3, a fed bed and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"

@@ -2,6 +2,7 @@
 
 #include "cdm/solver/contact/rolling_resistance.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/rank_split.hpp"
 
 namespace cdm {
 
@@ -42,19 +43,24 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
     }
   };
   // The contact module's slab order: even slabs, then odd slabs (see VerletList), so
-  // the contacts of a particle are visited in the same order for any thread count.
-  const std::size_t nslab = slab_start.empty() ? 0 : slab_start.size() - 1;
+  // the contacts of a particle are visited in the same order for any thread count. Among
+  // ranks, each visits its own slabs, as the contact module does (rank_split.hpp).
+  RankSplit* const ranks = c_.ranks();
+  if (ranks) ranks->exchange_ghost_torques(p);
+  const auto [first_slab, last_slab] = list.rank_slabs();
   for (std::size_t pass = 0; pass < 2; ++pass) {
+    const std::size_t s0 = first_slab + ((first_slab & 1) != pass);
     if (!threads) {
-      for (std::size_t s = pass; s < nslab; s += 2) pair_range(slab_start[s], slab_start[s + 1]);
-      continue;
-    }
-    const long jobs = static_cast<long>((nslab + 1 - pass) / 2);
+      for (std::size_t s = s0; s < last_slab; s += 2) pair_range(slab_start[s], slab_start[s + 1]);
+    } else {
+      const long jobs = static_cast<long>(last_slab > s0 ? (last_slab - s0 + 1) / 2 : 0);
 #pragma omp parallel for schedule(dynamic, 1)
-    for (long t = 0; t < jobs; ++t) {
-      const std::size_t s = pass + 2 * static_cast<std::size_t>(t);
-      pair_range(slab_start[s], slab_start[s + 1]);
+      for (long t = 0; t < jobs; ++t) {
+        const std::size_t s = s0 + 2 * static_cast<std::size_t>(t);
+        pair_range(slab_start[s], slab_start[s + 1]);
+      }
     }
+    if (ranks) ranks->boundary_forces(p, static_cast<int>(pass), true);
   }
   if (!c_.walls().empty()) wall_torques(p, dt, free_spin);
   if (c_.meshes()) mesh_torques(p, dt, free_spin, threads);
@@ -66,7 +72,10 @@ void RollingResistanceModule::wall_torques(ParticleStore& p, double dt, FreeSpin
   const std::vector<double>& fn_wall = c_.wall_normal_force();
   const std::vector<Wall>& walls = c_.walls();
   const std::size_t n = p.size(), nw = walls.size();
+  // Among ranks, the owner of each particle (as for the contact module's walls).
+  const std::uint8_t* const own = c_.ranks() ? c_.ranks()->owned().data() : nullptr;
   parallel_for(n, [&](std::size_t ii) {
+    if (own && !own[ii]) return;
     const auto i = static_cast<std::uint32_t>(ii);
     for (std::size_t w = 0; w < nw; ++w) {
       const double fn = fn_wall[ii * nw + w];

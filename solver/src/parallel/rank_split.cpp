@@ -139,9 +139,18 @@ void RankSplit::exchange_ghosts(ParticleStore& p) {
   exchange(dynamic_arrays(p), sends, recvs, 11);
 }
 
-void RankSplit::boundary_forces(ParticleStore& p, int pass) {
+void RankSplit::exchange_ghost_torques(ParticleStore& p) {
   if (!assigned_) return;
-  std::vector<std::vector<double>*> f = {&p.fx, &p.fy, &p.fz};
+  std::vector<Leg> sends, recvs;
+  if (below_ >= 0) sends.push_back({&lower_, below_});
+  if (above_ >= 0) recvs.push_back({&upper_, above_});
+  exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14);
+}
+
+void RankSplit::boundary_forces(ParticleStore& p, int pass, bool torques_only) {
+  if (!assigned_) return;
+  std::vector<std::vector<double>*> f;
+  if (!torques_only) f = {&p.fx, &p.fy, &p.fz};
   if (p.has_rotation()) f.insert(f.end(), {&p.tx, &p.ty, &p.tz});
   // A boundary slab's particles take their contributions from the pairs of the slab
   // below (the lower rank's) and of their own slab (the upper rank's): of the even one
@@ -159,46 +168,34 @@ void RankSplit::boundary_forces(ParticleStore& p, int pass) {
     if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
     if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
   }
-  exchange(f, sends, recvs, 12 + pass);
+  exchange(f, sends, recvs, (torques_only ? 15 : 12) + pass);
 }
 
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
   if (!stale_) return;
-  const std::vector<std::vector<double>*> arrays = dynamic_arrays(p);
   const std::size_t n = p.size(), nw = list.walls().size();
-  const bool wall_rows = list.keeps_history() && nw > 0 && list.listed(n);
+  const std::size_t rows = list.keeps_history() && nw > 0 && list.listed(n) ? 4 * nw : 0;
   Vec3* const wh = list.wall_history();
   std::uint8_t* const wt = list.wall_touch();
-  const std::size_t per = arrays.size() + (wall_rows ? 4 * nw : 0);
-  const auto size = static_cast<std::size_t>(size_);
-  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
-  send_.resize(mine.size() * per);
-  std::size_t at = 0;
-  for (std::uint32_t i : mine) {
-    for (const auto* a : arrays) send_[at++] = (*a)[i];
-    if (wall_rows)
-      for (std::size_t w = 0; w < nw; ++w) {
-        const Vec3 h = wh[i * nw + w];
-        send_[at++] = h.x; send_[at++] = h.y; send_[at++] = h.z;
-        send_[at++] = wt[i * nw + w];
-      }
-  }
-  allgather_particles(per);
-  at = 0;
-  for (std::size_t r = 0; r < size; ++r)
-    for (std::uint32_t i : rank_particles_[r]) {
-      for (auto* a : arrays) (*a)[i] = recv_[at++];
-      if (wall_rows)
-        for (std::size_t w = 0; w < nw; ++w) {
-          wh[i * nw + w] = {recv_[at], recv_[at + 1], recv_[at + 2]};
-          wt[i * nw + w] = static_cast<std::uint8_t>(recv_[at + 3]);
-          at += 4;
-        }
-    }
+  // With each particle, its row of wall history (x, y, z and the contact flag per wall).
+  share_particles(dynamic_arrays(p), rows,
+                  [&](std::uint32_t i, double* out) {
+                    for (std::size_t w = 0; w < nw; ++w, out += 4) {
+                      const Vec3 h = wh[i * nw + w];
+                      out[0] = h.x; out[1] = h.y; out[2] = h.z; out[3] = wt[i * nw + w];
+                    }
+                  },
+                  [&](std::uint32_t i, const double* in) {
+                    for (std::size_t w = 0; w < nw; ++w, in += 4) {
+                      wh[i * nw + w] = {in[0], in[1], in[2]};
+                      wt[i * nw + w] = static_cast<std::uint8_t>(in[3]);
+                    }
+                  });
   // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
   // First the contact flags, in place; then the history of the pairs in contact, or for
   // a build, which carries only theirs, of every pair.
   if (list.keeps_history() && list.size() > 0) {
+    const auto size = static_cast<std::size_t>(size_);
     const std::vector<std::uint32_t>& start = list.slab_start();
     Vec3* const ph = list.pair_history();
     std::uint8_t* const pt = list.pair_touch();
@@ -227,7 +224,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
     check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
                          displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
           "MPI_Allgatherv");
-    at = 0;
+    std::size_t at = 0;
     for (std::size_t k = 0; k < list.size(); ++k)
       if (sent(k)) {
         ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
@@ -237,8 +234,19 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   stale_ = false;
 }
 
-void RankSplit::allgather_particles(std::size_t per) {
+void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
+                                const std::function<void(std::uint32_t, double*)>& put_rows,
+                                const std::function<void(std::uint32_t, const double*)>& get_rows) {
+  const std::size_t per = arrays.size() + rows;
   const auto size = static_cast<std::size_t>(size_);
+  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
+  send_.resize(mine.size() * per);
+  std::size_t at = 0;
+  for (std::uint32_t i : mine) {
+    for (const auto* a : arrays) send_[at++] = (*a)[i];
+    if (rows) put_rows(i, &send_[at]);
+    at += rows;
+  }
   std::vector<int> counts(size), displs(size);
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
@@ -250,21 +258,18 @@ void RankSplit::allgather_particles(std::size_t per) {
   check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
                        displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
         "MPI_Allgatherv");
+  at = 0;
+  for (const auto& own : rank_particles_)
+    for (std::uint32_t i : own) {
+      for (auto* a : arrays) (*a)[i] = recv_[at++];
+      if (rows) get_rows(i, &recv_[at]);
+      at += rows;
+    }
 }
 
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
   if (!stale_) return;  // every rank holds the same state already
-  const std::size_t per = arrays.size();
-  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
-  send_.resize(mine.size() * per);
-  std::size_t at = 0;
-  for (std::uint32_t i : mine)
-    for (const auto* a : arrays) send_[at++] = (*a)[i];
-  allgather_particles(per);
-  at = 0;
-  for (const auto& own : rank_particles_)
-    for (std::uint32_t i : own)
-      for (auto* a : arrays) (*a)[i] = recv_[at++];
+  share_particles(arrays, 0, nullptr, nullptr);
 }
 
 std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
@@ -327,7 +332,8 @@ void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const
 
 std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
 void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::boundary_forces(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::boundary_forces(ParticleStore&, int, bool) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 double RankSplit::max(double x) const { return x; }

@@ -30,8 +30,8 @@ class Population {
  public:
   explicit Population(const SceneSpec& spec);
 
-  /// Whether some particle's centre is in an outlet.
-  bool any_leaving(const ParticleStore& p) const;
+  /// Whether the centre of some particle of slots [@p i0, @p i1) is in an outlet.
+  bool any_leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const;
   /// Whether a centre at @p x is in an outlet (remove() takes it).
   bool leaving(Vec3 x) const {
     for (const auto& o : spec_.outlets)

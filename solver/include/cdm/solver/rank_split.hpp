@@ -25,11 +25,19 @@
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas and steps it alike.
 ///
+/// Insertions and outlets change the whole, gathered state alike on every rank; until the
+/// list is built again (at the next step) every rank then moves every particle.
+///
+/// The rolling resistance's pass follows the same order: the ghosts' torques arrive
+/// first (the pass reads each particle's torque so far), then its two phases, each
+/// followed by boundary_forces() on the torques.
+///
 /// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step is not shared, and scenes with triangle meshes, rolling
-/// resistance, insertions or outlets, another integrator than velocity Verlet, or no
-/// contacts are run whole by every rank (Simulation::unshared()).
+/// gas), the gas step is not shared, and scenes with triangle meshes, another integrator
+/// than velocity Verlet, or no contacts are run whole by every rank
+/// (Simulation::unshared()).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -75,8 +83,12 @@ class RankSplit final : public SearchShare {
   /// After the integrator's pass: receive the first slab of the rank above.
   void exchange_ghosts(ParticleStore& p);
   /// After phase @p pass (0 even, 1 odd) of the pair loop: the boundary slabs' forces
-  /// and torques move on in the one-rank order. Called from one thread.
-  void boundary_forces(ParticleStore& p, int pass);
+  /// and torques (@p torques_only: the torques, for the rolling resistance's pass) move
+  /// on in the one-rank order. Called from one thread.
+  void boundary_forces(ParticleStore& p, int pass, bool torques_only = false);
+  /// Before the rolling resistance's pass, which reads the torques accumulated so far:
+  /// receive the ghosts' torques, complete with their contacts and walls.
+  void exchange_ghost_torques(ParticleStore& p);
 
   /// Every rank gets the whole state: every particle's, the wall history of the
   /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
@@ -88,6 +100,10 @@ class RankSplit final : public SearchShare {
   void gather(const std::vector<std::vector<double>*>& arrays);
   /// The ranks' particles diverged (a step was taken).
   void mark_stale() { stale_ = assigned_; }
+  /// The particles' slots changed on every rank alike (particles were inserted or
+  /// removed from the whole, gathered state): each rank moves all of them again until
+  /// the next assign().
+  void unassign() { assigned_ = stale_ = false; }
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
@@ -106,10 +122,6 @@ class RankSplit final : public SearchShare {
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}
   /// The per-particle arrays exchanged (the store's dynamic ones and extra_).
   std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p) const;
-  /// Send the values of @p arrays at @p send_idx to @p to and set those at @p recv_idx
-  /// from @p from (either rank -1: none).
-  void swap_values(const std::vector<std::vector<double>*>& arrays, const std::vector<std::uint32_t>& send_idx,
-                   int to, const std::vector<std::uint32_t>& recv_idx, int from);
 
   int rank_, size_;
   std::vector<std::vector<double>*> extra_;
@@ -125,8 +137,12 @@ class RankSplit final : public SearchShare {
   std::vector<std::uint32_t> lower_, upper_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
-  /// MPI_Allgatherv of send_ into recv_, @p per values per particle of each rank's.
-  void allgather_particles(std::size_t per);
+  /// Every rank gets each rank's particles' values of @p arrays and, after them, @p rows
+  /// more values per particle, which @p put_rows writes for one of this rank's particles
+  /// and @p get_rows reads back for every particle.
+  void share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
+                       const std::function<void(std::uint32_t, double*)>& put_rows,
+                       const std::function<void(std::uint32_t, const double*)>& get_rows);
   std::vector<double> send_, recv_;
 };
 

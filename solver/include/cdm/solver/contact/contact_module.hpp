@@ -94,6 +94,8 @@ class ContactModule final : public ForceModule {
   /// The MPI ranks the pairs and walls are split among (rank_split.hpp), or nullptr: every
   /// particle's contacts here. A copy that evaluates alone sets nullptr.
   void set_ranks(RankSplit* r);
+  /// The ranks sharing the step (rank_split.hpp), or nullptr.
+  RankSplit* ranks() const { return ranks_; }
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;

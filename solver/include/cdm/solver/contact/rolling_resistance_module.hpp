@@ -11,7 +11,8 @@ namespace cdm {
 /// module to add torques: it reads the torques already accumulated, to stop a rolling
 /// contact exactly) and reads the contact module's normal forces; it keeps no state of
 /// its own. Pairs are visited in the list's slab order, so results stay independent of
-/// the thread count.
+/// the thread count; among MPI ranks each visits its own slabs in that order, the
+/// boundary slabs' torques passing between the ranks (rank_split.hpp).
 class RollingResistanceModule final : public ForceModule {
  public:
   explicit RollingResistanceModule(const ContactModule& contacts) : c_(contacts) {}
