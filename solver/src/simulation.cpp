@@ -80,7 +80,6 @@ void Simulation::split_among_ranks() {
   // on every process, alike (the same results; rank 0 writes them).
   std::string why;
   if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
-  else if (!spec_.meshes.empty()) why = "it has triangle-mesh walls ([[meshes]])";
   else if (!integrator_->set_ranks(ranks_.get()))
     why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's)";
   if (!why.empty()) {

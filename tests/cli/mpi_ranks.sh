@@ -8,8 +8,8 @@
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
 # as the uninterrupted one; the settling bed with rolling resistance is compared on 3
-# processes, a bed fed from above (insertions, an outlet) on 2, and the chute logged every
-# few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
+# processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
+# and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process, says so, and gives one process's results.
 set -u
@@ -97,6 +97,10 @@ fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.0
      --set output.interval=0.01)
 shared "bed fed from above" 2 "${fed[@]}"
 
+# Triangle meshes (each rank finds its own particles' contacts; the lists are joined at
+# every gather) and an outlet: the silo, logged every step, on 2 processes.
+shared "silo" 2 "$src/examples/silo/silo.toml" --max-steps 9000 --set output.log_interval=8.0e-6 --set output.interval=10
+
 # A gas with two-way drag deposited at every step (the Mueller bed's first 300 steps,
 # VTK of particles and gas): bit-identical on 2 processes.
 mueller=("$src/bench/scenes/mueller_bubbling_bed.toml" --set output.interval=0.0005 --set output.log_interval=0.0005)
@@ -116,4 +120,4 @@ gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integr
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance on 3, a fed bed and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"

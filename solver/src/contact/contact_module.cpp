@@ -66,6 +66,7 @@ void ContactModule::dispatch(ParticleStore& p, double dt) {
 
 void ContactModule::set_ranks(RankSplit* r) {
   ranks_ = r;
+  if (r && mesh_) r->set_meshes(&*mesh_);
   list_.set_search_share(r);
   if (!r) list_.clear_rank_slabs();
 }

@@ -16,14 +16,14 @@ namespace {
 constexpr double same = 1e-7;
 /// Largest number of grid cells (4 Mi: 16 MiB of cell starts).
 constexpr double max_cells = 4.0 * 1024 * 1024;
-/// range(i0, i1, out) appends what particles [i0, i1) give to @p out; with @p threads
-/// each thread takes its share of the particles (thread_range, as the integrator's pass)
-/// into its own buffer, and the buffers are joined in thread order, which is particle
-/// order: the result is the one a single thread makes.
+/// range(i0, i1, out) appends what particles [@p first, @p last) give to @p out; with
+/// @p threads each thread takes its share of the particles (thread_range, as the
+/// integrator's pass) into its own buffer, and the buffers are joined in thread order,
+/// which is particle order: the result is the one a single thread makes.
 template <class T, class Range>
-void in_particle_order(std::size_t n, bool threads, Range& range, std::vector<T>& out) {
+void in_particle_order(std::size_t first, std::size_t last, bool threads, Range& range, std::vector<T>& out) {
   if (!threads) {
-    range(0, n, out);
+    range(first, last, out);
     return;
   }
   std::vector<std::vector<T>> part;
@@ -31,8 +31,8 @@ void in_particle_order(std::size_t n, bool threads, Range& range, std::vector<T>
   {
 #pragma omp single
     part.resize(thread_id().second);
-    const auto [i0, i1] = thread_range(n);
-    range(i0, i1, part[thread_id().first]);
+    const auto [i0, i1] = thread_range(last - first);
+    range(first + i0, first + i1, part[thread_id().first]);
   }
   for (auto& v : part) out.insert(out.end(), v.begin(), v.end());
 }
@@ -277,12 +277,13 @@ void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool t
     }
   };
   cand_.clear();
-  in_particle_order(n, threads, range, cand_);
+  in_particle_order(0, n, threads, range, cand_);
   for (std::size_t i = 0; i < n; ++i) cand_start_[i + 1] += cand_start_[i];
   listed_ = true;
 }
 
-void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time) {
+void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time,
+                          const std::vector<std::pair<std::uint32_t, std::uint32_t>>* runs) {
   const std::size_t n = p.size();
   // A moving mesh has shifted against the particles by up to shift_bound since the
   // listing; with the particles' own drift (< margin / 2 between Verlet builds) the
@@ -334,7 +335,11 @@ void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t buil
       }
     }
   };
-  in_particle_order(n, threads, range, contacts_);
+  if (!runs) {
+    in_particle_order(0, n, threads, range, contacts_);
+  } else {
+    for (const auto& [i0, i1] : *runs) in_particle_order(i0, i1, threads, range, contacts_);
+  }
 }
 
 std::pair<std::size_t, std::size_t> MeshContacts::contacts_of(std::size_t i0, std::size_t i1) const {

@@ -20,7 +20,9 @@ void ContactModule::mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, 
   // own force.
   const std::size_t n = p.size();
   const bool threads = n > parallel_threshold;
-  mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time());
+  // Among MPI ranks, the contacts of this rank's particles (the others' are gathered
+  // with the state, RankSplit::synchronise).
+  mesh_->update(p, threads, list_.builds(), list_.skin(), list_.time(), ranks_ ? &ranks_->own_runs(n) : nullptr);
   std::vector<MeshContacts::Contact>& contacts = mesh_->contacts();
   if (record_) fn_mesh_.resize(contacts.size());
   const long first = -1 - static_cast<long>(list_.walls().size());

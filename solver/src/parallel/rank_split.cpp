@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
 #include "cdm/solver/mpi_session.hpp"
 
@@ -191,6 +193,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
                       wt[i * nw + w] = static_cast<std::uint8_t>(in[3]);
                     }
                   });
+  if (meshes_) share_mesh_contacts();
   // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
   // First the contact flags, in place; then the history of the pairs in contact, or for
   // a build, which carries only theirs, of every pair.
@@ -265,6 +268,33 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
       if (rows) get_rows(i, &recv_[at]);
       at += rows;
     }
+}
+
+void RankSplit::share_mesh_contacts() {
+  // Each rank's own particles' contacts, in particle order (the list holds all of them
+  // where no evaluation followed the last gather); joined and put in particle order
+  // (each particle's, from one rank, stay in triangle order).
+  using Contact = MeshContacts::Contact;
+  static_assert(std::is_trivially_copyable_v<Contact>);
+  std::vector<Contact>& list = meshes_->contacts();
+  std::vector<Contact> mine;
+  for (const Contact& c : list)
+    if (owned_[c.particle]) mine.push_back(c);
+  const auto size = static_cast<std::size_t>(size_);
+  const int bytes = static_cast<int>(mine.size() * sizeof(Contact));
+  std::vector<int> counts(size), displs(size);
+  check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    displs[r] = static_cast<int>(total);
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<Contact> all(total / sizeof(Contact));
+  check(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+                       MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  std::stable_sort(all.begin(), all.end(), [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  list.swap(all);
 }
 
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {

@@ -32,10 +32,12 @@
 /// first (the pass reads each particle's torque so far), then its two phases, each
 /// followed by boundary_forces() on the torques.
 ///
+/// Against triangle meshes each rank finds and resolves its own particles' contacts; the
+/// contact lists are joined, in particle order, whenever the state is gathered.
+///
 /// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step is not shared, and scenes with triangle meshes, another integrator
-/// than velocity Verlet, or no contacts are run whole by every rank
-/// (Simulation::unshared()).
+/// gas), the gas step is not shared, and scenes with another integrator than velocity
+/// Verlet or without contacts are run whole by every rank (Simulation::unshared()).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -48,6 +50,7 @@
 
 namespace cdm {
 
+class MeshContacts;
 struct OverlapRecord;
 struct SceneSpec;
 
@@ -64,6 +67,9 @@ class RankSplit final : public SearchShare {
   /// The per-particle arrays besides the store's that the step carries (the
   /// integrator's half-step velocities), exchanged with the store's.
   void set_extra_arrays(std::vector<std::vector<double>*> extra) { extra_ = std::move(extra); }
+  /// The triangle-mesh contacts, whose list (each rank's particles' contacts between
+  /// gathers) travels with the state.
+  void set_meshes(MeshContacts* meshes) { meshes_ = meshes; }
 
   /// Deal the slabs of @p list out (after each build, or a list loaded from a
   /// checkpoint): the list's threads then split this rank's slabs only.
@@ -125,6 +131,7 @@ class RankSplit final : public SearchShare {
 
   int rank_, size_;
   std::vector<std::vector<double>*> extra_;
+  MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
   std::uint64_t builds_ = 0;
   std::vector<int> slab_owner_;                      // per slab
@@ -140,6 +147,8 @@ class RankSplit final : public SearchShare {
   /// Every rank gets each rank's particles' values of @p arrays and, after them, @p rows
   /// more values per particle, which @p put_rows writes for one of this rank's particles
   /// and @p get_rows reads back for every particle.
+  /// Every rank gets every rank's mesh contacts (meshes_), in particle order.
+  void share_mesh_contacts();
   void share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
                        const std::function<void(std::uint32_t, double*)>& put_rows,
                        const std::function<void(std::uint32_t, const double*)>& get_rows);

@@ -88,7 +88,10 @@ class MeshContacts {
   /// changes; the Verlet list is built before any particle moves @p margin / 2.
   /// @p time [s]: the time of the positions, where moving meshes stand (their candidates
   /// are listed again too once a mesh has moved margin / 2 since they were listed).
-  void update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time = 0.0);
+  /// @p runs: the particles whose contacts are wanted, as runs of slots [first, last) in
+  /// order (an MPI rank's own, rank_split.hpp); all of them when nullptr.
+  void update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time = 0.0,
+              const std::vector<std::pair<std::uint32_t, std::uint32_t>>* runs = nullptr);
   std::vector<Contact>& contacts() { return contacts_; }
   const std::vector<Contact>& contacts() const { return contacts_; }
   /// The contacts [k0, k1) of particles [i0, i1) (contacts() is in particle order): a
