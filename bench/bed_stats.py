@@ -4,7 +4,7 @@
     bed_stats.py cdm OUTDIR --axis z       cdm run -o OUTDIR with output.vtk and output.particles
     bed_stats.py openfoam CASE --axis z    a DPMFoam case written in ascii (last time directory)
 
-prints one line at the last written time:
+prints one line at the last written time (with --series, one per written time):
 
     t=<s> dp=<Pa> bed_height=<m> h99=<m>
 
@@ -58,39 +58,48 @@ def heights(z, r, base):
 
 
 def cdm_stats(out, axis):
+    """(t, dp, (bed_height, h99)) at every frame that has gas, particle VTK and particles.dat rows."""
     vtk = os.path.join(out, "vtk")
     gas = sorted(f for f in os.listdir(vtk) if f.startswith("gas_") and f.endswith(".vti"))
     if not gas:
         fail(f"no {vtk}/gas_*.vti (the scene needs output.vtk = true)")
-    root = ET.parse(os.path.join(vtk, gas[-1])).getroot()
-    image = root.find("ImageData")
-    ext = [int(v) for v in image.get("WholeExtent").split()]
-    cells = [ext[1] - ext[0], ext[3] - ext[2], ext[5] - ext[4]]
-    base = float(image.get("Origin").split()[axis])
-    t = float(root.find(".//FieldData/DataArray").text)
-    arrays = {a.get("Name"): a for a in root.iter("DataArray")}
-    if "pressure" not in arrays:
-        fail(f"{gas[-1]} has no pressure array")
-    p = [float(v) for v in arrays["pressure"].text.split()]
-    dp = layer_dp(p, cells, axis)
-    # particles.dat: the rows of the last sample (t id x y z ...); radius from the VTK points.
-    last_t, z = None, []
+    # particles.dat: one block of rows (t id x y z ...) per sample.
+    samples, last_t = {}, None
     with open(os.path.join(out, "particles.dat")) as f:
         for line in f:
             if line.startswith("#"):
                 continue
             cols = line.split()
             if cols[0] != last_t:
-                last_t, z = cols[0], []
-            z.append(float(cols[2 + axis]))
-    if abs(float(last_t) - t) > 1e-9:
-        fail(f"particles.dat ends at t = {last_t}, the gas at t = {t}")
-    parts = sorted(f for f in os.listdir(vtk) if f.startswith("particles_"))
-    radius = [float(v) for v in ET.parse(os.path.join(vtk, parts[-1])).getroot()
-              .find(".//DataArray[@Name='radius']").text.split()]
-    if len(radius) != len(z):
-        radius = [radius[0]] * len(z)
-    return t, dp, heights(z, radius, base)
+                last_t = cols[0]
+                samples[float(last_t)] = []
+            samples[float(last_t)].append(float(cols[2 + axis]))
+    parts = sorted(f for f in os.listdir(vtk) if f.startswith("particles_") and f.endswith(".vtp"))
+    rows = []
+    for name in gas:
+        root = ET.parse(os.path.join(vtk, name)).getroot()
+        if root.get("format") == "appended" or root.find(".//AppendedData") is not None:
+            fail(f"{name} is binary: run with --set 'output.vtk_format=\"ascii\"'")
+        image = root.find("ImageData")
+        ext = [int(v) for v in image.get("WholeExtent").split()]
+        cells = [ext[1] - ext[0], ext[3] - ext[2], ext[5] - ext[4]]
+        base = float(image.get("Origin").split()[axis])
+        t = float(root.find(".//FieldData/DataArray").text)
+        arrays = {a.get("Name"): a for a in root.iter("DataArray")}
+        if "pressure" not in arrays:
+            fail(f"{name} has no pressure array")
+        dp = layer_dp([float(v) for v in arrays["pressure"].text.split()], cells, axis)
+        z = next((zs for ts, zs in samples.items() if abs(ts - t) <= 1e-9), None)
+        if z is None:
+            fail(f"particles.dat has no sample at t = {t} (the gas frame {name})")
+        frame = name[len("gas_"):-len(".vti")]
+        pname = f"particles_{frame}.vtp" if f"particles_{frame}.vtp" in parts else parts[-1]
+        radius = [float(v) for v in ET.parse(os.path.join(vtk, pname)).getroot()
+                  .find(".//DataArray[@Name='radius']").text.split()]
+        if len(radius) != len(z):
+            radius = [radius[0]] * len(z)
+        rows.append((t, dp, heights(z, radius, base)))
+    return rows
 
 
 def foam_list(path):
@@ -108,10 +117,14 @@ def foam_list(path):
 
 
 def openfoam_stats(case, axis):
+    """(t, dp, (bed_height, h99)) at every written time after 0."""
     times = [d for d in os.listdir(case) if re.fullmatch(r"[\d.eE+-]+", d) and float(d) > 0]
     if not times:
         fail(f"{case}: no time directory after 0")
-    tdir = max(times, key=float)
+    return [openfoam_time(case, tdir, axis) for tdir in sorted(times, key=float)]
+
+
+def openfoam_time(case, tdir, axis):
     with open(os.path.join(case, "constant", "transportProperties")) as f:
         rho = float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
     with open(os.path.join(case, "system", "blockMeshDict")) as f:
@@ -148,10 +161,12 @@ def main():
     ap.add_argument("code", choices=["cdm", "openfoam"])
     ap.add_argument("dir")
     ap.add_argument("--axis", choices=sorted(AXES), default="z", help="the vertical axis")
+    ap.add_argument("--series", action="store_true", help="one line per written time, not the last only")
     a = ap.parse_args()
     stats = cdm_stats if a.code == "cdm" else openfoam_stats
-    t, dp, (h, h99) = stats(a.dir, AXES[a.axis])
-    print(f"t={t:.6g} dp={dp:.6g} bed_height={h:.6g} h99={h99:.6g}")
+    rows = stats(a.dir, AXES[a.axis])
+    for t, dp, (h, h99) in (rows if a.series else rows[-1:]):
+        print(f"t={t:.6g} dp={dp:.6g} bed_height={h:.6g} h99={h99:.6g}")
 
 
 if __name__ == "__main__":

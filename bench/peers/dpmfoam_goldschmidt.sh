@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # DPMFoam's Goldschmidt tutorial (OpenFOAM v1912 from Debian) as shipped, on one core, for
 # end_time simulated seconds; the cdm scene of the same bed is bench/scenes/goldschmidt.toml.
-#   bench/peers/dpmfoam_goldschmidt.sh [END_TIME [WORKDIR]]    (default 0.02 s, a new temp dir)
-# Copies the case from openfoam-examples, sets endTime (and writes only at the end, in
-# ascii, so that bench/bed_stats.py can read the fields), runs blockMesh and DPMFoam
+#   [WRITE_INTERVAL=s] bench/peers/dpmfoam_goldschmidt.sh [END_TIME [WORKDIR]]    (default 0.02 s, a new temp dir)
+# Copies the case from openfoam-examples, sets endTime (and writes in ascii, only at the
+# end unless WRITE_INTERVAL is set, so that bench/bed_stats.py can read the fields; with it,
+# `bed_stats.py openfoam CASE --series` gives the time series), runs blockMesh and DPMFoam
 # (serial: the case's decomposeParDict is not used) and prints one line
 #   dpmfoam goldschmidt end_time=.. steps=.. substeps=.. wall_s=.. cpu_s=.. wall_per_sim_s=.. dp=.. bed_height=.. h99=.. load=..
 # steps counts fluid steps, substeps the collision sub-cycles of them all; wall_s is
@@ -14,6 +15,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 end="${1:-0.02}"
+every="${WRITE_INTERVAL:-$end}"
 work="${2:-$(mktemp -d /tmp/dpmfoam_goldschmidt.XXXXXX)}"
 src=/usr/share/doc/openfoam-examples/examples/lagrangian/DPMFoam/Goldschmidt
 if [ ! -x /usr/bin/DPMFoam ] || [ ! -d "$src" ]; then
@@ -24,7 +26,7 @@ fi
 case=$work/case
 rm -rf "$case"; mkdir -p "$work"; cp -r "$src" "$case"
 [ -f "$case/constant/kinematicCloudPositions.gz" ] && gunzip "$case/constant/kinematicCloudPositions.gz"
-sed -i "s/^endTime .*/endTime         $end;/; s/^writeInterval .*/writeInterval   $end;/; s/^writeFormat .*/writeFormat     ascii;/" \
+sed -i "s/^endTime .*/endTime         $end;/; s/^writeInterval .*/writeInterval   $every;/; s/^writeFormat .*/writeFormat     ascii;/" \
   "$case/system/controlDict"
 load() { awk '{print $1}' /proc/loadavg; }
 (
