@@ -81,7 +81,7 @@ void Simulation::split_among_ranks() {
   std::string why;
   if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
   else if (!integrator_->set_ranks(ranks_.get()))
-    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's)";
+    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's or the paper's Euler step)";
   if (!why.empty()) {
     unshared_ = why;
     ranks_.reset();
@@ -128,13 +128,9 @@ void Simulation::remap(const std::vector<std::uint32_t>& from) {
 void Simulation::update_population() {
   Population& pop = *population_;
   // Among ranks each looks at its own particles, and all take part if any has one leaving.
-  bool leaving = false;
-  if (!ranks_) {
-    leaving = pop.any_leaving(particles_, 0, particles_.size());
-  } else {
-    for (const auto& [i0, i1] : ranks_->own_runs(particles_.size())) leaving = leaving || pop.any_leaving(particles_, i0, i1);
-    leaving = ranks_->any(leaving);
-  }
+  const bool leaving =
+      ranks_ ? ranks_->any_own(particles_.size(), [&](std::size_t i0, std::size_t i1) { return pop.any_leaving(particles_, i0, i1); })
+             : pop.any_leaving(particles_, 0, particles_.size());
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
   complete_step();  // the state at the step's end, velocities included
@@ -214,7 +210,10 @@ void Simulation::step() {
   const double t_new = static_cast<double>(steps_ + 1) * spec_.dt;
   // 1 if the integrator found the state not finite, 0 if none, -1 if not checked.
   const double nonfinite = integrator_->step(*this, {time_, t_new});
-  if (ranks_) ranks_->mark_stale();
+  if (ranks_) {
+    ranks_->mark_stale();
+    if (nonfinite > 0.0) synchronise_ranks();  // the guards name the particles, whichever rank moved them
+  }
   ++steps_;
   time_ = static_cast<double>(steps_) * spec_.dt;
   // Before the guards: a particle that left the gas domain through an outlet is gone.
@@ -226,10 +225,11 @@ void Simulation::step() {
   if (ranks_ && gas_ && gas_read) {
     // Among ranks each looks at its own particles; if any left the gas domain, the
     // guards name them from the whole state.
-    bool out = false;
-    for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
-      for (std::size_t i = i0; i < i1 && !out; ++i) out = !gas_->contains(particles_.position(i));
-    domain_check = ranks_->any(out);
+    domain_check = ranks_->any_own(particles_.size(), [&](std::size_t i0, std::size_t i1) {
+      for (std::size_t i = i0; i < i1; ++i)
+        if (!gas_->contains(particles_.position(i))) return true;
+      return false;
+    });
     if (domain_check) synchronise_ranks();
   }
   guards().check(time_, steps_, nonfinite, domain_check);

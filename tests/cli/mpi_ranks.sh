@@ -7,8 +7,8 @@
 # case's bed (a gas, two-way drag) are compared, byte for
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
-# as the uninterrupted one; the settling bed with rolling resistance is compared on 3
-# processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
+# as the uninterrupted one; the settling bed with rolling resistance, and moved by the
+# paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process, says so, and gives one process's results.
@@ -85,6 +85,10 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/settle-1/$f" "$work/split/$f" || fail "restart on 3 processes: $f differs from the uninterrupted run"
 done
 
+# The paper's Euler step (velocity kick and drift of the rank's own particles, the
+# forces of the end of the step): the settling bed on 3 processes.
+shared "paper Euler" 3 "${settle[@]}" --set 'integrator.scheme="paper_euler"'
+
 # Rolling resistance (its pass reads the torques accumulated so far, and the ghosts'
 # torques arrive first): the settling bed with it, on 3 processes (a middle rank).
 rolling=("${settle[@]}" --set 'modules.rolling_resistance="constant_torque"' --set 'contacts[0].rolling_mu=0.1'
@@ -120,4 +124,4 @@ gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integr
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"

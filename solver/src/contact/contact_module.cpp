@@ -306,14 +306,12 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   };
   // This rank's slabs (all of them on one rank, rank_split.hpp); between the phases and
   // after them the boundary slabs' forces move between the ranks.
-  const auto [first_slab, last_slab] = list_.rank_slabs();
   if (!threads) {
     // Same order as the threaded path: even slabs, then odd slabs.
-    for (std::size_t pass = 0; pass < 2; ++pass) {
-      for (std::size_t s = first_slab + ((first_slab & 1) != pass); s < last_slab; s += 2)
-        pair_range(slab_start[s], slab_start[s + 1], active, worst);
+    list_.by_phase([&](std::size_t pass, std::size_t s0, std::size_t s1) {
+      for (std::size_t s = s0; s < s1; s += 2) pair_range(slab_start[s], slab_start[s + 1], active, worst);
       if (ranks_) ranks_->boundary_forces(p, static_cast<int>(pass));
-    }
+    });
     list_.forget_slab_contacts();
   } else {
     list_.weigh_slabs();
@@ -323,7 +321,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
       OverlapRecord my_worst;
       const auto [s0, s1] = list_.thread_slabs();
       for (std::size_t pass = 0; pass < 2; ++pass) {
-        for (std::size_t s = s0 + ((s0 & 1) != pass); s < s1; s += 2) {
+        for (std::size_t s = VerletList::phase_first(s0, pass); s < s1; s += 2) {
           const std::size_t before = my_active;
           pair_range(slab_start[s], slab_start[s + 1], my_active, my_worst);
           list_.set_slab_contacts(s, my_active - before);

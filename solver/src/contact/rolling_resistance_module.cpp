@@ -47,9 +47,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
   // ranks, each visits its own slabs, as the contact module does (rank_split.hpp).
   RankSplit* const ranks = c_.ranks();
   if (ranks) ranks->exchange_ghost_torques(p);
-  const auto [first_slab, last_slab] = list.rank_slabs();
-  for (std::size_t pass = 0; pass < 2; ++pass) {
-    const std::size_t s0 = first_slab + ((first_slab & 1) != pass);
+  list.by_phase([&](std::size_t pass, std::size_t s0, std::size_t last_slab) {
     if (!threads) {
       for (std::size_t s = s0; s < last_slab; s += 2) pair_range(slab_start[s], slab_start[s + 1]);
     } else {
@@ -61,7 +59,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
       }
     }
     if (ranks) ranks->boundary_forces(p, static_cast<int>(pass), true);
-  }
+  });
   if (!c_.walls().empty()) wall_torques(p, dt, free_spin);
   if (c_.meshes()) mesh_torques(p, dt, free_spin, threads);
 }

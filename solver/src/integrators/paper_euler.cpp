@@ -1,5 +1,6 @@
 #include "cdm/solver/integrators/paper_euler.hpp"
 
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::integrators {
@@ -13,19 +14,27 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
   const std::size_t n = p.size();
   const double dt = dt_;
   host.ensure_forces();
-  parallel_for(n, [&](std::size_t i) {
+  if (ranks_) ranks_->mark_stale();  // this rank's particles move on
+  for_own(ranks_, n, [&](std::size_t i) {
     kick_(i, dt, p.vx[i], p.vy[i], p.vz[i]);
     p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];
   });
-  if (p.has_rotation())
-    parallel_for(n, [&](std::size_t i) {
+  const bool rot = p.has_rotation();
+  if (rot)
+    for_own(ranks_, n, [&](std::size_t i) {
       const double b = dt * p.inv_inertia[i];
       p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
     });
   wrap_positions(p, box_);
+  // Among ranks each checks its own particles (the guards see only the last gathered
+  // state of the others'); on one rank the guards check them all.
+  const double bad = !ranks_ ? -1.0 : max_own(ranks_, n, [&](std::size_t i) {
+    const bool ok = is_finite(p.position(i)) && is_finite(p.velocity(i)) && (!rot || is_finite(p.angular_velocity(i)));
+    return ok ? 0.0 : 1.0;
+  });
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);
-  return -1.0;
+  return bad;
 }
 
 }  // namespace cdm::integrators

@@ -1,6 +1,7 @@
 #include "cdm/solver/integrators/velocity_verlet.hpp"
 
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "verlet_kernels.hpp"
@@ -53,11 +54,7 @@ double VelocityVerlet::final_kick() {
     if (rot) { p.wx[i] = w.x; p.wy[i] = w.y; p.wz[i] = w.z; }
     return verlet::verlet_state_finite(a, rot, i, v, w) ? 0.0 : 1.0;
   };
-  if (!ranks_) return parallel_max(p.size(), one);
-  double bad = 0.0;
-  for (const auto& [i0, i1] : ranks_->own_runs(p.size()))
-    bad = std::max(bad, parallel_max(i1 - i0, [&](std::size_t k) { return one(i0 + k); }));
-  return ranks_->max(bad);
+  return max_own(ranks_, p.size(), one);
 }
 
 bool VelocityVerlet::set_ranks(RankSplit* ranks) {
@@ -91,11 +88,7 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   auto first_half = [&](std::size_t i) {
     verlet::verlet_first_half(a, rot, false, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
   };
-  if (!ranks_) {
-    parallel_for(n, first_half);
-  } else {
-    for (const auto& [i0, i1] : ranks_->own_runs(n)) parallel_for(i1 - i0, [&](std::size_t k) { first_half(i0 + k); });
-  }
+  for_own(ranks_, n, first_half);
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new, ForceStart::zeroed);

@@ -272,16 +272,16 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
 
 void RankSplit::share_mesh_contacts() {
   // Each rank's own particles' contacts, in particle order (the list holds all of them
-  // where no evaluation followed the last gather); joined and put in particle order
-  // (each particle's, from one rank, stay in triangle order).
+  // where no evaluation followed the last gather, so the others' are dropped first);
+  // joined and put in particle order (each particle's, from one rank, stay in triangle
+  // order).
   using Contact = MeshContacts::Contact;
   static_assert(std::is_trivially_copyable_v<Contact>);
   std::vector<Contact>& list = meshes_->contacts();
-  std::vector<Contact> mine;
-  for (const Contact& c : list)
-    if (owned_[c.particle]) mine.push_back(c);
+  list.erase(std::remove_if(list.begin(), list.end(), [&](const Contact& c) { return !owned_[c.particle]; }),
+             list.end());
   const auto size = static_cast<std::size_t>(size_);
-  const int bytes = static_cast<int>(mine.size() * sizeof(Contact));
+  const int bytes = static_cast<int>(list.size() * sizeof(Contact));
   std::vector<int> counts(size), displs(size);
   check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
   std::size_t total = 0;
@@ -289,12 +289,13 @@ void RankSplit::share_mesh_contacts() {
     displs[r] = static_cast<int>(total);
     total += static_cast<std::size_t>(counts[r]);
   }
-  std::vector<Contact> all(total / sizeof(Contact));
-  check(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+  mesh_recv_.resize(total / sizeof(Contact));
+  check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
                        MPI_COMM_WORLD),
         "MPI_Allgatherv");
-  std::stable_sort(all.begin(), all.end(), [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
-  list.swap(all);
+  std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(),
+                   [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  list.swap(mesh_recv_);
 }
 
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {

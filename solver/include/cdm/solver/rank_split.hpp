@@ -8,7 +8,8 @@
 /// about equal in listed pairs plus particles, at every build. A rank owns the particles
 /// of its slabs (each particle's slab at the build) and the pairs listed in them, and
 /// within the rank its threads split those slabs as before. Per step:
-///  - the integrator's pass moves the rank's own particles;
+///  - the integrator's pass moves the rank's own particles (velocity Verlet's, or the
+///    paper's Euler step);
 ///  - exchange_ghosts(): each rank receives the moved state of the first slab of the
 ///    rank above (the pairs of its last slab reach into it);
 ///  - the pair loop's even phase, then boundary_forces(0), the odd phase, then
@@ -36,8 +37,8 @@
 /// contact lists are joined, in particle order, whenever the state is gathered.
 ///
 /// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step is not shared, and scenes with another integrator than velocity
-/// Verlet or without contacts are run whole by every rank (Simulation::unshared()).
+/// gas), the gas step is not shared, and scenes without contacts (tracers, or particles
+/// moved by drag alone) are run whole by every rank (Simulation::unshared()).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -45,12 +46,12 @@
 #include <utility>
 #include <vector>
 
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
 #include "cdm/solver/particle_store.hpp"
 
 namespace cdm {
 
-class MeshContacts;
 struct OverlapRecord;
 struct SceneSpec;
 
@@ -85,6 +86,15 @@ class RankSplit final : public SearchShare {
   }
   /// 1 where slot i is this rank's particle.
   const std::vector<std::uint8_t>& owned() const { return owned_; }
+  /// Whether @p found(first, last) holds for a run of this rank's particles (of @p n), on
+  /// any rank.
+  template <class Found>
+  bool any_own(std::size_t n, Found&& found) {
+    bool hit = false;
+    for (const auto& [i0, i1] : own_runs(n))
+      if (!hit) hit = found(std::size_t{i0}, std::size_t{i1});
+    return any(hit);
+  }
 
   /// After the integrator's pass: receive the first slab of the rank above.
   void exchange_ghosts(ParticleStore& p);
@@ -144,15 +154,16 @@ class RankSplit final : public SearchShare {
   std::vector<std::uint32_t> lower_, upper_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
+  /// Every rank gets every rank's mesh contacts (meshes_), in particle order.
+  void share_mesh_contacts();
   /// Every rank gets each rank's particles' values of @p arrays and, after them, @p rows
   /// more values per particle, which @p put_rows writes for one of this rank's particles
   /// and @p get_rows reads back for every particle.
-  /// Every rank gets every rank's mesh contacts (meshes_), in particle order.
-  void share_mesh_contacts();
   void share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
                        const std::function<void(std::uint32_t, double*)>& put_rows,
                        const std::function<void(std::uint32_t, const double*)>& get_rows);
   std::vector<double> send_, recv_;
+  std::vector<MeshContacts::Contact> mesh_recv_;  // share_mesh_contacts
 };
 
 }  // namespace cdm

@@ -184,6 +184,16 @@ class VerletList {
   std::pair<std::size_t, std::size_t> rank_slabs() const {
     return rank_split_ ? rank_slabs_ : std::pair<std::size_t, std::size_t>{0, slab_count()};
   }
+  /// The first slab of phase @p pass (0: even slabs, 1: odd) among slabs from @p first:
+  /// a phase visits it and every second slab after it.
+  static std::size_t phase_first(std::size_t first, std::size_t pass) { return first + ((first & 1) != pass); }
+  /// The pair loop's order over this rank's slabs: @p phase(pass, s0, s1) visits the
+  /// slabs s0, s0 + 2, ... below s1, the even slabs (pass 0) and then the odd ones.
+  template <class Phase>
+  void by_phase(Phase&& phase) const {
+    const auto [first, last] = rank_slabs();
+    for (std::size_t pass = 0; pass < 2; ++pass) phase(pass, phase_first(first, pass), last);
+  }
   /// Each particle's slab at the last build (the slab the build gave its pairs), from
   /// the build positions: listed(n) particles.
   std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;

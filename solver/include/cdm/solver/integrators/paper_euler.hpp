@@ -13,6 +13,10 @@ class PaperEuler final : public Integrator {
  public:
   explicit PaperEuler(const IntegratorParts& parts);
   double step(StepHost& host, StepTimes times) override;
+  bool set_ranks(RankSplit* ranks) override {
+    ranks_ = ranks;
+    return true;
+  }
 
  private:
   ParticleStore& p_;
@@ -20,6 +24,7 @@ class PaperEuler final : public Integrator {
   double dt_;
   PeriodicBox box_;
   Kick kick_;
+  RankSplit* ranks_ = nullptr;  // set_ranks: the step moves this rank's particles only
 };
 
 }  // namespace cdm::integrators

@@ -1,0 +1,49 @@
+#pragma once
+/// @file own_particles.hpp
+/// @brief Loops over the particles a rank moves and evaluates: all of them, or among MPI
+/// ranks this rank's own (rank_split.hpp), the threads splitting each run.
+#include <algorithm>
+#include <cstddef>
+
+#include "cdm/solver/parallel.hpp"
+#include "cdm/solver/rank_split.hpp"
+
+namespace cdm {
+
+/// @p f(i) for each particle of @p n this rank moves (every one when @p ranks is nullptr).
+template <class F>
+void for_own(RankSplit* ranks, std::size_t n, F&& f) {
+  if (!ranks) {
+    parallel_for(n, f);
+    return;
+  }
+  for (const auto& [i0, i1] : ranks->own_runs(n)) parallel_for(i1 - i0, [&](std::size_t k) { f(i0 + k); });
+}
+
+/// @p f(first, last) over thread ranges of the particles this rank moves.
+template <class F>
+void for_own_ranges(RankSplit* ranks, std::size_t n, F&& f) {
+  auto run = [&](std::size_t r0, std::size_t r1) {
+    parallel_max_ranges(r1 - r0, [&](std::size_t i0, std::size_t i1) {
+      f(r0 + i0, r0 + i1);
+      return 0.0;
+    });
+  };
+  if (!ranks) {
+    run(0, n);
+    return;
+  }
+  for (const auto& [i0, i1] : ranks->own_runs(n)) run(i0, i1);
+}
+
+/// The largest @p f(i) over the particles this rank moves, and then over the ranks.
+template <class F>
+double max_own(RankSplit* ranks, std::size_t n, F&& f) {
+  if (!ranks) return parallel_max(n, f);
+  double worst = 0.0;
+  for (const auto& [i0, i1] : ranks->own_runs(n))
+    worst = std::max(worst, parallel_max(i1 - i0, [&](std::size_t k) { return f(i0 + k); }));
+  return ranks->max(worst);
+}
+
+}  // namespace cdm
