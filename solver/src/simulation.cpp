@@ -88,6 +88,10 @@ void Simulation::split_among_ranks() {
     return;
   }
   contact_->set_ranks(ranks_.get());
+  std::vector<std::vector<double>*> carried;
+  for (auto& m : modules_)
+    for (auto* a : m->share_among(ranks_.get())) carried.push_back(a);
+  ranks_->set_carried_arrays(std::move(carried));
 }
 
 int Simulation::ranks() const { return world_size_; }

@@ -10,7 +10,8 @@
 # as the uninterrupted one; the settling bed with rolling resistance, and moved by the
 # paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
-# processes; a scene the shared step does not cover yet (a gas without contacts) runs
+# processes, also with the drag evaluated once per gas step (and the fluidisation bed so
+# on 3), and the fluidisation bed with the cell-average drag on 2; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process, says so, and gives one process's results.
 set -u
 cdm="$1" src="$2" work="$3"
@@ -113,6 +114,16 @@ mueller=("$src/bench/scenes/mueller_bubbling_bed.toml" --set output.interval=0.0
   fail "mueller: 2 processes: $(tail -5 "$work/mueller-2.out")"
 same "mueller, 2 processes" "$work/mueller-1" "$work/mueller-2"
 
+# The drag evaluated once per gas step (its K and u_g, and the pressure-gradient force,
+# kept per particle between gas steps travel with the particles to their next owner):
+# the Mueller bed's first 3000 steps on 2 processes, the fluidisation bed on 3.
+shared "mueller once per gas step" 2 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
+  --set 'coupling.drag_evaluation="gas_step"'
+shared "fluidisation once per gas step" 3 "${fluid[@]}" --set 'coupling.drag_evaluation="gas_step"'
+# The paper's cell-average drag (each particle sees its cell's mean solids velocity, so
+# every rank's particles are gathered first): the fluidisation bed on 2 processes.
+shared "cell-average drag" 2 "${fluid[@]}" --set 'coupling={mode="two_way", method="cell_average"}'
+
 # Not covered yet (no contacts): each process runs the whole scene, as it says; the
 # results are those of one process.
 gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integrator.end_time=2.0e-4)
@@ -124,4 +135,4 @@ gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integr
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2, a scene without contacts run whole on each"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::coupling {
@@ -52,7 +53,7 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
   if (cache) {
     k_.resize(n); ugx_.resize(n); ugy_.resize(n); ugz_.resize(n);
   }
-  const double rate = parallel_max(n, [&](std::size_t i) {
+  const double rate = max_own(ranks_, n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
     const double eps = void_fraction_at(x);
     // The flux ε u is continuous where ε jumps (at a bed's surface or its distributor),
@@ -102,9 +103,8 @@ void DragModule::add_cached_explicit(ParticleStore& p) const {
       for (std::size_t i = i0; i < i1; ++i) fa[i] += k[i] * (u[i] - va[i]);
     }
   };
-  parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+  for_own_ranges(ranks_, n, [&](std::size_t i0, std::size_t i1) {
     for (int a = 0; a < 3; ++a) axis(a, i0, i1);
-    return 0.0;
   });
 }
 
@@ -149,6 +149,9 @@ void DragModule::add_cell_average(ParticleStore& p) {
   std::fill(cell_vx_.begin(), cell_vx_.end(), 0.0);
   std::fill(cell_vy_.begin(), cell_vy_.end(), 0.0);
   std::fill(cell_vz_.begin(), cell_vz_.end(), 0.0);
+  // Every particle's cell counts: among ranks, every rank's particles first reach every
+  // rank, and each rank evaluates them all (the same sums as on one rank).
+  if (ranks_) ranks_->gather({&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz});
   auto cell_of = [&](Vec3 x) {
     int c[3];
     const double xs[3] = {x.x, x.y, x.z};
@@ -203,7 +206,7 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
     return Vec3{vol * gp.x, vol * gp.y, vol * gp.z};
   };
   if (!clock_) {
-    parallel_for(n, [&](std::size_t i) {
+    for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 f = force(i);
       p.fx[i] -= f.x; p.fy[i] -= f.y; p.fz[i] -= f.z;
     });
@@ -211,7 +214,7 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
   }
   if (clock_->due || fx_.size() != n) {
     fx_.resize(n); fy_.resize(n); fz_.resize(n);
-    parallel_for(n, [&](std::size_t i) {
+    for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 f = force(i);
       fx_[i] = f.x; fy_[i] = f.y; fz_[i] = f.z;
     });
@@ -219,13 +222,12 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
   // On raw pointers, one loop per axis, so that they vectorise.
   const double* const c[3] = {fx_.data(), fy_.data(), fz_.data()};
   double* const f[3] = {p.fx.data(), p.fy.data(), p.fz.data()};
-  parallel_max_ranges(n, [&](std::size_t i0, std::size_t i1) {
+  for_own_ranges(ranks_, n, [&](std::size_t i0, std::size_t i1) {
     for (int a = 0; a < 3; ++a) {
       const double* __restrict ca = c[a];
       double* __restrict fa = f[a];
       for (std::size_t i = i0; i < i1; ++i) fa[i] -= ca[i];
     }
-    return 0.0;
   });
 }
 

@@ -17,7 +17,7 @@ namespace cdm {
 
 RankSplit::~RankSplit() = default;
 
-std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p) const {
+std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bool with_carried) const {
   std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz};
   if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz});
   // The drag's per-particle state (relaxed drag: K and u_g; two-way: F_d and the impulse J).
@@ -25,6 +25,9 @@ std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p) co
     if (d->size() == p.size()) a.push_back(d);
   for (auto* e : extra_)
     if (e->size() == p.size()) a.push_back(e);
+  if (with_carried)
+    for (auto* c : carried_)
+      if (c->size() == p.size()) a.push_back(c);
   return a;
 }
 
@@ -180,7 +183,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   Vec3* const wh = list.wall_history();
   std::uint8_t* const wt = list.wall_touch();
   // With each particle, its row of wall history (x, y, z and the contact flag per wall).
-  share_particles(dynamic_arrays(p), rows,
+  share_particles(dynamic_arrays(p, true), rows,
                   [&](std::uint32_t i, double* out) {
                     for (std::size_t w = 0; w < nw; ++w, out += 4) {
                       const Vec3 h = wh[i * nw + w];

@@ -12,6 +12,8 @@
 
 namespace cdm {
 
+class RankSplit;
+
 class ForceModule {
  public:
   virtual ~ForceModule() = default;
@@ -29,6 +31,12 @@ class ForceModule {
   /// holds what slot @p from[i] held, or a new particle where from[i] is new_particle.
   /// Modules that keep per-particle state follow.
   virtual void remap(const std::vector<std::uint32_t>& /*from*/, const ParticleStore& /*p*/) {}
+  /// Among MPI ranks (rank_split.hpp): evaluate the forces of @p ranks' own particles
+  /// (those of the others are theirs to evaluate) and return the per-particle arrays the
+  /// module keeps from one evaluation to the next, which then travel with the particles
+  /// whenever the ranks gather the state. Modules whose forces need no more than each
+  /// particle's own state may ignore it.
+  virtual std::vector<std::vector<double>*> share_among(RankSplit* /*ranks*/) { return {}; }
 };
 
 }  // namespace cdm

@@ -24,7 +24,10 @@
 /// end), after which every rank does the same sort, build and output arithmetic; the
 /// build's search is shared (each rank lists a run of rows, SearchShare). Each
 /// particle's force is thus summed in the same order as on one rank: results are
-/// bit-identical. With a gas every rank holds the whole gas and steps it alike.
+/// bit-identical. With a gas every rank holds the whole gas and steps it alike; the drag
+/// and pressure-gradient forces are evaluated by each particle's owner, and what those
+/// modules keep per particle between evaluations (the K, u_g and −V∇P of a once-per-gas-step
+/// evaluation) travels with the gathered state (ForceModule::share_among).
 ///
 /// Insertions and outlets change the whole, gathered state alike on every rank; until the
 /// list is built again (at the next step) every rank then moves every particle.
@@ -68,6 +71,10 @@ class RankSplit final : public SearchShare {
   /// The per-particle arrays besides the store's that the step carries (the
   /// integrator's half-step velocities), exchanged with the store's.
   void set_extra_arrays(std::vector<std::vector<double>*> extra) { extra_ = std::move(extra); }
+  /// The per-particle arrays the force modules keep between evaluations
+  /// (ForceModule::share_among), which travel with the state when it is gathered (not
+  /// with the ghosts, whose forces their owner evaluates).
+  void set_carried_arrays(std::vector<std::vector<double>*> carried) { carried_ = std::move(carried); }
   /// The triangle-mesh contacts, whose list (each rank's particles' contacts between
   /// gathers) travels with the state.
   void set_meshes(MeshContacts* meshes) { meshes_ = meshes; }
@@ -136,11 +143,12 @@ class RankSplit final : public SearchShare {
 
  private:
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}
-  /// The per-particle arrays exchanged (the store's dynamic ones and extra_).
-  std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p) const;
+  /// The per-particle arrays exchanged (the store's dynamic ones and extra_), and
+  /// @p with_carried carried_.
+  std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p, bool with_carried = false) const;
 
   int rank_, size_;
-  std::vector<std::vector<double>*> extra_;
+  std::vector<std::vector<double>*> extra_, carried_;
   MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
   std::uint64_t builds_ = 0;

@@ -52,6 +52,13 @@ class DragModule final : public ForceModule {
   void permute(const std::vector<std::uint32_t>& from) override;
   /// The cached values are dropped: evaluated again at the next force evaluation.
   void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override;
+  /// The cell-average method reads every particle's position and velocity (gathered
+  /// first); the interpolation evaluates each rank's own particles. Carries the cached K
+  /// and u_g.
+  std::vector<std::vector<double>*> share_among(RankSplit* ranks) override {
+    ranks_ = ranks;
+    return {&k_, &ugx_, &ugy_, &ugz_};
+  }
 
   /// Smallest particle relaxation time m/K seen in the last evaluation [s].
   double min_relaxation_time() const { return tau_min_; }
@@ -82,6 +89,7 @@ class DragModule final : public ForceModule {
   const GasStepClock* clock_ = nullptr;          // set: evaluate once per gas step
   std::vector<double> k_, ugx_, ugy_, ugz_;      // K and u_g of that evaluation (explicit update)
   double tau_min_ = std::numeric_limits<double>::infinity();
+  RankSplit* ranks_ = nullptr;  // share_among
 };
 
 class PressureGradientModule final : public ForceModule {
@@ -96,9 +104,15 @@ class PressureGradientModule final : public ForceModule {
   void permute(const std::vector<std::uint32_t>& from) override;
   /// The cached values are dropped: evaluated again at the next force evaluation.
   void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override;
+  /// Evaluates each rank's own particles; carries the cached force.
+  std::vector<std::vector<double>*> share_among(RankSplit* ranks) override {
+    ranks_ = ranks;
+    return {&fx_, &fy_, &fz_};
+  }
 
  private:
   const fluid::GasField* gas_;
+  RankSplit* ranks_ = nullptr;  // share_among
   const GasStepClock* clock_ = nullptr;
   std::vector<double> fx_, fy_, fz_;  // V_p ∇P of the last evaluation (per gas step)
 };
