@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Every scene cdm ships, on several processes, against one process: byte for byte.
+
+Runs each scene of examples/ and bench/scenes/ and every variant of every verification
+case (the case's scene with the variant's overrides) for a fixed number of steps, logged
+at every step, on one process without a launcher and on NP processes under mpirun, and
+compares every file the two runs wrote. Results must be identical (the shared step,
+rank_split.hpp, or the whole scene on each process where it is not shared).
+
+usage: mpi_audit.py CDM SOURCE_DIR WORK_DIR [NP [STEPS [FILTER...]]]
+
+A scene whose one-process run fails (a mesh the benchmarks generate first) is listed as
+skipped; a failure on NP processes, or any file that differs, fails the audit.
+"""
+import filecmp
+import glob
+import os
+import shutil
+import subprocess
+import sys
+import tomllib
+
+
+def scenes(root):
+    """(tag, scene file, overrides) for every scene and every case variant."""
+    for s in sorted(glob.glob(f"{root}/examples/*/*.toml") + glob.glob(f"{root}/bench/scenes/*.toml")):
+        yield os.path.relpath(s, root), s, []
+    for c in sorted(glob.glob(f"{root}/verification/cases/*/case.toml")):
+        d = os.path.dirname(c)
+        with open(c, "rb") as f:
+            case = tomllib.load(f)
+        for v in case.get("variants", [{"name": "base", "set": []}]):
+            scene = os.path.join(d, v.get("scene", case.get("scene", "scene.toml")))
+            yield f"{os.path.basename(d)}/{v.get('name', 'base')}", scene, v.get("set", [])
+
+
+def main():
+    cdm, root, work = sys.argv[1:4]
+    np_ = sys.argv[4] if len(sys.argv) > 4 else "2"
+    steps = sys.argv[5] if len(sys.argv) > 5 else "1500"
+    only = sys.argv[6:]
+    launch = ["mpirun", "--oversubscribe", "-np", np_]
+    if os.geteuid() == 0:
+        launch.insert(1, "--allow-run-as-root")
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(f"{work}/tmp")
+    env = dict(os.environ, TMPDIR=f"{work}/tmp")
+    failed, skipped, same = [], [], 0
+    for tag, scene, sets in scenes(root):
+        if only and not any(o in tag for o in only):
+            continue
+        args = ["run", scene, "-q", "-j", "1", "--max-steps", steps,
+                "--set", "output.interval=1.0e-3", "--set", "output.log_interval=1.0e-9"]
+        text = open(scene).read()
+        for x in sets:
+            # A case's overrides of walls[...] or meshes[...] address its reference scene.
+            if (x.startswith("walls[") and "[[walls]]" not in text) or (x.startswith("meshes[") and "[[meshes]]" not in text):
+                continue
+            args += ["--set", x]
+        out = f"{work}/{tag.replace('/', '_')}"
+        one = subprocess.run([cdm] + args + ["-o", out + "-1"], capture_output=True, text=True, env=env)
+        if one.returncode != 0:
+            skipped.append(f"{tag}: {one.stderr.strip()[-160:]}")
+            continue
+        many = subprocess.run(launch + [cdm] + args + ["-o", out + "-n"], capture_output=True, text=True, env=env)
+        if many.returncode != 0:
+            failed.append(f"{tag}: {np_} processes failed: {many.stderr.strip()[-300:]}")
+            continue
+        files = sorted(os.path.relpath(f, out + "-1") for f in glob.glob(out + "-1/**", recursive=True) if os.path.isfile(f))
+        others = sorted(os.path.relpath(f, out + "-n") for f in glob.glob(out + "-n/**", recursive=True) if os.path.isfile(f))
+        differ = [f for f in files if f not in others or not filecmp.cmp(f"{out}-1/{f}", f"{out}-n/{f}", shallow=False)]
+        if differ or files != others:
+            failed.append(f"{tag}: differs from one process's: {' '.join(differ[:5]) or 'not the same files'}")
+        else:
+            same += 1
+        shutil.rmtree(out + "-1"); shutil.rmtree(out + "-n")
+        print(f"{tag}: {'shared' if 'shared among' in many.stdout + many.stderr else 'whole'} "
+              f"{'differs' if differ else 'same'}", flush=True)
+    for s in skipped:
+        print("skipped (one process failed):", s)
+    for f in failed:
+        print("FAILED", f)
+    print(f"mpi_audit: {same} scenes identical on {np_} processes over {steps} steps, {len(failed)} failed, {len(skipped)} skipped")
+    sys.exit(1 if failed or not same else 0)
+
+
+if __name__ == "__main__":
+    main()
