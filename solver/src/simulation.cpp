@@ -3,6 +3,7 @@
 #include "cdm/solver/contact/rolling_resistance_module.hpp"
 #include "cdm/solver/gravity_module.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/scene_loader.hpp"
 
@@ -167,12 +168,9 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
     // Where the integrator's drift bound reached the margin without a measure, the list
     // would measure every particle: each rank measures its own, the largest counts.
     VerletList& list = contact_->list();
-    if (list.listed(particles_.size()) && !list.displacement_known()) {
-      double d2 = 0.0;
-      for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
-        for (std::size_t i = i0; i < i1; ++i) d2 = std::max(d2, list.displacement(particles_, i));
-      list.set_displacement(ranks_->max(d2));
-    }
+    if (list.listed(particles_.size()) && !list.displacement_known())
+      list.set_displacement(
+          max_own(ranks_.get(), particles_.size(), [&](std::size_t i) { return list.displacement(particles_, i); }));
     // The list is built (and the particles sorted) from every particle's state, the same
     // on every rank; between builds a rank needs only the slab above its own.
     if (list.rebuild_due(particles_)) synchronise_ranks(true);
