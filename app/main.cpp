@@ -22,6 +22,7 @@
 #include <iostream>
 
 #include "cdm/solver/checkpoint.hpp"
+#include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/io/monitors.hpp"
 #include "cdm/solver/io/population_table.hpp"
 #include "cdm/solver/io/thermo_log.hpp"
@@ -180,6 +181,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   if (spec.t_col_min > 0) std::cout << " (t_col/" << spec.t_col_min / spec.dt << ")";
   std::cout << ", " << sim.total_steps() << " steps";
   if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
+  if (const cdm::fluid::GasSolver* gs = sim.gas_solver())
+    std::cout << "; gas pressure solve: " << gs->pressure_solver().method();
   std::cout << "\n";
   if (sim.ranks() > 1 && sim.unshared().empty())
     std::cout << "cdm run: the particles' work is shared among " << sim.ranks() << " MPI processes\n";

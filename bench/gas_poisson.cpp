@@ -1,10 +1,13 @@
 // gas_poisson: the cost of one solve of the gas pressure equation −∇·(d ∇φ) = b
-// (cdm::fluid::PressureSolver) on an N³ box: velocity inlet below, pressure outlet above,
+// (cdm::fluid::PressureSolver) on an N³ box (or NX x NY x NZ cells): velocity inlet below, pressure outlet above,
 // no-slip walls around, d random in [0.4, 1] per face (a gas fraction), b random in
 // [−1, 1] per cell. Each repetition draws a new d, so it times what a gas step with
 // changing ε pays: the operator's setup (factorisation or multigrid hierarchy) and the
 // solve. Prints one line:
 //   N cells backend reps setup_s solve_s us_per_cell cpu_us_per_cell iterations rel_residual maxrss_MB
+//   factor_work_per_cell
+// (N as given: 32 or 4x32x2; backend the one used, what "auto" resolved to for auto;
+// factor_work_per_cell cdm::fluid::direct_factor_work_per_cell, which "auto" decides by)
 // (wall times, medians over the repetitions; cpu_us_per_cell the process's CPU time per
 // cell and solve, setup included, which a shared machine inflates less than the wall
 // time; maxrss the process's peak resident memory).
@@ -38,7 +41,9 @@ double median(std::vector<double> v) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: gas_poisson N multigrid|direct [repetitions] (N in [2, 512], repetitions in [1, 100])\n");
+  std::fprintf(stderr,
+               "usage: gas_poisson N|NXxNYxNZ auto|multigrid|direct [repetitions] (N in [2, 512], repetitions in [1, "
+               "100])\n");
   return 2;
 }
 
@@ -46,10 +51,18 @@ int usage() {
 
 int main(int argc, char** argv) {
   if (argc < 3 || argc > 4) return usage();
-  const int n = std::atoi(argv[1]);
+  const std::string shape = argv[1];
+  int cells[3] = {0, 0, 0};
+  char tail = 0;
+  if (std::sscanf(shape.c_str(), "%dx%dx%d%c", &cells[0], &cells[1], &cells[2], &tail) != 3) {
+    if (std::sscanf(shape.c_str(), "%d%c", &cells[0], &tail) != 1) return usage();
+    cells[1] = cells[2] = cells[0];
+  }
   const std::string backend = argv[2];
   const int reps = argc == 4 ? std::atoi(argv[3]) : 3;
-  if (n < 2 || n > 512 || reps < 1 || reps > 100 || (backend != "multigrid" && backend != "direct")) return usage();
+  for (int c : cells)
+    if (c < 2 || c > 512) return usage();
+  if (reps < 1 || reps > 100 || (backend != "auto" && backend != "multigrid" && backend != "direct")) return usage();
   if (backend == "multigrid" && !cdm::fluid::multigrid_available()) {
     std::fprintf(stderr, "gas_poisson: this build has no multigrid backend (built without MPI and hypre)\n");
     return 2;
@@ -58,13 +71,15 @@ int main(int argc, char** argv) {
   GridSpec gs;
   gs.lo = {0, 0, 0};
   gs.hi = {0.1, 0.1, 0.1};
-  gs.cells = {n, n, n};
+  gs.cells = {cells[0], cells[1], cells[2]};
   for (auto& f : gs.faces) f.kind = BoundaryKind::no_slip;
   gs.faces[2].kind = BoundaryKind::velocity_inlet;
   gs.faces[3].kind = BoundaryKind::pressure_outlet;
   const StaggeredGrid g(gs);
   PressureSolverSpec spec;
-  spec.backend = backend == "direct" ? PressureBackend::direct : PressureBackend::multigrid;
+  spec.backend = backend == "direct"      ? PressureBackend::direct
+                 : backend == "multigrid" ? PressureBackend::multigrid
+                                          : PressureBackend::automatic;
   PressureSolver solver(g, spec);
 
   std::mt19937 rng(12345);
@@ -94,9 +109,11 @@ int main(int argc, char** argv) {
   }
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
-  const double cells = static_cast<double>(g.cell_count());
+  const double ncell = static_cast<double>(g.cell_count());
   const double su = median(setup), so = median(solve);
-  std::printf("%d %.0f %s %d %.4f %.4f %.3f %.3f %d %.2e %.1f\n", n, cells, backend.c_str(), reps, su, so,
-              (su + so) / cells * 1e6, median(cpu) / cells * 1e6, last.iterations, last.relative_residual, static_cast<double>(ru.ru_maxrss) / 1024.0);
+  std::printf("%s %.0f %s %d %.4f %.4f %.3f %.3f %d %.2e %.1f %.0f\n", shape.c_str(), ncell,
+              to_string(solver.backend()), reps, su, so, (su + so) / ncell * 1e6, median(cpu) / ncell * 1e6,
+              last.iterations, last.relative_residual, static_cast<double>(ru.ru_maxrss) / 1024.0,
+              direct_factor_work_per_cell(g));
   return 0;
 }

@@ -120,6 +120,7 @@ TEST_P(MultigridVsDirect, AgreeWithinTheTolerance) {
 
   {
     PressureSolverSpec ms;
+    ms.backend = PressureBackend::multigrid;
     ms.tolerance = tol;
     PressureSolver mg(g, ms);
     std::vector<double> bm = p.b, phim(g.cell_count(), 0.0);
@@ -166,24 +167,66 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
 
 // A second solve with the same d reuses the setup; a new d sets up again. A zero
-// right-hand side gives φ = 0.
+// right-hand side gives φ = 0. For every backend of the build.
 TEST(PressureSolver, SetupOncePerCoefficientsAndZeroRhs) {
   const StaggeredGrid g(grid_of(Case{"", {8, 8, 8}, false, {W, I, W}, {W, O, W}}));
-  Problem p = random_problem(g, 3);
+  for (PressureBackend backend : {PressureBackend::direct, PressureBackend::multigrid}) {
+    if (backend == PressureBackend::multigrid && !multigrid_available()) continue;
+    Problem p = random_problem(g, 3);
+    const std::array<const std::vector<double>*, 3> d{&p.d[0], &p.d[1], &p.d[2]};
+    PressureSolverSpec spec;
+    spec.backend = backend;
+    PressureSolver ps(g, spec);
+    std::vector<double> b = p.b, phi(g.cell_count(), 0.0);
+    ps.solve(d, b, phi);
+    b = p.b;
+    const auto st = ps.solve(d, b, phi);  // warm start from the solution
+    EXPECT_EQ(ps.setups(), 1u) << ps.method();
+    EXPECT_LE(st.iterations, 1) << ps.method();
+    p.d[1][g.at(3, 3, 3)] = 0.5;
+    std::vector<double> zero(g.cell_count(), 0.0), phi0(g.cell_count(), 0.0);
+    const auto z = ps.solve(d, zero, phi0);
+    EXPECT_EQ(ps.setups(), 2u) << ps.method();
+    EXPECT_EQ(z.relative_residual, 0.0) << ps.method();
+    for (double x : phi0) EXPECT_EQ(x, 0.0) << ps.method();
+  }
+}
+
+// The factorisation's work per cell: that of a line of cells, bounded; of a cube, growing
+// with its side; a thin slab in between.
+TEST(PressureSolver, FactorWorkGrowsWithTheGridsSmallerSides) {
+  auto work = [](std::array<int, 3> n) {
+    return direct_factor_work_per_cell(StaggeredGrid(grid_of(Case{"", n, false, {W, I, W}, {W, O, W}})));
+  };
+  EXPECT_LT(work({2, 200, 2}), 40.0);
+  EXPECT_LT(work({8, 8, 8}), work({12, 12, 12}));
+  EXPECT_LT(work({12, 12, 12}), work({16, 16, 16}));
+  EXPECT_LT(work({2, 30, 90}), work({16, 16, 16}));
+  EXPECT_GT(work({16, 16, 16}), 1e4);
+}
+
+// "auto" factorises small or thin grids and solves large ones by multigrid (where the
+// build has it); the solver reports what it resolved to, and solves as that backend does.
+TEST(PressureSolver, AutomaticChoosesByTheCostOfTheFactorisation) {
+  const StaggeredGrid fluidisation(grid_of(Case{"", {4, 32, 2}, false, {P, I, P}, {P, O, P}}));
+  const StaggeredGrid cube(grid_of(Case{"", {24, 24, 24}, false, {W, I, W}, {W, O, W}}));
+  EXPECT_EQ(automatic_backend(fluidisation), PressureBackend::direct);
+  EXPECT_EQ(automatic_backend(cube), multigrid_available() ? PressureBackend::multigrid : PressureBackend::direct);
+  EXPECT_TRUE(direct_is_cheaper(256, 50));
+  EXPECT_FALSE(direct_is_cheaper(1e5, 1e4));
+  PressureSolver a(fluidisation, {}), direct(fluidisation, [] {
+    PressureSolverSpec s;
+    s.backend = PressureBackend::direct;
+    return s;
+  }());
+  EXPECT_EQ(a.backend(), PressureBackend::direct);
+  const Problem p = random_problem(fluidisation, 5);
   const std::array<const std::vector<double>*, 3> d{&p.d[0], &p.d[1], &p.d[2]};
-  PressureSolver mg(g, {});
-  std::vector<double> b = p.b, phi(g.cell_count(), 0.0);
-  mg.solve(d, b, phi);
-  b = p.b;
-  const auto st = mg.solve(d, b, phi);  // warm start from the solution
-  EXPECT_EQ(mg.setups(), 1u);
-  EXPECT_LE(st.iterations, 1);
-  p.d[1][g.at(3, 3, 3)] = 0.5;
-  std::vector<double> zero(g.cell_count(), 0.0), phi0(g.cell_count(), 0.0);
-  const auto z = mg.solve(d, zero, phi0);
-  EXPECT_EQ(mg.setups(), 2u);
-  EXPECT_EQ(z.relative_residual, 0.0);
-  for (double x : phi0) EXPECT_EQ(x, 0.0);
+  std::vector<double> b1 = p.b, b2 = p.b, phi1(fluidisation.cell_count(), 0.0), phi2 = phi1;
+  a.solve(d, b1, phi1);
+  direct.solve(d, b2, phi2);
+  EXPECT_EQ(phi1, phi2);
+  EXPECT_NE(PressureSolver(cube, {}).backend(), PressureBackend::automatic);
 }
 
 }  // namespace

@@ -266,19 +266,22 @@ TEST(SceneLoader, GasPressureSolver) {
   auto with = [&](const std::string& keys) { return replace(scene, gas, gas + keys); };
   const cdm::SceneSpec d = cdm::load_scene_from_string(scene, "f.toml");
   if (!cdm::fluid::multigrid_available()) {
-    // A build without MPI and hypre: the direct solve by default, and "multigrid" refused.
-    EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::direct);
+    // A build without MPI and hypre: "auto" by default (which resolves to the direct
+    // solve), and "multigrid" refused.
+    EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::automatic);
     expect_refused(with("pressure_solver = \"multigrid\"\n"),
                    {"bad.toml", "gas.pressure_solver", "multigrid", "\"direct\"", "without MPI and hypre", "CDM_WITH_MPI"});
     return;
   }
-  EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::multigrid);
+  EXPECT_EQ(d.pressure_solver.backend, cdm::fluid::PressureBackend::automatic);
   EXPECT_EQ(d.pressure_solver.tolerance, 1e-10);
+  EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"multigrid\"\n"), "f.toml").pressure_solver.backend,
+            cdm::fluid::PressureBackend::multigrid);
   const cdm::SceneSpec m = cdm::load_scene_from_string(with("pressure_tolerance = 1e-8\n"), "f.toml");
   EXPECT_EQ(m.pressure_solver.tolerance, 1e-8);
   EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"direct\"\n"), "f.toml").pressure_solver.backend,
             cdm::fluid::PressureBackend::direct);
-  expect_refused(with("pressure_solver = \"cg\"\n"), {"bad.toml", "gas.pressure_solver", "cg", "\"multigrid\" or \"direct\""});
+  expect_refused(with("pressure_solver = \"cg\"\n"), {"bad.toml", "gas.pressure_solver", "cg", "\"auto\", \"multigrid\" or \"direct\""});
   expect_refused(with("pressure_tolerance = 0.1\n"), {"gas.pressure_tolerance", "0.1", "[1e-14, 0.001]"});
   expect_refused(with("pressure_tolerance = 0.0\n"), {"gas.pressure_tolerance", "relative residual in"});
   expect_refused(with("pressure_tolerance = \"tight\"\n"), {"gas.pressure_tolerance", "tight"});

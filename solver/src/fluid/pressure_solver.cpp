@@ -8,9 +8,81 @@
 
 namespace cdm::fluid {
 
+namespace {
+
+/// For every cell r = (i, j, k) of the operator on @p g (rows x fastest): cell(r, i, j, k),
+/// then link(r, c, a, side) for each neighbour c along axis a (side 0 the −a one, 1 the
+/// +a one) that is a cell: across an interior face or a periodic wrap, not a wall, an
+/// inlet or an outlet.
+template <class Cell, class Link>
+void for_each_link(const StaggeredGrid& g, Cell&& cell, Link&& link) {
+  const int nx = g.n(0), ny = g.n(1), nz = g.n(2);
+  auto row = [&](int i, int j, int k) { return static_cast<Eigen::Index>(i + nx * (j + ny * k)); };
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Eigen::Index r = row(i, j, k);
+        cell(r, i, j, k);
+        for (int a = 0; a < g.dims(); ++a)
+          for (int side = 0; side < 2; ++side) {
+            int nb[3] = {i, j, k};
+            nb[a] += side == 1 ? 1 : -1;
+            const bool boundary = nb[a] < 0 || nb[a] >= g.n(a);
+            if (boundary && !g.spec().periodic(a)) continue;
+            nb[a] = (nb[a] + g.n(a)) % g.n(a);
+            link(r, row(nb[0], nb[1], nb[2]), a, side);
+          }
+      }
+}
+
+/// Eigen's LDLᵀ with the column counts of its symbolic analysis in view.
+struct SymbolicLdlt : Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> {
+  double sum_of_squared_column_counts() const {
+    double w = 0.0;
+    for (Eigen::Index j = 0; j < m_nonZerosPerCol.size(); ++j) {
+      const double c = m_nonZerosPerCol[j];
+      w += c * c;
+    }
+    return w;
+  }
+};
+
+}  // namespace
+
+double direct_factor_work_per_cell(const StaggeredGrid& grid) {
+  const auto ncell = static_cast<Eigen::Index>(grid.cell_count());
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(static_cast<std::size_t>(ncell) * (2 * grid.dims() + 1));
+  for_each_link(
+      grid, [&](Eigen::Index r, int, int, int) { trip.emplace_back(r, r, 2.0 * grid.dims() + 1.0); },
+      [&](Eigen::Index r, Eigen::Index c, int, int) { trip.emplace_back(r, c, -1.0); });
+  Eigen::SparseMatrix<double> a(ncell, ncell);
+  a.setFromTriplets(trip.begin(), trip.end());
+  SymbolicLdlt ldlt;
+  ldlt.analyzePattern(a);
+  return ldlt.sum_of_squared_column_counts() / static_cast<double>(ncell);
+}
+
+bool direct_is_cheaper(double cells, double work_per_cell) {
+  const double direct = cells * (0.15e-6 + 0.55e-9 * work_per_cell);
+  const double multigrid = 350e-6 + 0.5e-6 * cells;
+  return direct < multigrid;
+}
+
+PressureBackend automatic_backend(const StaggeredGrid& grid) {
+  if (!multigrid_available()) return PressureBackend::direct;
+  const double cells = static_cast<double>(grid.cell_count());
+  // Beyond 1e5 cells the direct solve would need less work per cell than a 2D grid's
+  // factorisation does (direct_is_cheaper: below about 640): not worth the analysis.
+  if (cells > 1e5) return PressureBackend::multigrid;
+  return direct_is_cheaper(cells, direct_factor_work_per_cell(grid)) ? PressureBackend::direct
+                                                                      : PressureBackend::multigrid;
+}
+
 PressureSolver::PressureSolver(const StaggeredGrid& grid, const PressureSolverSpec& spec) : grid_(grid), spec_(spec) {
   for (int f = 0; f < 2 * grid_.dims(); ++f)
     has_outlet_ |= grid_.spec().faces[f].kind == BoundaryKind::pressure_outlet;
+  if (spec_.backend == PressureBackend::automatic) spec_.backend = automatic_backend(grid_);
   if (spec_.backend == PressureBackend::direct) {
     direct_ = std::make_unique<Direct>(grid_);
     return;
@@ -105,27 +177,17 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
 // Direct backend.
 
 void PressureSolver::Direct::set_operator(const PressureSolver& ps, const FaceCoefficients& d) {
-  const int nx = g_.n(0), ny = g_.n(1), nz = g_.n(2);
-  const Eigen::Index ncell = static_cast<Eigen::Index>(nx) * ny * nz;
-  auto row = [&](int i, int j, int k) { return static_cast<Eigen::Index>(i + nx * (j + ny * k)); };
+  const Eigen::Index ncell = static_cast<Eigen::Index>(g_.cell_count());
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(static_cast<std::size_t>(ncell) * (2 * g_.dims() + 1));
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const CellStencil s = ps.stencil(d, i, j, k);
-        const Eigen::Index r = row(i, j, k);
-        for (int a = 0; a < g_.dims(); ++a)
-          for (int side = 0; side < 2; ++side) {
-            int nb[3] = {i, j, k};
-            nb[a] += side == 1 ? 1 : -1;
-            const bool boundary = nb[a] < 0 || nb[a] >= g_.n(a);
-            if (boundary && !g_.spec().periodic(a)) continue;  // no neighbour: a wall, an inlet or an outlet
-            nb[a] = (nb[a] + g_.n(a)) % g_.n(a);
-            trip.emplace_back(r, row(nb[0], nb[1], nb[2]), s.off[2 * a + side]);
-          }
+  CellStencil s;
+  for_each_link(
+      g_,
+      [&](Eigen::Index r, int i, int j, int k) {
+        s = ps.stencil(d, i, j, k);
         trip.emplace_back(r, r, s.diag);
-      }
+      },
+      [&](Eigen::Index r, Eigen::Index c, int a, int side) { trip.emplace_back(r, c, s.off[2 * a + side]); });
   A_.resize(ncell, ncell);
   A_.setFromTriplets(trip.begin(), trip.end());
   if (!analysed_) {

@@ -14,11 +14,11 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
   spec.gas_dt = rd.positive(gt, "dt", "gas", Dim::time, true);
   spec.advection = rd.keyword(gt, "advection", "gas", fluid::advection_keywords, fluid::AdvectionScheme::upwind,
                               [](fluid::AdvectionScheme a) { return a != fluid::AdvectionScheme::none; });
-  // Multigrid where the build has it (MPI and hypre), else the direct factorisation.
+  // "auto": the direct factorisation where it is the cheaper, else multigrid where the
+  // build has it (MPI and hypre).
   const bool mg = fluid::multigrid_available();
   spec.pressure_solver.backend = rd.keyword(
-      gt, "pressure_solver", "gas", fluid::pressure_backend_keywords,
-      fluid::default_pressure_backend,
+      gt, "pressure_solver", "gas", fluid::pressure_backend_keywords, fluid::PressureBackend::automatic,
       [mg](fluid::PressureBackend b) { return mg || b != fluid::PressureBackend::multigrid; },
       mg ? "" : " (this cdm was built without MPI and hypre, which \"multigrid\" needs: CMake option CDM_WITH_MPI)");
   if (spec.pressure_solver.backend == fluid::PressureBackend::direct)

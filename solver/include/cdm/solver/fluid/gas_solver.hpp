@@ -23,10 +23,10 @@
 /// φ = 0 and the solution does not depend on Δt. Advection is central (second order) or
 /// first-order upwind (robust at high cell Reynolds numbers), chosen per scene. The
 /// pressure equation −∇·(d ∇φ) = b, d = ε_f^{n+1} on the faces, is solved by
-/// PressureSolver (pressure_solver.hpp): by default conjugate gradients preconditioned
-/// by multigrid (hypre), started from φ = 0 and stopped when
-/// ‖b − Aφ‖₂ ≤ tol ‖b‖₂ (gas.pressure_tolerance, default 1e-10); or a sparse LDLᵀ
-/// factorisation (kept until d changes). The default tolerance keeps the algebraic
+/// PressureSolver (pressure_solver.hpp): conjugate gradients preconditioned by
+/// multigrid (hypre), started from φ = 0 and stopped when ‖b − Aφ‖₂ ≤ tol ‖b‖₂
+/// (gas.pressure_tolerance, default 1e-10); or a sparse LDLᵀ factorisation (kept until
+/// d changes), by default where the grid's factorisation is the cheaper. The default tolerance keeps the algebraic
 /// error ≥ 100× below the discretisation error on the gas MMS case. Continuity then
 /// holds to the solver's tolerance rather than to round-off: the residual left in
 /// cell c is (Δt/ρ_g)(b − Aφ)_c, at most tol Δt/ρ_g ‖b‖₂.

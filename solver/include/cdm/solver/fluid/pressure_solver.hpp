@@ -18,7 +18,7 @@
 /// is 0) and its relaxation there breaks the preconditioner.
 ///
 /// Backends:
-///  - multigrid (the default in a build with MPI and hypre): conjugate gradients
+///  - multigrid (in a build with MPI and hypre): conjugate gradients
 ///    preconditioned by one V-cycle of hypre's structured-grid multigrid PFMG
 ///    (semi-coarsening, PFMG's non-Galerkin coarse operators, weighted-Jacobi smoothing
 ///    skipped where redundant), on hypre's Struct interface over MPI_COMM_WORLD.
@@ -26,6 +26,9 @@
 ///  - direct: Eigen's sparse LDLᵀ factorisation, O(N^{5/3}) or worse in 3D, kept until d
 ///    changes; exact to round-off. The reference the multigrid solver is tested against,
 ///    and the only backend of a build without MPI and hypre.
+///  - automatic (the default): direct where the grid's factorisation is cheap enough that
+///    a factorisation and solve cost less than a multigrid solve (small grids, and grids
+///    thin along two axes), multigrid otherwise (automatic_backend).
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -37,22 +40,14 @@
 
 namespace cdm::fluid {
 
-enum class PressureBackend { multigrid, direct };
-inline constexpr Keywords<PressureBackend, 2> pressure_backend_keywords{
-    {{"multigrid", PressureBackend::multigrid}, {"direct", PressureBackend::direct}}};
+enum class PressureBackend { automatic, multigrid, direct };
+inline constexpr Keywords<PressureBackend, 3> pressure_backend_keywords{{{"auto", PressureBackend::automatic},
+                                                                         {"multigrid", PressureBackend::multigrid},
+                                                                         {"direct", PressureBackend::direct}}};
 inline const char* to_string(PressureBackend b) { return keyword_of(pressure_backend_keywords, b); }
 
-/// The default backend: multigrid in a build with MPI and hypre (CDM_WITH_MPI, a public
-/// definition of the library), else direct, the only one such a build has.
-inline constexpr PressureBackend default_pressure_backend =
-#ifdef CDM_WITH_MPI
-    PressureBackend::multigrid;
-#else
-    PressureBackend::direct;
-#endif
-
 struct PressureSolverSpec {
-  PressureBackend backend = default_pressure_backend;
+  PressureBackend backend = PressureBackend::automatic;
   /// Relative residual ‖b − Aφ‖₂/‖b‖₂ at which the multigrid backend stops. The default
   /// keeps the algebraic error ≥ 100× below the discretisation error of the gas MMS case
   /// (verification/cases/gas_mms/README.md).
@@ -69,6 +64,22 @@ struct PressureSolveStats {
 /// Whether this build has the multigrid backend: it needs MPI and hypre (CMake option
 /// CDM_WITH_MPI, on when both are found). Without it only the direct backend exists.
 bool multigrid_available();
+
+/// The work of one LDLᵀ factorisation of the pressure operator on @p grid, per cell:
+/// Σ_j c_j² / cells, c_j the entries below the diagonal in column j of the factor L
+/// (Eigen's fill-reducing ordering). About the factorisation's multiply–adds per cell.
+double direct_factor_work_per_cell(const StaggeredGrid& grid);
+
+/// Whether one factorisation and solve is estimated to cost less than one multigrid
+/// setup and solve on a grid of @p cells cells whose factorisation does @p work_per_cell
+/// (direct_factor_work_per_cell). The estimates, fitted to bench/gas_poisson on grids of
+/// 27 to 55,296 cells (bench/README.md): direct 0.15 µs per cell plus 0.55 ns per unit
+/// of factorisation work; multigrid 350 µs (hypre's fixed cost) plus 0.5 µs per cell.
+bool direct_is_cheaper(double cells, double work_per_cell);
+
+/// The backend PressureBackend::automatic resolves to on @p grid: direct where
+/// direct_is_cheaper or the build has no multigrid backend, multigrid otherwise.
+PressureBackend automatic_backend(const StaggeredGrid& grid);
 
 class PressureSolver {
  public:
@@ -91,6 +102,8 @@ class PressureSolver {
   std::size_t setups() const { return setups_; }
   /// The method in use, e.g. "PCG + PFMG (hypre)".
   std::string method() const;
+  /// The backend in use (never automatic: what it resolved to).
+  PressureBackend backend() const { return spec_.backend; }
 
   /// The operator's coefficients for one cell: diagonal and the off-diagonal entry to
   /// each neighbour, sides ordered (−x, +x, −y, +y, −z, +z); an entry is 0 where the face
