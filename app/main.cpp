@@ -334,6 +334,11 @@ int main(int argc, char** argv) {
   verify->add_option("cases", only, "case names (default: all)");
   verify->add_option("--cases", cases_dir, "folder holding one folder per case")->capture_default_str();
   verify->add_option("-o,--out", verify_out, "output directory for tables")->capture_default_str();
+  int verify_jobs = 0;
+  verify->add_option("-j,--jobs", verify_jobs,
+                     "cases run at once, each in its own process on its share of the cores (default: the cores; 1: "
+                     "one after the other, for wall times on an otherwise idle machine)")
+      ->check(CLI::Range(1, 1024));
   bool sweep = false;
   verify->add_flag("--sweep", sweep,
                    "run each case over the dense dt sweep (t_col/12.5 ... /1600) and write work-precision tables");
@@ -398,6 +403,9 @@ int main(int argc, char** argv) {
       vo.out_dir = verify_out;
       vo.only = only;
       vo.sweep = sweep;
+      // Cases in processes of their own are forked, which must come before MPI starts:
+      // under a launcher (MPI started already), one after the other.
+      vo.jobs = cdm::mpi_started_by_library() ? 1 : verify_jobs > 0 ? verify_jobs : omp_get_num_procs();
       vo.provenance = provenance();
       return cdm::verification::verify(vo);
     }

@@ -1361,6 +1361,11 @@ class Report:
                f"present for {len(sweep)} of {len(summ)} cases"
                + (f": {sum(p for p, _ in sweep_summ.values())} checks passed, "
                   f"{sum(f for _, f in sweep_summ.values())} failed." if sweep_summ else "."))
+        at_once = prov.get("cases_at_once", "1")
+        if at_once != "1":
+            self.p(f"The cases ran {at_once} at once (`cdm verify -j`), each in a process of its own: every wall "
+                   f"time here was measured with the machine's other cores busy. `cdm verify -j 1` runs them one "
+                   f"after the other.")
         header = ["case", "result", "checks passed", "failed", "worst error / tolerance", "solver wall [s]"]
         if sweep_summ:
             header.append("dense sweep: passed / failed")

@@ -1,6 +1,8 @@
 #include "cdm/verification/harness.hpp"
 
 #include <algorithm>
+#include <cstring>
+#include <fstream>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -12,7 +14,14 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
+#include <fcntl.h>
+#include <omp.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "cdm/solver/io/durable_file.hpp"
+#include "cdm/solver/run_guards.hpp"
+#include "cdm/solver/scene_loader.hpp"
 
 namespace cdm::verification {
 
@@ -199,6 +208,226 @@ std::vector<Tolerance> load_tolerances(const std::string& case_dir) {
   return out;
 }
 
+namespace {
+
+struct Summary { std::string name; int pass = 0, fail = 0; double worst_ratio = 0; std::string worst; double wall = 0; };
+
+/// Runs the case in @p dir: its tables under opt.out_dir/<case>, its lines on stdout.
+Summary run_case(const std::string& dir, const VerifyOptions& opt) {
+  const std::string name = fs::path(dir).filename().string();
+  const CaseDef c = load_case(dir);
+  const auto tols = load_tolerances(dir);
+  const CaseRunner& runner = case_runners().at(c.kind);
+  const fs::path out = fs::path(opt.out_dir) / name;
+  cdm::make_output_directory((out / "series").string());
+  Summary s;
+  s.name = name;
+  std::cout << "== " << name << ": " << c.title << "\n";
+
+  struct WpRun { std::string variant, integ, q, norm; double div, dt, err, wall; std::uint64_t psteps; };
+  std::vector<WpRun> wp;
+  const std::string table_path = (out / (opt.sweep ? "errors_sweep.dat" : "errors.dat")).string();
+  std::FILE* tf = open_output(table_path);
+  std::fprintf(tf, "# cdm verify: case %s (%s)\n", name.c_str(), c.title.c_str());
+  std::fprintf(tf, "# dt_divisor N: %s\n", c.divisor_meaning.c_str());
+  std::fprintf(tf, "# errors: norm max_rel_pct = max over the series of 100|Q_oracle - Q|/|Q_oracle| (Garg et al. eq 37);"
+                   " order = least-squares slope of log(error) vs log(dt) over the dt sweep\n");
+  std::fprintf(tf, "# pass: yes/no against the tolerance in tolerances.toml; info = reported, no tolerance\n");
+  std::fprintf(tf, "# wall: solver time of one run (steady clock, oracle excluded), the median of timing_runs runs"
+                   " (a run is repeated until %.2f s of solver time has been timed, at most 25 runs)\n", opt.min_timing_seconds);
+  std::fprintf(tf, "# case variant integrator dt_divisor[-] dt[s] quantity norm error tolerance pass wall[s] timing_runs[-] steps[-] particle_steps_per_s[1/s] oracle\n");
+
+  auto emit = [&](const std::string& variant, const std::string& integ, const std::string& div, double divisor, double dt,
+                  const std::string& q, const std::string& norm, double err, const Tolerance* tol, bool is_order,
+                  double wall, std::uint64_t steps, std::uint64_t np, const std::string& oracle, std::size_t runs) {
+    std::string pass = "info", tol_s = "-";
+    if (tol && tol->report_only) tol = nullptr;
+    // The dense sweep also runs coarser than the verified range (t_col/50 and finer):
+    // those runs show what accuracy costs and are not held to the tolerances.
+    const double min_div = *std::min_element(c.dt_divisors.begin(), c.dt_divisors.end());
+    if (tol && !is_order && divisor < min_div) tol = nullptr;
+    if (tol) {
+      const bool at_least = is_order || tol->at_least;
+      const double bound = is_order ? tol->max : tol->at(divisor);
+      const bool ok = at_least ? (std::isfinite(err) && err >= bound) : (std::isfinite(err) && err <= bound);
+      pass = ok ? "yes" : "no";
+      tol_s = (at_least ? ">=" : "") + fmt(bound, "%.3g");
+      if (ok) ++s.pass; else ++s.fail;
+      const double ratio = at_least ? (err > 0 ? bound / err : INFINITY) : (bound > 0 ? err / bound : (err > 0 ? INFINITY : 0.0));
+      if (ratio > s.worst_ratio) {
+        s.worst_ratio = ratio;
+        s.worst = variant + " " + integ + " dt/" + div + " " + q + " " + norm + " = " + fmt(err, "%.3g") + " (tol " + tol_s + ")";
+      }
+    }
+    const double rate = wall > 0 ? static_cast<double>(steps) * static_cast<double>(np) / wall : 0.0;
+    std::fprintf(tf, "%s %s %s %s %s %s %s %.6e %s %s %s %zu %llu %s %s\n", name.c_str(), variant.c_str(), integ.c_str(),
+                 div.c_str(), dt > 0 ? fmt(dt).c_str() : "-", q.c_str(), norm.c_str(), err, tol_s.c_str(),
+                 pass.c_str(), wall > 0 ? fmt(wall, "%.4e").c_str() : "-", runs, static_cast<unsigned long long>(steps),
+                 rate > 0 ? fmt(rate, "%.4e").c_str() : "-", oracle.empty() ? "-" : oracle.c_str());
+    if (pass == "no")
+      std::cout << "  FAIL " << variant << " " << integ << " dt/" << div << " " << q << " (" << norm
+                << ") = " << fmt(err, "%.4g") << ", tolerance " << tol_s << "\n";
+  };
+
+  // (family, integrator, divisor, quantity, norm) -> (h, error) for the grid orders.
+  std::map<std::tuple<std::string, std::string, double, std::string, std::string>, std::vector<std::pair<double, double>>>
+      grid_errs;
+  for (const auto& v : c.variants) {
+    if (v.sweep_only && !opt.sweep) continue;
+    for (const auto& integ : c.integrators) {
+      // quantity|norm -> errors per dt, for the observed order.
+      std::map<std::pair<std::string, std::string>, std::vector<double>> errs;
+      std::vector<double> dts;
+      for (double div : opt.sweep ? c.sweep_dt_divisors : c.dt_divisors) {
+        char divs[32];
+        std::snprintf(divs, sizeof divs, "%g", div);
+        RunConfig rc{integ, div, (out / "series" / (v.name + "_" + integ + "_dt" + divs + ".dat")).string()};
+        RunOutput r = runner(c, v, rc);
+        // Short runs are timed again until 0.2 s of solver time has accumulated (at
+        // most 25 runs) and the median is kept, so the wall column is not timer noise.
+        std::vector<double> walls{r.wall_seconds};
+        double total = r.wall_seconds;
+        RunConfig again = rc;
+        again.series_path.clear();
+        again.timing_only = true;
+        while (total < opt.min_timing_seconds && walls.size() < 25) {
+          walls.push_back(runner(c, v, again).wall_seconds);
+          total += walls.back();
+        }
+        std::sort(walls.begin(), walls.end());
+        r.wall_seconds = walls[walls.size() / 2];
+        r.timing_repeats = walls.size();
+        s.wall += r.wall_seconds;
+        dts.push_back(r.dt);
+        for (const auto& m : r.measurements) {
+          errs[{m.quantity, m.norm}].push_back(m.error);
+          wp.push_back({v.name, integ, m.quantity, m.norm, div, r.dt, m.error, r.wall_seconds, r.steps * r.particles});
+          if (v.h > 0.0) grid_errs[{v.family, integ, div, m.quantity, m.norm}].push_back({v.h, m.error});
+          emit(v.name, integ, divs, div, r.dt, m.quantity, m.norm, m.error,
+               find_tol(tols, v.name, integ, div, m.quantity, m.norm), false, r.wall_seconds, r.steps, r.particles,
+               r.oracle_accuracy, r.timing_repeats);
+        }
+      }
+      for (const auto& [qn, e] : errs) {
+        if (e.size() != dts.size()) continue;
+        auto order = observed_order(dts, e);
+        emit(v.name, integ, "all", 0.0, 0.0, qn.first, qn.second + "_order", order ? *order : NAN,
+             find_tol(tols, v.name, integ, 0.0, qn.first, qn.second + "_order"), true, 0.0, 0, 0, "", 0);
+      }
+    }
+  }
+  // Observed order under grid refinement, per family, integrator and dt divisor.
+  for (const auto& [key, he] : grid_errs) {
+    if (he.size() < 2) continue;
+    const auto& [family, integ, div, q, norm] = key;
+    std::vector<double> hs, es;
+    for (const auto& [h, e] : he) { hs.push_back(h); es.push_back(e); }
+    auto order = observed_order(hs, es);
+    char divs[32];
+    std::snprintf(divs, sizeof divs, "%g", div);
+    const std::string row = family + "_grids";
+    emit(row, integ, divs, 0.0, 0.0, q, norm + "_grid_order", order ? *order : NAN,
+         find_tol(tols, row, integ, div, q, norm + "_grid_order"), true, 0.0, 0, 0, "", 0);
+  }
+  cdm::close_file(tf, table_path);
+  if (opt.sweep) write_work_precision(out, name, wp);
+  std::cout << "  " << s.pass << " passed, " << s.fail << " failed; solver wall time " << fmt(s.wall, "%.3f")
+            << " s; table " << table_path << "\n";
+  if (!s.worst.empty()) std::cout << "  closest to its tolerance: " << s.worst << "\n";
+  return s;
+}
+
+/// The exit status and the message's start that a failure in a case gives `cdm verify`,
+/// as cdm's main gives them when the case runs in its process.
+std::pair<int, const char*> status_of(const std::exception& e) {
+  if (dynamic_cast<const cdm::OutputError*>(&e)) return {4, "cdm: output error: "};
+  if (dynamic_cast<const cdm::SimulationError*>(&e)) return {3, "cdm: the run went unstable and was stopped: "};
+  if (dynamic_cast<const cdm::SceneError*>(&e)) return {2, "cdm: error: "};
+  return {1, "cdm: error: "};
+}
+
+/// A case run in a child process: its lines go to a file in the output folder, printed
+/// by the parent once the child is done; its summary comes back through a pipe.
+struct Child {
+  pid_t pid = -1;
+  int summary_fd = -1;
+  std::string log_path;
+};
+
+/// One line: pass fail worst_ratio wall, then the worst quantity's description.
+std::string encode(const Summary& s) {
+  std::ostringstream os;
+  os.precision(17);
+  os << s.pass << ' ' << s.fail << ' ' << s.worst_ratio << ' ' << s.wall << ' ' << s.worst << '\n';
+  return os.str();
+}
+
+Child start_case(const std::string& dir, const VerifyOptions& opt, int threads) {
+  Child c;
+  c.log_path = (fs::path(opt.out_dir) / (fs::path(dir).filename().string() + ".log.tmp")).string();
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error(std::string("cdm verify: pipe: ") + std::strerror(errno));
+  std::cout << std::flush;
+  std::cerr << std::flush;
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("cdm verify: fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    close(fds[0]);
+    int rc = 0;
+    try {
+      const int log = open(c.log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (log < 0 || dup2(log, STDOUT_FILENO) < 0) cdm::throw_output_error(c.log_path, "open for writing", errno);
+      close(log);
+      omp_set_num_threads(threads);
+      const Summary s = run_case(dir, opt);
+      std::cout << std::flush;
+      if (!std::cout) cdm::throw_output_error(c.log_path, "write", EIO);
+      const std::string line = encode(s);
+      if (write(fds[1], line.data(), line.size()) != static_cast<ssize_t>(line.size())) rc = 1;
+    } catch (const std::exception& e) {
+      const auto [status, prefix] = status_of(e);
+      std::cerr << prefix << e.what() << "\n" << std::flush;
+      rc = status;
+    }
+    std::cout << std::flush;
+    _exit(rc);
+  }
+  close(fds[1]);
+  c.pid = pid;
+  c.summary_fd = fds[0];
+  return c;
+}
+
+/// The summary of the finished @p c (exit status @p ws), after printing its lines. A case
+/// that did not run to its end sets @p status to the child's exit status.
+Summary finish_case(const Child& c, int ws, const std::string& name, int& status) {
+  std::string line;
+  char buf[4096];
+  ssize_t n;
+  while ((n = read(c.summary_fd, buf, sizeof buf)) > 0) line.append(buf, static_cast<std::size_t>(n));
+  close(c.summary_fd);
+  {
+    std::ifstream log(c.log_path);
+    std::cout << log.rdbuf() << std::flush;
+  }
+  std::error_code ec;
+  fs::remove(c.log_path, ec);
+  Summary s;
+  s.name = name;
+  std::istringstream is(line);
+  const bool ok = WIFEXITED(ws) && WEXITSTATUS(ws) == 0 && (is >> s.pass >> s.fail >> s.worst_ratio >> s.wall);
+  if (!ok) {
+    if (status == 0) status = WIFEXITED(ws) && WEXITSTATUS(ws) != 0 ? WEXITSTATUS(ws) : 1;
+    if (WIFSIGNALED(ws))
+      std::cerr << "cdm verify: " << name << ": the process running it was killed by signal " << WTERMSIG(ws) << "\n";
+    return s;
+  }
+  std::getline(is >> std::ws, s.worst);
+  return s;
+}
+
+}  // namespace
+
 int verify(const VerifyOptions& opt) {
   std::vector<std::string> dirs;
   for (const auto& e : fs::directory_iterator(opt.cases_dir))
@@ -211,138 +440,54 @@ int verify(const VerifyOptions& opt) {
       return 2;
     }
   }
+  if (!opt.only.empty())
+    std::erase_if(dirs, [&](const std::string& d) {
+      return std::find(opt.only.begin(), opt.only.end(), fs::path(d).filename().string()) == opt.only.end();
+    });
   cdm::make_output_directory(opt.out_dir);
 
-  struct Summary { std::string name; int pass = 0, fail = 0; double worst_ratio = 0; std::string worst; double wall = 0; };
-  std::vector<Summary> summaries;
-  bool all_ok = true;
+  std::vector<Summary> summaries(dirs.size());
   const auto suite_start = std::chrono::steady_clock::now();
-
-  for (const auto& dir : dirs) {
-    const std::string name = fs::path(dir).filename().string();
-    if (!opt.only.empty() && std::find(opt.only.begin(), opt.only.end(), name) == opt.only.end()) continue;
-    const CaseDef c = load_case(dir);
-    const auto tols = load_tolerances(dir);
-    const CaseRunner& runner = case_runners().at(c.kind);
-    const fs::path out = fs::path(opt.out_dir) / name;
-    cdm::make_output_directory((out / "series").string());
-    Summary s;
-    s.name = name;
-    std::cout << "== " << name << ": " << c.title << "\n";
-
-    struct WpRun { std::string variant, integ, q, norm; double div, dt, err, wall; std::uint64_t psteps; };
-    std::vector<WpRun> wp;
-    const std::string table_path = (out / (opt.sweep ? "errors_sweep.dat" : "errors.dat")).string();
-    std::FILE* tf = open_output(table_path);
-    std::fprintf(tf, "# cdm verify: case %s (%s)\n", name.c_str(), c.title.c_str());
-    std::fprintf(tf, "# dt_divisor N: %s\n", c.divisor_meaning.c_str());
-    std::fprintf(tf, "# errors: norm max_rel_pct = max over the series of 100|Q_oracle - Q|/|Q_oracle| (Garg et al. eq 37);"
-                     " order = least-squares slope of log(error) vs log(dt) over the dt sweep\n");
-    std::fprintf(tf, "# pass: yes/no against the tolerance in tolerances.toml; info = reported, no tolerance\n");
-    std::fprintf(tf, "# wall: solver time of one run (steady clock, oracle excluded), the median of timing_runs runs"
-                     " (a run is repeated until %.2f s of solver time has been timed, at most 25 runs)\n", opt.min_timing_seconds);
-    std::fprintf(tf, "# case variant integrator dt_divisor[-] dt[s] quantity norm error tolerance pass wall[s] timing_runs[-] steps[-] particle_steps_per_s[1/s] oracle\n");
-
-    auto emit = [&](const std::string& variant, const std::string& integ, const std::string& div, double divisor, double dt,
-                    const std::string& q, const std::string& norm, double err, const Tolerance* tol, bool is_order,
-                    double wall, std::uint64_t steps, std::uint64_t np, const std::string& oracle, std::size_t runs) {
-      std::string pass = "info", tol_s = "-";
-      if (tol && tol->report_only) tol = nullptr;
-      // The dense sweep also runs coarser than the verified range (t_col/50 and finer):
-      // those runs show what accuracy costs and are not held to the tolerances.
-      const double min_div = *std::min_element(c.dt_divisors.begin(), c.dt_divisors.end());
-      if (tol && !is_order && divisor < min_div) tol = nullptr;
-      if (tol) {
-        const bool at_least = is_order || tol->at_least;
-        const double bound = is_order ? tol->max : tol->at(divisor);
-        const bool ok = at_least ? (std::isfinite(err) && err >= bound) : (std::isfinite(err) && err <= bound);
-        pass = ok ? "yes" : "no";
-        tol_s = (at_least ? ">=" : "") + fmt(bound, "%.3g");
-        if (ok) ++s.pass; else { ++s.fail; all_ok = false; }
-        const double ratio = at_least ? (err > 0 ? bound / err : INFINITY) : (bound > 0 ? err / bound : (err > 0 ? INFINITY : 0.0));
-        if (ratio > s.worst_ratio) {
-          s.worst_ratio = ratio;
-          s.worst = variant + " " + integ + " dt/" + div + " " + q + " " + norm + " = " + fmt(err, "%.3g") + " (tol " + tol_s + ")";
-        }
+  const int jobs = std::max(1, std::min<int>(opt.jobs, static_cast<int>(dirs.size())));
+  int status = 0;
+  if (jobs == 1) {
+    for (std::size_t i = 0; i < dirs.size(); ++i) summaries[i] = run_case(dirs[i], opt);
+  } else {
+    // Up to `jobs` cases at once, each in its own process on its share of the cores;
+    // their lines are printed in case order.
+    const int threads = std::max(1, omp_get_num_procs() / jobs);
+    std::vector<Child> running(dirs.size());
+    std::vector<int> exit_status(dirs.size(), -1);  // -1: not finished
+    std::size_t next = 0, printed = 0;
+    int active = 0;
+    while (printed < next || (next < dirs.size() && status == 0)) {
+      while (active < jobs && next < dirs.size() && status == 0) {
+        running[next] = start_case(dirs[next], opt, threads);
+        ++next;
+        ++active;
       }
-      const double rate = wall > 0 ? static_cast<double>(steps) * static_cast<double>(np) / wall : 0.0;
-      std::fprintf(tf, "%s %s %s %s %s %s %s %.6e %s %s %s %zu %llu %s %s\n", name.c_str(), variant.c_str(), integ.c_str(),
-                   div.c_str(), dt > 0 ? fmt(dt).c_str() : "-", q.c_str(), norm.c_str(), err, tol_s.c_str(),
-                   pass.c_str(), wall > 0 ? fmt(wall, "%.4e").c_str() : "-", runs, static_cast<unsigned long long>(steps),
-                   rate > 0 ? fmt(rate, "%.4e").c_str() : "-", oracle.empty() ? "-" : oracle.c_str());
-      if (pass == "no")
-        std::cout << "  FAIL " << variant << " " << integ << " dt/" << div << " " << q << " (" << norm
-                  << ") = " << fmt(err, "%.4g") << ", tolerance " << tol_s << "\n";
-    };
-
-    // (family, integrator, divisor, quantity, norm) -> (h, error) for the grid orders.
-    std::map<std::tuple<std::string, std::string, double, std::string, std::string>, std::vector<std::pair<double, double>>>
-        grid_errs;
-    for (const auto& v : c.variants) {
-      if (v.sweep_only && !opt.sweep) continue;
-      for (const auto& integ : c.integrators) {
-        // quantity|norm -> errors per dt, for the observed order.
-        std::map<std::pair<std::string, std::string>, std::vector<double>> errs;
-        std::vector<double> dts;
-        for (double div : opt.sweep ? c.sweep_dt_divisors : c.dt_divisors) {
-          char divs[32];
-          std::snprintf(divs, sizeof divs, "%g", div);
-          RunConfig rc{integ, div, (out / "series" / (v.name + "_" + integ + "_dt" + divs + ".dat")).string()};
-          RunOutput r = runner(c, v, rc);
-          // Short runs are timed again until 0.2 s of solver time has accumulated (at
-          // most 25 runs) and the median is kept, so the wall column is not timer noise.
-          std::vector<double> walls{r.wall_seconds};
-          double total = r.wall_seconds;
-          RunConfig again = rc;
-          again.series_path.clear();
-          again.timing_only = true;
-          while (total < opt.min_timing_seconds && walls.size() < 25) {
-            walls.push_back(runner(c, v, again).wall_seconds);
-            total += walls.back();
-          }
-          std::sort(walls.begin(), walls.end());
-          r.wall_seconds = walls[walls.size() / 2];
-          r.timing_repeats = walls.size();
-          s.wall += r.wall_seconds;
-          dts.push_back(r.dt);
-          for (const auto& m : r.measurements) {
-            errs[{m.quantity, m.norm}].push_back(m.error);
-            wp.push_back({v.name, integ, m.quantity, m.norm, div, r.dt, m.error, r.wall_seconds, r.steps * r.particles});
-            if (v.h > 0.0) grid_errs[{v.family, integ, div, m.quantity, m.norm}].push_back({v.h, m.error});
-            emit(v.name, integ, divs, div, r.dt, m.quantity, m.norm, m.error,
-                 find_tol(tols, v.name, integ, div, m.quantity, m.norm), false, r.wall_seconds, r.steps, r.particles,
-                 r.oracle_accuracy, r.timing_repeats);
-          }
+      int ws = 0;
+      const pid_t pid = waitpid(-1, &ws, 0);
+      if (pid < 0) {
+        if (errno == EINTR) continue;
+        throw std::runtime_error(std::string("cdm verify: waitpid: ") + std::strerror(errno));
+      }
+      for (std::size_t i = printed; i < next; ++i)
+        if (running[i].pid == pid) {
+          exit_status[i] = ws;
+          --active;
         }
-        for (const auto& [qn, e] : errs) {
-          if (e.size() != dts.size()) continue;
-          auto order = observed_order(dts, e);
-          emit(v.name, integ, "all", 0.0, 0.0, qn.first, qn.second + "_order", order ? *order : NAN,
-               find_tol(tols, v.name, integ, 0.0, qn.first, qn.second + "_order"), true, 0.0, 0, 0, "", 0);
-        }
+      // The finished cases' lines, in case order.
+      for (; printed < next && exit_status[printed] >= 0; ++printed) {
+        summaries[printed] =
+            finish_case(running[printed], exit_status[printed], fs::path(dirs[printed]).filename().string(), status);
       }
     }
-    // Observed order under grid refinement, per family, integrator and dt divisor.
-    for (const auto& [key, he] : grid_errs) {
-      if (he.size() < 2) continue;
-      const auto& [family, integ, div, q, norm] = key;
-      std::vector<double> hs, es;
-      for (const auto& [h, e] : he) { hs.push_back(h); es.push_back(e); }
-      auto order = observed_order(hs, es);
-      char divs[32];
-      std::snprintf(divs, sizeof divs, "%g", div);
-      const std::string row = family + "_grids";
-      emit(row, integ, divs, 0.0, 0.0, q, norm + "_grid_order", order ? *order : NAN,
-           find_tol(tols, row, integ, div, q, norm + "_grid_order"), true, 0.0, 0, 0, "", 0);
-    }
-    cdm::close_file(tf, table_path);
-    if (opt.sweep) write_work_precision(out, name, wp);
-    std::cout << "  " << s.pass << " passed, " << s.fail << " failed; solver wall time " << fmt(s.wall, "%.3f")
-              << " s; table " << table_path << "\n";
-    if (!s.worst.empty()) std::cout << "  closest to its tolerance: " << s.worst << "\n";
-    summaries.push_back(s);
+    if (status != 0) return status;
   }
 
+  bool all_ok = true;
+  for (const auto& s : summaries) all_ok = all_ok && s.fail == 0;
   const double suite_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - suite_start).count();
   const std::string summary_path = (fs::path(opt.out_dir) / (opt.sweep ? "summary_sweep.dat" : "summary.dat")).string();
@@ -358,6 +503,7 @@ int verify(const VerifyOptions& opt) {
     std::fprintf(f, "# cdm verify provenance: key value\n");
     for (const auto& [k, v] : opt.provenance) std::fprintf(f, "%s %s\n", k.c_str(), v.c_str());
     std::fprintf(f, "suite_wall_s %.3f\n", suite_wall);
+    std::fprintf(f, "cases_at_once %d\n", jobs);
     cdm::close_file(f, prov_path);
   }
   std::cout << "\nSummary (" << fmt(suite_wall, "%.1f") << " s):\n";

@@ -100,6 +100,9 @@ struct VerifyOptions {
   std::string out_dir;
   std::vector<std::string> only;  // case names; empty = all
   double min_timing_seconds = 0.2;  // repeat a run until this much solver time is timed
+  /// Cases run at once, each in its own process on cores/jobs threads (1: one after the
+  /// other in this process).
+  int jobs = 1;
   bool sweep = false;  // run sweep_dt_divisors and write work-precision tables
   /// Written to provenance.dat beside the tables (commit, compiler, flags, machine...).
   std::vector<std::pair<std::string, std::string>> provenance;
