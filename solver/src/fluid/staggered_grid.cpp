@@ -47,6 +47,10 @@ void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill
     step[axis] = 1;
     const long stride = static_cast<long>(grid.at(step[0], step[1], step[2])) - static_cast<long>(grid.at(0, 0, 0));
     const bool periodic = grid.spec().periodic(axis);
+    // A periodic line's ghost samples −g..−1 and n..n+g are copies of samples wrap(m, n).
+    int from[2 * g + 1];
+    for (int m = -g; m < 0; ++m) from[m + g] = wrap(m, n);
+    for (int m = n; m <= n + g; ++m) from[g + m - n] = wrap(m, n);
     const int q0 = two_d && o2 == 2 ? 0 : -g, q1 = two_d && o2 == 2 ? 0 : grid.n(o2) + g;
     const int p0 = two_d && o1 == 2 ? 0 : -g, p1 = two_d && o1 == 2 ? 0 : grid.n(o1) + g;
     for (int q = q0; q <= q1; ++q)
@@ -57,8 +61,8 @@ void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill
         start[o2] = q;
         const GridLine idx{static_cast<long>(grid.at(start[0], start[1], start[2])), stride};
         if (periodic) {
-          for (int m = -g; m < 0; ++m) a[idx(m)] = a[idx(wrap(m, n))];
-          for (int m = n; m <= n + g; ++m) a[idx(m)] = a[idx(wrap(m, n))];
+          for (int m = -g; m < 0; ++m) a[idx(m)] = a[idx(from[m + g])];
+          for (int m = n; m <= n + g; ++m) a[idx(m)] = a[idx(from[g + m - n])];
           continue;
         }
         fill(axis, idx);
