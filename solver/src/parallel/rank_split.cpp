@@ -105,9 +105,13 @@ void check(int rc, const char* what) {
 /// Sends each of @p sends and receives each of @p recvs, the values of @p arrays at the
 /// legs' slots, particle by particle.
 void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector<Leg>& sends,
-              const std::vector<Leg>& recvs, int tag) {
+              const std::vector<Leg>& recvs, int tag, RankSplit::LegBuffers& buffers) {
   const std::size_t k = arrays.size();
-  std::vector<std::vector<double>> out(sends.size()), in(recvs.size());
+  // Buffers kept between calls: fresh ones cost an allocation and a zero fill per step.
+  std::vector<std::vector<double>>& out = buffers.out;
+  std::vector<std::vector<double>>& in = buffers.in;
+  if (out.size() < sends.size()) out.resize(sends.size());
+  if (in.size() < recvs.size()) in.resize(recvs.size());
   std::vector<MPI_Request> req;
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     in[m].resize(recvs[m].idx->size() * k);
@@ -141,7 +145,7 @@ void RankSplit::exchange_ghosts(ParticleStore& p) {
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) sends.push_back({&lower_, below_});
   if (above_ >= 0) recvs.push_back({&upper_, above_});
-  exchange(dynamic_arrays(p), sends, recvs, 11);
+  exchange(dynamic_arrays(p), sends, recvs, 11, legs_);
 }
 
 void RankSplit::exchange_ghost_torques(ParticleStore& p) {
@@ -149,7 +153,7 @@ void RankSplit::exchange_ghost_torques(ParticleStore& p) {
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) sends.push_back({&lower_, below_});
   if (above_ >= 0) recvs.push_back({&upper_, above_});
-  exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14);
+  exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14, legs_);
 }
 
 void RankSplit::boundary_forces(ParticleStore& p, int pass, bool torques_only) {
@@ -173,7 +177,7 @@ void RankSplit::boundary_forces(ParticleStore& p, int pass, bool torques_only) {
     if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
     if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
   }
-  exchange(f, sends, recvs, (torques_only ? 15 : 12) + pass);
+  exchange(f, sends, recvs, (torques_only ? 15 : 12) + pass, legs_);
 }
 
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {

@@ -172,6 +172,16 @@ class RankSplit final : public SearchShare {
                        const std::function<void(std::uint32_t, const double*)>& get_rows);
   std::vector<double> send_, recv_;
   std::vector<MeshContacts::Contact> mesh_recv_;  // share_mesh_contacts
+
+ public:
+  /// The send and receive buffers of the exchanges with the neighbouring ranks, one per
+  /// message, kept between steps.
+  struct LegBuffers {
+    std::vector<std::vector<double>> out, in;
+  };
+
+ private:
+  LegBuffers legs_;
 };
 
 }  // namespace cdm
