@@ -277,8 +277,16 @@ TEST(SceneLoader, GasPressureSolver) {
   EXPECT_EQ(d.pressure_solver.tolerance, 1e-10);
   EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"multigrid\"\n"), "f.toml").pressure_solver.backend,
             cdm::fluid::PressureBackend::multigrid);
-  const cdm::SceneSpec m = cdm::load_scene_from_string(with("pressure_tolerance = 1e-8\n"), "f.toml");
+  // The fluidisation case's 4 x 32 x 2 cells: "auto" factorises, so a tolerance has no use there.
+  expect_refused(with("pressure_tolerance = 1e-8\n"),
+                 {"gas.pressure_tolerance", "1e-08", "\"auto\"", "256 cells", "direct", "\"multigrid\""});
+  const cdm::SceneSpec m =
+      cdm::load_scene_from_string(with("pressure_solver = \"multigrid\"\npressure_tolerance = 1e-8\n"), "f.toml");
   EXPECT_EQ(m.pressure_solver.tolerance, 1e-8);
+  const cdm::SceneSpec big =
+      cdm::load_scene_from_string(with("pressure_tolerance = 1e-8\n"), "f.toml", {cdm::parse_override("gas.cells=[24,96,24]")});
+  EXPECT_EQ(big.pressure_solver.backend, cdm::fluid::PressureBackend::automatic);
+  EXPECT_EQ(big.pressure_solver.tolerance, 1e-8);
   EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"direct\"\n"), "f.toml").pressure_solver.backend,
             cdm::fluid::PressureBackend::direct);
   expect_refused(with("pressure_solver = \"cg\"\n"), {"bad.toml", "gas.pressure_solver", "cg", "\"auto\", \"multigrid\" or \"direct\""});

@@ -30,6 +30,15 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
     spec.pressure_solver.tolerance = rd.number_in(gt, "pressure_tolerance", "gas", Dim::none, false, P{}.tolerance,
                                                   P::min_tolerance, false, P::max_tolerance, false, range.str());
   }
+  if (spec.pressure_solver.backend == fluid::PressureBackend::automatic && gt.get("pressure_tolerance")) {
+    const fluid::StaggeredGrid grid(spec.gas_spec.grid);
+    if (fluid::automatic_backend(grid) == fluid::PressureBackend::direct)
+      rd.reject_unused(gt, "pressure_tolerance", "gas",
+                       "gas.pressure_solver is \"auto\", which on this grid of " + std::to_string(grid.cell_count()) +
+                           " cells is the direct factorisation (exact to round-off); expected no tolerance" +
+                           (mg ? ", or pressure_solver = \"multigrid\" to solve to it"
+                               : " (this cdm was built without MPI and hypre: no multigrid solve)"));
+  }
   spec.gas_initial_velocity = rd.vec3(gt, "initial_velocity", "gas", Dim::velocity).value_or(Vec3{});
   spec.mean_pressure_gradient = rd.vec3(gt, "mean_pressure_gradient", "gas", Dim::pressure_gradient).value_or(Vec3{});
   if (spec.gas_spec.grid.two_d && spec.gas_initial_velocity.z != 0.0)
