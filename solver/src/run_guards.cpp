@@ -43,9 +43,7 @@ void RunGuards::check(double time, std::uint64_t step, double nonfinite, bool ga
     os << "state is no longer finite at t = " << time << " s (step " << step << "), particle(s):";
     int listed = 0;
     for (std::size_t i = 0; i < n && listed < 5; ++i) {
-      const bool bad = !is_finite(p.position(i)) || !is_finite(p.velocity(i)) ||
-                       (p.has_rotation() && !is_finite(p.angular_velocity(i)));
-      if (bad) { os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ')'; ++listed; }
+      if (!p.state_finite(i)) { os << ' ' << p.id_of(i) << " (" << particle_source(spec_, p.id_of(i)) << ')'; ++listed; }
     }
     os << ". Likely cause: a time step too large for the stiffest force";
     cause(os);

@@ -28,10 +28,8 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
   wrap_positions(p, box_);
   // Among ranks each checks its own particles (the guards see only the last gathered
   // state of the others'); on one rank the guards check them all.
-  const double bad = !ranks_ ? -1.0 : max_own(ranks_, n, [&](std::size_t i) {
-    const bool ok = is_finite(p.position(i)) && is_finite(p.velocity(i)) && (!rot || is_finite(p.angular_velocity(i)));
-    return ok ? 0.0 : 1.0;
-  });
+  const double bad =
+      !ranks_ ? -1.0 : max_own(ranks_, n, [&](std::size_t i) { return p.state_finite(i) ? 0.0 : 1.0; });
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);
   return bad;

@@ -89,6 +89,10 @@ struct ParticleStore {
   Vec3 angular_velocity(std::size_t i) const {
     return has_rotation() ? Vec3{wx[i], wy[i], wz[i]} : Vec3{};
   }
+  /// Whether particle i's position, velocity and (with rotation) spin are all finite.
+  bool state_finite(std::size_t i) const {
+    return is_finite(position(i)) && is_finite(velocity(i)) && is_finite(angular_velocity(i));
+  }
   void add_force(std::size_t i, Vec3 f) { fx[i] += f.x; fy[i] += f.y; fz[i] += f.z; }
   void add_torque(std::size_t i, Vec3 t) { tx[i] += t.x; ty[i] += t.y; tz[i] += t.z; }
   void clear_forces();
