@@ -184,10 +184,17 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   if (const cdm::fluid::GasSolver* gs = sim.gas_solver())
     std::cout << "; gas pressure solve: " << gs->pressure_solver().method();
   std::cout << "\n";
+  // The multigrid pressure solve is divided among the processes whatever the scene
+  // (pressure_multigrid.cpp); the direct one is done whole by each.
+  const cdm::fluid::GasSolver* gas_solver = sim.gas_solver();
+  const bool solve_shared =
+      gas_solver && gas_solver->pressure_solver().backend() == cdm::fluid::PressureBackend::multigrid;
   if (sim.ranks() > 1 && sim.unshared().empty())
-    std::cout << "cdm run: the particles' work is shared among " << sim.ranks() << " MPI processes\n";
+    std::cout << "cdm run: the particles' work" << (solve_shared ? " and the gas pressure solve are" : " is")
+              << " shared among " << sim.ranks() << " MPI processes\n";
   else if (sim.ranks() > 1)
-    std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene (no speed-up), since "
+    std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene "
+              << (solve_shared ? "but the gas pressure solve, which they share," : "(no speed-up),") << " since "
               << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
               << "or without a gas, stepped by velocity Verlet, so far\n";
   std::cout << std::flush;
@@ -265,7 +272,9 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
                                                   std::to_string(omp_get_max_threads()) + " thread(s)" +
-                                                  (sim.unshared().empty() ? "" : ", each the whole scene")
+                                                  (sim.unshared().empty() ? ""
+                                                   : solve_shared ? ", each the whole scene but the pressure solve"
+                                                                  : ", each the whole scene")
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
               loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),

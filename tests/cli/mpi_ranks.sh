@@ -12,7 +12,8 @@
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
 # on 3), and the fluidisation bed with the cell-average drag on 2; a scene the shared step does not cover yet (a gas without contacts) runs
-# whole on each process, says so, and gives one process's results.
+# whole on each process, says so, and gives one process's results. The multigrid pressure
+# solve, divided among the processes, gives the same files on 2, 3 and 4.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work/tmp"
@@ -133,6 +134,29 @@ gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integr
 [ "$(grep -c "each of the 2 MPI processes runs the whole scene (no speed-up), since it has no contacts" "$work/gas-2.out")" -eq 1 ] ||
   fail "gas scene on 2 processes: not one notice: $(cat "$work/gas-2.out")"
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
+
+# The multigrid pressure solve is divided among the processes in every scene (each owns
+# whole planes of cells; pressure_multigrid.cpp), with phi the same to the bit: the gas
+# scene without contacts (its 8 planes split 3, 3, 2 on 3 processes; VTK of the gas and a
+# checkpoint), the periodic 2D gas of the MMS case on 2, and the fluidisation bed (2
+# planes: the third and fourth process own none) on 4.
+gas_mg=("${gas[@]}" --set 'gas.pressure_solver="multigrid"' --set output.interval=1.0e-4 --set output.vtk=true
+        --set output.checkpoint_interval=1.0e-4)
+"$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-1" > /dev/null || fail "gas scene, multigrid: one process"
+"${launch[@]}" -np 3 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-3" > "$work/gas-mg-3.out" 2>&1 ||
+  fail "gas scene, multigrid: 3 processes: $(tail -5 "$work/gas-mg-3.out")"
+grep -q "each of the 3 MPI processes runs the whole scene but the gas pressure solve, which they share," "$work/gas-mg-3.out" ||
+  fail "gas scene, multigrid, on 3 processes: the shared solve not reported: $(cat "$work/gas-mg-3.out")"
+same "gas scene with the multigrid solve, 3 processes" "$work/gas-mg-1" "$work/gas-mg-3"
+mms=("$src/verification/cases/gas_mms/scene.toml" --set 'gas.cells=[32,32]' --set 'gas.pressure_solver="multigrid"'
+     --set integrator.end_time=0.02 --set output.interval=0.01 --set output.vtk=true)
+"$cdm" run "${mms[@]}" -q -o "$work/mms-1" > /dev/null || fail "MMS gas, multigrid: one process"
+"${launch[@]}" -np 2 "$cdm" run "${mms[@]}" -q -o "$work/mms-2" > "$work/mms-2.out" 2>&1 ||
+  fail "MMS gas, multigrid: 2 processes: $(tail -5 "$work/mms-2.out")"
+same "MMS gas with the multigrid solve, 2 processes" "$work/mms-1" "$work/mms-2"
+shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressure_solver="multigrid"'
+grep -q "the particles' work and the gas pressure solve are shared among 4 MPI processes" \
+  "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4"

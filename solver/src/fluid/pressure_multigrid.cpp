@@ -1,6 +1,6 @@
 /// @file pressure_multigrid.cpp
 /// @brief The multigrid backend of PressureSolver: hypre's Struct PCG preconditioned by
-/// one V(1,1)-cycle of PFMG, on MPI_COMM_SELF: each process solves the whole grid.
+/// one V(1,1)-cycle of PFMG, shared among the processes of an MPI run.
 ///
 /// PFMG with Jacobi smoothing converges in 10–15 iterations (tolerance 1e-10) on every
 /// grid of tests/coupling/test_pressure_solver.cpp: periodic axes of 2, 3, 4, 5, 6, 9, 10,
@@ -8,14 +8,27 @@
 /// hypre's SMG, the other Struct multigrid, is no fallback: on the periodic grids it did
 /// not converge (relative residual 0.7 after one iteration, or 4e-4 after 1000).
 ///
-/// Ownership: each rank of the solver's communicator owns one box of cells (owned_box);
-/// on MPI_COMM_SELF the one rank owns the whole grid. Under mpirun every process holds
-/// the whole gas and steps it alike (rank_split.hpp), so each solves the same system and
-/// gets the same φ. A gas distributed among the processes would put the solver on their
-/// communicator and change owned_box and the gather of φ, nothing else.
+/// Shared among ranks: under mpirun every process holds the whole gas and steps it alike
+/// (rank_split.hpp), and the solve is the one part of the gas step they divide. Each rank
+/// owns a run of whole planes of the slowest axis (z in 3D, y in 2D; owned_box), gives
+/// hypre its part of the operator and of b, and the parts of φ are gathered back to every
+/// rank after the solve. Every process must therefore construct the solver and call
+/// set_operator and solve alike. φ is the same to the bit on any number of ranks:
+///  - hypre's smoothing, restriction, interpolation and products with A are pointwise,
+///    the same arithmetic whichever rank holds a cell;
+///  - PCG's inner products are the one reduction: they are summed plane by plane, each
+///    plane by its owner in the cells' order, and the planes' sums are added in plane
+///    order on every rank (PlaneSums), instead of hypre's own sum over each rank's cells;
+///  - PFMG's coarsening follows its estimate of the operator's strength along each axis
+///    (its "dxyz"), which hypre reduces over the ranks in rank order: it is computed here
+///    with the same plane-ordered sums and handed to PFMG.
 #include <HYPRE_struct_ls.h>
+#include <_hypre_struct_ls.h>
+#include <_hypre_struct_mv.h>
+#include <krylov.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -27,18 +40,96 @@ namespace cdm::fluid {
 
 namespace {
 
+/// The planes of the slowest axis a rank owns: [first, last) of @p planes, in contiguous
+/// runs by rank.
+std::pair<int, int> owned_planes(int planes, int rank, int size) {
+  const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(planes) * r / size); };
+  return {at(rank), at(rank + 1)};
+}
+
 /// The cells [lo, hi] (inclusive, hypre's convention) a rank owns; empty = false.
 struct Box {
   bool empty = true;
   HYPRE_Int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
-Box owned_box(const StaggeredGrid& g, int rank) {
+Box owned_box(const StaggeredGrid& g, int rank, int size) {
+  const int slow = g.dims() - 1;
+  const auto [first, last] = owned_planes(g.n(slow), rank, size);
   Box b;
-  if (rank != 0) return b;
+  if (first == last) return b;
   b.empty = false;
   for (int a = 0; a < 3; ++a) b.hi[a] = g.n(a) - 1;
+  b.lo[slow] = first;
+  b.hi[slow] = last - 1;
   return b;
+}
+
+/// Sums over the cells that come out the same to the bit on any number of ranks: each
+/// rank adds its cells plane by plane (m sums per plane, the other planes' left 0), the
+/// planes' sums are shared (an exact sum: each plane's comes from its one owner, the
+/// other ranks add zeros) and every rank adds them up in plane order.
+class PlaneSums {
+ public:
+  PlaneSums(int planes, int m) : m_(m), sums_(static_cast<std::size_t>(planes) * static_cast<std::size_t>(m), 0.0) {}
+  double* plane(int p) { return &sums_[static_cast<std::size_t>(p) * static_cast<std::size_t>(m_)]; }
+  /// The m totals, into @p total.
+  void total(MPI_Comm comm, double* total) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    if (size > 1)
+      MPI_Allreduce(MPI_IN_PLACE, sums_.data(), static_cast<int>(sums_.size()), MPI_DOUBLE, MPI_SUM, comm);
+    for (int c = 0; c < m_; ++c) total[c] = 0.0;
+    for (std::size_t q = 0; q < sums_.size(); q += static_cast<std::size_t>(m_))
+      for (int c = 0; c < m_; ++c) total[c] += sums_[q + static_cast<std::size_t>(c)];
+  }
+
+ private:
+  int m_;
+  std::vector<double> sums_;
+};
+
+/// PCG's inner product <x, y>, summed with PlaneSums (hypre's Krylov interface: x and y
+/// are hypre_StructVector on the same grid; the slowest axis is the grid's last).
+HYPRE_Real plane_ordered_inner_product(void* vx, void* vy) {
+  auto* x = static_cast<hypre_StructVector*>(vx);
+  auto* y = static_cast<hypre_StructVector*>(vy);
+  hypre_StructGrid* grid = hypre_StructVectorGrid(x);
+  const int ndim = hypre_StructGridNDim(grid);
+  const int slow = ndim - 1;
+  hypre_Box* whole = hypre_StructGridBoundingBox(grid);
+  const HYPRE_Int p0 = hypre_BoxIMinD(whole, slow);
+  PlaneSums sums(static_cast<int>(hypre_BoxIMaxD(whole, slow) - p0 + 1), 1);
+  hypre_BoxArray* boxes = hypre_StructGridBoxes(grid);
+  for (HYPRE_Int bi = 0; bi < hypre_BoxArraySize(boxes); ++bi) {
+    hypre_Box* box = hypre_BoxArrayBox(boxes, bi);
+    const double* xs = hypre_StructVectorBoxData(x, bi);
+    const double* ys = hypre_StructVectorBoxData(y, bi);
+    hypre_Box* xd = hypre_BoxArrayBox(hypre_StructVectorDataSpace(x), bi);
+    hypre_Box* yd = hypre_BoxArrayBox(hypre_StructVectorDataSpace(y), bi);
+    HYPRE_Int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, xo[3] = {0, 0, 0}, yo[3] = {0, 0, 0};
+    long xs1 = 0, xs2 = 0, ys1 = 0, ys2 = 0;
+    for (int a = 0; a < ndim; ++a) {
+      lo[a] = hypre_BoxIMinD(box, a);
+      hi[a] = hypre_BoxIMaxD(box, a);
+      xo[a] = hypre_BoxIMinD(xd, a);
+      yo[a] = hypre_BoxIMinD(yd, a);
+    }
+    xs1 = hypre_BoxSizeD(xd, 0);
+    ys1 = hypre_BoxSizeD(yd, 0);
+    xs2 = ndim > 2 ? xs1 * hypre_BoxSizeD(xd, 1) : 0;
+    ys2 = ndim > 2 ? ys1 * hypre_BoxSizeD(yd, 1) : 0;
+    for (HYPRE_Int k = lo[2]; k <= hi[2]; ++k)
+      for (HYPRE_Int j = lo[1]; j <= hi[1]; ++j) {
+        const double* xr = xs + (lo[0] - xo[0]) + xs1 * (j - xo[1]) + xs2 * (k - xo[2]);
+        const double* yr = ys + (lo[0] - yo[0]) + ys1 * (j - yo[1]) + ys2 * (k - yo[2]);
+        double* s = sums.plane(static_cast<int>((slow == 2 ? k : j) - p0));
+        for (HYPRE_Int i = 0; i <= hi[0] - lo[0]; ++i) *s += xr[i] * yr[i];
+      }
+  }
+  double total = 0.0;
+  sums.total(hypre_StructVectorComm(x), &total);
+  return total;
 }
 
 void check(HYPRE_Int rc, const char* what) {
@@ -53,8 +144,9 @@ void check(HYPRE_Int rc, const char* what) {
 
 struct PressureSolver::Multigrid::Hypre {
   MPI_Comm comm = MPI_COMM_SELF;
-  int ndim = 3;
+  int ndim = 3, rank = 0, size = 1;
   Box box;
+  std::vector<int> counts, offsets;  // per rank: its cells in the cell array (x fastest)
   HYPRE_StructGrid grid = nullptr;
   HYPRE_StructStencil stencil = nullptr;
   HYPRE_StructMatrix A = nullptr;
@@ -67,10 +159,20 @@ PressureSolver::Multigrid::Multigrid(const StaggeredGrid& g, const PressureSolve
     : g_(g), tolerance_(spec.tolerance), h_(std::make_unique<Hypre>()) {
   ensure_mpi();
   Hypre& h = *h_;
-  int rank = 0;
-  MPI_Comm_rank(h.comm, &rank);
+  int world = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &world);
+  if (world > 1) h.comm = MPI_COMM_WORLD;
+  MPI_Comm_rank(h.comm, &h.rank);
+  MPI_Comm_size(h.comm, &h.size);
   h.ndim = g.dims();
-  h.box = owned_box(g, rank);
+  h.box = owned_box(g, h.rank, h.size);
+  const int slow = h.ndim - 1;
+  const std::size_t per_plane = g.cell_count() / static_cast<std::size_t>(g.n(slow));
+  for (int r = 0; r < h.size; ++r) {
+    const auto [first, last] = owned_planes(g.n(slow), r, h.size);
+    h.offsets.push_back(static_cast<int>(per_plane * static_cast<std::size_t>(first)));
+    h.counts.push_back(static_cast<int>(per_plane * static_cast<std::size_t>(last - first)));
+  }
   check(HYPRE_StructGridCreate(h.comm, h.ndim, &h.grid), "grid");
   if (!h.box.empty) HYPRE_StructGridSetExtents(h.grid, h.box.lo, h.box.hi);
   HYPRE_Int period[3] = {0, 0, 0};
@@ -129,22 +231,63 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
   check(HYPRE_StructMatrixCreate(h.comm, h.grid, h.stencil, &h.A), "matrix");
   HYPRE_StructMatrixSetSymmetric(h.A, 1);
   HYPRE_StructMatrixInitialize(h.A);
+  // PFMG's strength of the operator along each axis, as hypre_PFMGComputeDxyz sums it
+  // (per cell c_a = −sign(diag) (off⁻ + off⁺) along axis a, and c_a²), in plane order.
+  const int slow = h.ndim - 1;
+  PlaneSums strength(g_.n(slow), 6);
   if (!h.box.empty) {
-    h.values.resize(g_.cell_count() * static_cast<std::size_t>(stored));
+    h.values.resize(static_cast<std::size_t>(h.counts[static_cast<std::size_t>(h.rank)]) *
+                    static_cast<std::size_t>(stored));
     std::size_t q = 0;
     for (int k = h.box.lo[2]; k <= h.box.hi[2]; ++k)
-      for (int j = h.box.lo[1]; j <= h.box.hi[1]; ++j)
+      for (int j = h.box.lo[1]; j <= h.box.hi[1]; ++j) {
+        double* c = strength.plane(slow == 2 ? k : j);
         for (int i = h.box.lo[0]; i <= h.box.hi[0]; ++i) {
           const CellStencil s = ps.stencil(d, i, j, k);
           h.values[q++] = s.diag;
           for (int a = 0; a < h.ndim; ++a) h.values[q++] = s.off[static_cast<std::size_t>(2 * a)];
+          const double sign = s.diag < 0.0 ? -1.0 : 1.0;
+          for (int a = 0; a < h.ndim; ++a) {
+            const double ca = -sign * (s.off[static_cast<std::size_t>(2 * a)] + s.off[static_cast<std::size_t>(2 * a + 1)]);
+            c[a] += ca;
+            c[3 + a] += ca * ca;
+          }
         }
+      }
     HYPRE_Int ent[4] = {0, 1, 3, 5};
     check(HYPRE_StructMatrixSetBoxValues(h.A, h.box.lo, h.box.hi, stored, ent, h.values.data()), "matrix values");
   }
   check(HYPRE_StructMatrixAssemble(h.A), "matrix assembly");
 
-  HYPRE_StructPCGCreate(h.comm, &h.pcg);
+  double c[6];
+  strength.total(h.comm, c);
+  // hypre_PFMGComputeDxyz's arithmetic on those sums: the axes' spacings as PFMG sees
+  // them, and whether the coefficients vary enough (squared coefficient of variation
+  // above 0.1) for PFMG to weight its Jacobi sweeps 2/3 on every level.
+  double dxyz[3] = {0.0, 0.0, 0.0};
+  bool varied = false;
+  const double cells = static_cast<double>(g_.cell_count());
+  for (int a = 0; a < h.ndim; ++a) {
+    const double mean = c[a] / cells;
+    if (c[3 + a] / cells - mean * mean > 0.1 * mean * mean) varied = true;
+  }
+  double c_max = std::max({c[0], c[1], c[2]});
+  if (c_max == 0.0) {
+    c[0] = c[1] = c[2] = 1.0;
+    c_max = 1.0;
+  }
+  const double max_anisotropy = HYPRE_REAL_MAX / 1000.0;
+  for (int a = 0; a < 3; ++a)
+    dxyz[a] = c[a] > c_max / max_anisotropy ? std::sqrt(1.0 / (c[a] / c_max)) : std::sqrt(max_anisotropy);
+
+  // HYPRE_StructPCGCreate's PCG with the inner product summed in plane order.
+  hypre_PCGFunctions* pcg = hypre_PCGFunctionsCreate(
+      hypre_StructKrylovCAlloc, hypre_StructKrylovFree, hypre_StructKrylovCommInfo, hypre_StructKrylovCreateVector,
+      hypre_StructKrylovDestroyVector, hypre_StructKrylovMatvecCreate, hypre_StructKrylovMatvec,
+      hypre_StructKrylovMatvecDestroy, plane_ordered_inner_product, hypre_StructKrylovCopyVector,
+      hypre_StructKrylovClearVector, hypre_StructKrylovScaleVector, hypre_StructKrylovAxpy,
+      hypre_StructKrylovIdentitySetup, hypre_StructKrylovIdentity);
+  h.pcg = static_cast<HYPRE_StructSolver>(hypre_PCGCreate(pcg));
   HYPRE_StructPCGSetTol(h.pcg, tolerance_);
   HYPRE_StructPCGSetAbsoluteTol(h.pcg, 0.0);
   HYPRE_StructPCGSetTwoNorm(h.pcg, 1);
@@ -169,15 +312,18 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
   HYPRE_StructPFMGSetRAPType(h.pre, 1);
   HYPRE_StructPFMGSetNumPreRelax(h.pre, 1);
   HYPRE_StructPFMGSetNumPostRelax(h.pre, 1);
+  HYPRE_StructPFMGSetDxyz(h.pre, dxyz);
+  if (varied) HYPRE_StructPFMGSetJacobiWeight(h.pre, 2.0 / 3.0);
   HYPRE_StructPCGSetPrecond(h.pcg, HYPRE_StructPFMGSolve, HYPRE_StructPFMGSetup, h.pre);
   check(HYPRE_StructPCGSetup(h.pcg, h.A, h.b, h.x), "multigrid setup");
 }
 
 PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b, std::vector<double>& phi) {
   Hypre& h = *h_;
+  const std::size_t mine = static_cast<std::size_t>(h.offsets[static_cast<std::size_t>(h.rank)]);
   if (!h.box.empty) {
-    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, const_cast<double*>(b.data()));
-    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, phi.data());
+    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, const_cast<double*>(b.data() + mine));
+    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, phi.data() + mine);
   }
   HYPRE_StructVectorAssemble(h.b);
   HYPRE_StructVectorAssemble(h.x);
@@ -188,7 +334,10 @@ PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b
   HYPRE_StructPCGGetFinalRelativeResidualNorm(h.pcg, &st.relative_residual);
   st.iterations = static_cast<int>(it);
   HYPRE_ClearAllErrors();
-  if (!h.box.empty) HYPRE_StructVectorGetBoxValues(h.x, h.box.lo, h.box.hi, phi.data());
+  if (!h.box.empty) HYPRE_StructVectorGetBoxValues(h.x, h.box.lo, h.box.hi, phi.data() + mine);
+  if (h.size > 1)
+    MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, phi.data(), h.counts.data(), h.offsets.data(), MPI_DOUBLE,
+                   h.comm);
   if (!(st.relative_residual <= tolerance_)) {
     std::ostringstream os;
     os << "gas pressure equation: " << method() << " did not converge: relative residual " << st.relative_residual

@@ -40,7 +40,8 @@
 /// contact lists are joined, in particle order, whenever the state is gathered.
 ///
 /// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step is not shared, and scenes without contacts (tracers, or particles
+/// gas), the gas step is not shared but for its multigrid pressure solve (which divides
+/// itself among the ranks, pressure_multigrid.cpp), and scenes without contacts (tracers, or particles
 /// moved by drag alone) are run whole by every rank (Simulation::unshared()).
 #include <cstdint>
 #include <functional>

@@ -21,7 +21,10 @@
 ///  - multigrid (in a build with MPI and hypre): conjugate gradients
 ///    preconditioned by one V-cycle of hypre's structured-grid multigrid PFMG
 ///    (semi-coarsening, PFMG's non-Galerkin coarse operators, weighted-Jacobi smoothing
-///    skipped where redundant), on hypre's Struct interface over MPI_COMM_WORLD.
+///    skipped where redundant), on hypre's Struct interface over MPI_COMM_WORLD: under
+///    mpirun the processes divide the solve (each owns whole planes of cells) and every
+///    process gets the whole φ, the same to the bit as one process's, so every process
+///    must construct and call it alike (pressure_multigrid.cpp).
 ///    Converged when ‖b − Aφ‖₂ ≤ tolerance ‖b‖₂. Work and memory O(N) in the cells.
 ///  - direct: Eigen's sparse LDLᵀ factorisation, O(N^{5/3}) or worse in 3D, kept until d
 ///    changes; exact to round-off. The reference the multigrid solver is tested against,
