@@ -297,17 +297,20 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
   HYPRE_StructPFMGSetMaxIter(h.pre, 1);
   HYPRE_StructPFMGSetTol(h.pre, 0.0);
   HYPRE_StructPFMGSetZeroGuess(h.pre);
-  // Weighted Jacobi on every level (no skipped relaxation): symmetric, as conjugate
-  // gradients need, on any grid. Red–black Gauss–Seidel is not, on a periodic axis of
-  // odd length (no two-colouring) or where the coarsening reaches two periodic cells:
-  // there it stalled (4×8×4 periodic in x and z: relative residual 2e-9 after 1000
-  // iterations) where Jacobi takes 12.
+  // Smoothing: PFMG's symmetric red–black Gauss–Seidel on a grid without periodic axes
+  // (fewer iterations, each hardly dearer: bench/README.md), weighted Jacobi otherwise.
+  // Red–black Gauss–Seidel is not symmetric, as conjugate gradients need, on a periodic
+  // axis of odd length (no two-colouring) or where the coarsening reaches two periodic
+  // cells: there it stalled (4×8×4 periodic in x and z: relative residual 2e-9 after
+  // 1000 iterations) where Jacobi takes 12.
   // Relaxation is skipped on the levels where PFMG finds it redundant for an isotropic
   // operator (hypre's "skip relax"), and the coarse operators are PFMG's non-Galerkin ones
   // (RAP type 1) rather than R·A·P: a few more iterations, each much cheaper
   // (bench/README.md, the pressure solve). Both only change the preconditioner: the
   // stopping test on the residual is the same.
-  HYPRE_StructPFMGSetRelaxType(h.pre, 1);
+  bool periodic = false;
+  for (int a = 0; a < h.ndim; ++a) periodic = periodic || g_.spec().periodic(a);
+  HYPRE_StructPFMGSetRelaxType(h.pre, periodic ? 1 : 2);
   HYPRE_StructPFMGSetSkipRelax(h.pre, 1);
   HYPRE_StructPFMGSetRAPType(h.pre, 1);
   HYPRE_StructPFMGSetNumPreRelax(h.pre, 1);

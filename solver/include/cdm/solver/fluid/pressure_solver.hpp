@@ -20,8 +20,9 @@
 /// Backends:
 ///  - multigrid (in a build with MPI and hypre): conjugate gradients
 ///    preconditioned by one V-cycle of hypre's structured-grid multigrid PFMG
-///    (semi-coarsening, PFMG's non-Galerkin coarse operators, weighted-Jacobi smoothing
-///    skipped where redundant), on hypre's Struct interface over MPI_COMM_WORLD: under
+///    (semi-coarsening, PFMG's non-Galerkin coarse operators, smoothing skipped where
+///    redundant: symmetric red–black Gauss–Seidel without periodic axes, weighted
+///    Jacobi with them), on hypre's Struct interface over MPI_COMM_WORLD: under
 ///    mpirun the processes divide the solve (each owns whole planes of cells) and every
 ///    process gets the whole φ, the same to the bit as one process's, so every process
 ///    must construct and call it alike (pressure_multigrid.cpp).
