@@ -5,12 +5,14 @@
 // changing ε pays: the operator's setup (factorisation or multigrid hierarchy) and the
 // solve. Prints one line:
 //   N cells backend reps setup_s solve_s us_per_cell cpu_us_per_cell iterations rel_residual maxrss_MB
-//   factor_work_per_cell
+//   factor_work_per_cell processes
 // (N as given: 32 or 4x32x2; backend the one used, what "auto" resolved to for auto;
 // factor_work_per_cell cdm::fluid::direct_factor_work_per_cell, which "auto" decides by)
 // (wall times, medians over the repetitions; cpu_us_per_cell the process's CPU time per
 // cell and solve, setup included, which a shared machine inflates less than the wall
-// time; maxrss the process's peak resident memory).
+// time; maxrss the process's peak resident memory). Under mpirun the multigrid solve is
+// divided among the processes (pressure_multigrid.cpp): rank 0 prints the line, with its
+// own times and memory, and processes is the number of them.
 // bench/gas_poisson.sh runs the table in bench/README.md.
 #include <sys/resource.h>
 
@@ -24,6 +26,7 @@
 #include <vector>
 
 #include "cdm/solver/fluid/pressure_solver.hpp"
+#include "cdm/solver/mpi_session.hpp"
 
 namespace {
 
@@ -111,9 +114,11 @@ int main(int argc, char** argv) {
   getrusage(RUSAGE_SELF, &ru);
   const double ncell = static_cast<double>(g.cell_count());
   const double su = median(setup), so = median(solve);
-  std::printf("%s %.0f %s %d %.4f %.4f %.3f %.3f %d %.2e %.1f %.0f\n", shape.c_str(), ncell,
+  const cdm::WorldPlace world = cdm::mpi_world();
+  if (world.rank != 0) return 0;
+  std::printf("%s %.0f %s %d %.4f %.4f %.3f %.3f %d %.2e %.1f %.0f %d\n", shape.c_str(), ncell,
               to_string(solver.backend()), reps, su, so, (su + so) / ncell * 1e6, median(cpu) / ncell * 1e6,
               last.iterations, last.relative_residual, static_cast<double>(ru.ru_maxrss) / 1024.0,
-              direct_factor_work_per_cell(g));
+              direct_factor_work_per_cell(g), world.size);
   return 0;
 }

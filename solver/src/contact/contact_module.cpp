@@ -304,13 +304,22 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     }
     my_active += active;
   };
-  // This rank's slabs (all of them on one rank, rank_split.hpp); between the phases and
-  // after them the boundary slabs' forces move between the ranks.
+  // This rank's slabs (all of them on one rank, rank_split.hpp), and in its phase the
+  // shadow slab below them, the rank below's last: its pairs give this rank's first slab
+  // its contributions in the one-rank order. Its contacts are the other rank's to count,
+  // and its forces on that rank's particles are dropped (the owner computes them).
+  const std::size_t shadow = list_.shadow_slab();
+  auto shadow_pairs = [&](std::size_t pass) {
+    if (shadow == VerletList::no_slab || (shadow & 1) != pass) return;
+    std::size_t not_counted = 0;
+    OverlapRecord not_recorded;
+    pair_range(slab_start[shadow], slab_start[shadow + 1], not_counted, not_recorded);
+  };
   if (!threads) {
     // Same order as the threaded path: even slabs, then odd slabs.
     list_.by_phase([&](std::size_t pass, std::size_t s0, std::size_t s1) {
       for (std::size_t s = s0; s < s1; s += 2) pair_range(slab_start[s], slab_start[s + 1], active, worst);
-      if (ranks_) ranks_->boundary_forces(p, static_cast<int>(pass));
+      shadow_pairs(pass);
     });
     list_.forget_slab_contacts();
   } else {
@@ -326,13 +335,9 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
           pair_range(slab_start[s], slab_start[s + 1], my_active, my_worst);
           list_.set_slab_contacts(s, my_active - before);
         }
+        if (thread_id().first == 0) shadow_pairs(pass);
         if (pass == 0) {
 #pragma omp barrier
-          if (ranks_) {
-#pragma omp master
-            ranks_->boundary_forces(p, 0);
-#pragma omp barrier
-          }
         }
       }
 #pragma omp critical(cdm_contact_reduce)
@@ -341,7 +346,6 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         if (contact::worse_overlap(my_worst, worst)) worst = my_worst;
       }
     }
-    if (ranks_) ranks_->boundary_forces(p, 1);
   }
 
   // Particle–wall: the wall is a body of infinite mass; m_eff = m_i. Its surface moves

@@ -58,7 +58,7 @@ void RollingResistanceModule::add_forces(ParticleStore& p, double dt) {
         pair_range(slab_start[s], slab_start[s + 1]);
       }
     }
-    if (ranks) ranks->boundary_forces(p, static_cast<int>(pass), true);
+    if (ranks) ranks->boundary_torques(p, static_cast<int>(pass));
   });
   if (!c_.walls().empty()) wall_torques(p, dt, free_spin);
   if (c_.meshes()) mesh_torques(p, dt, free_spin, threads);

@@ -62,19 +62,25 @@ void RankSplit::assign(VerletList& list, const ParticleStore& p) {
   }
   lower_.clear();
   upper_.clear();
+  top_.clear();
+  under_.clear();
   below_ = above_ = -1;
   if (s0 < s1) {
     if (s0 > 0) {
       below_ = slab_owner_[s0 - 1];
       lower_odd_ = (s0 & 1) != 0;
-      for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t i = 0; i < n; ++i) {
         if (slab_of[i] == s0) lower_.push_back(static_cast<std::uint32_t>(i));
+        if (slab_of[i] == s0 - 1) under_.push_back(static_cast<std::uint32_t>(i));
+      }
     }
     if (s1 < nslab) {
       above_ = slab_owner_[s1];
       upper_odd_ = (s1 & 1) != 0;
-      for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t i = 0; i < n; ++i) {
         if (slab_of[i] == s1) upper_.push_back(static_cast<std::uint32_t>(i));
+        if (slab_of[i] == s1 - 1) top_.push_back(static_cast<std::uint32_t>(i));
+      }
     }
   }
   list.set_rank_slabs(s0, s1);
@@ -143,8 +149,14 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
 void RankSplit::exchange_ghosts(ParticleStore& p) {
   if (!assigned_) return;
   std::vector<Leg> sends, recvs;
-  if (below_ >= 0) sends.push_back({&lower_, below_});
-  if (above_ >= 0) recvs.push_back({&upper_, above_});
+  if (below_ >= 0) {
+    sends.push_back({&lower_, below_});
+    recvs.push_back({&under_, below_});
+  }
+  if (above_ >= 0) {
+    sends.push_back({&top_, above_});
+    recvs.push_back({&upper_, above_});
+  }
   exchange(dynamic_arrays(p), sends, recvs, 11, legs_);
 }
 
@@ -156,15 +168,13 @@ void RankSplit::exchange_ghost_torques(ParticleStore& p) {
   exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14, legs_);
 }
 
-void RankSplit::boundary_forces(ParticleStore& p, int pass, bool torques_only) {
+void RankSplit::boundary_torques(ParticleStore& p, int pass) {
   if (!assigned_) return;
-  std::vector<std::vector<double>*> f;
-  if (!torques_only) f = {&p.fx, &p.fy, &p.fz};
-  if (p.has_rotation()) f.insert(f.end(), {&p.tx, &p.ty, &p.tz});
+  std::vector<std::vector<double>*> f = {&p.tx, &p.ty, &p.tz};
   // A boundary slab's particles take their contributions from the pairs of the slab
   // below (the lower rank's) and of their own slab (the upper rank's): of the even one
   // of the two first. An odd boundary slab: the lower rank adds in the even phase, then
-  // hands the forces up. An even one: the upper rank adds in the even phase, hands them
+  // hands the torques up. An even one: the upper rank adds in the even phase, hands them
   // down, the lower one adds in the odd phase and hands them back.
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) {
@@ -177,7 +187,7 @@ void RankSplit::boundary_forces(ParticleStore& p, int pass, bool torques_only) {
     if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
     if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
   }
-  exchange(f, sends, recvs, (torques_only ? 15 : 12) + pass, legs_);
+  exchange(f, sends, recvs, 15 + pass, legs_);
 }
 
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
@@ -370,7 +380,7 @@ void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const
 
 std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
 void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::boundary_forces(ParticleStore&, int, bool) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::boundary_torques(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }

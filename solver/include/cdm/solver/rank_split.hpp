@@ -11,11 +11,16 @@
 ///  - the integrator's pass moves the rank's own particles (velocity Verlet's, or the
 ///    paper's Euler step);
 ///  - exchange_ghosts(): each rank receives the moved state of the first slab of the
-///    rank above (the pairs of its last slab reach into it);
-///  - the pair loop's even phase, then boundary_forces(0), the odd phase, then
-///    boundary_forces(1): the forces on a boundary slab's particles travel between the
-///    two ranks so that they receive their contributions in the one-rank order (even
-///    slabs before odd ones); the wall contacts follow on the owner alone;
+///    rank above (the pairs of its last slab reach into it) and of the last slab of the
+///    rank below (the shadow slab, whose pairs reach into its first slab);
+///  - the pair loop's even phase, then its odd phase, over the rank's slabs and the
+///    shadow slab: the rank evaluates the shadow slab's pairs as the rank below does, so
+///    that its first slab's particles receive every contribution in the one-rank order
+///    (even slabs before odd ones) without forces passing between the ranks; the
+///    contributions to the other rank's particles (its ghosts) are dropped, the shadow
+///    pairs' history is updated alike on both (the same arithmetic on the same state),
+///    and their contacts are counted by their owner; the wall contacts follow on the
+///    owner alone;
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
@@ -33,8 +38,9 @@
 /// list is built again (at the next step) every rank then moves every particle.
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
-/// first (the pass reads each particle's torque so far), then its two phases, each
-/// followed by boundary_forces() on the torques.
+/// first (the pass reads each particle's torque so far), then its two phases over the
+/// rank's slabs, each followed by boundary_torques(): the torques on a boundary slab's
+/// particles travel between the two ranks in the one-rank order.
 ///
 /// Against triangle meshes each rank finds and resolves its own particles' contacts; the
 /// contact lists are joined, in particle order, whenever the state is gathered.
@@ -104,12 +110,12 @@ class RankSplit final : public SearchShare {
     return any(hit);
   }
 
-  /// After the integrator's pass: receive the first slab of the rank above.
+  /// After the integrator's pass: receive the first slab of the rank above and the last
+  /// of the rank below (the shadow slab, VerletList::shadow_slab).
   void exchange_ghosts(ParticleStore& p);
-  /// After phase @p pass (0 even, 1 odd) of the pair loop: the boundary slabs' forces
-  /// and torques (@p torques_only: the torques, for the rolling resistance's pass) move
-  /// on in the one-rank order. Called from one thread.
-  void boundary_forces(ParticleStore& p, int pass, bool torques_only = false);
+  /// After phase @p pass (0 even, 1 odd) of the rolling resistance's pair loop: the
+  /// boundary slabs' torques move on in the one-rank order. Called from one thread.
+  void boundary_torques(ParticleStore& p, int pass);
   /// Before the rolling resistance's pass, which reads the torques accumulated so far:
   /// receive the ghosts' torques, complete with their contacts and walls.
   void exchange_ghost_torques(ParticleStore& p);
@@ -161,6 +167,8 @@ class RankSplit final : public SearchShare {
   // The lower boundary: this rank's first slab (sent down), shared with rank below_;
   // the upper one: the first slab of rank above_ (ghosts).
   std::vector<std::uint32_t> lower_, upper_;
+  // This rank's last slab (sent up) and the rank below's last, the shadow slab (ghosts).
+  std::vector<std::uint32_t> top_, under_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
   /// Every rank gets every rank's mesh contacts (meshes_), in particle order.

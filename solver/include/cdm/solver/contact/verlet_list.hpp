@@ -175,6 +175,15 @@ class VerletList {
     rank_split_ = true;
   }
   void clear_rank_slabs() { rank_split_ = false; }
+  static constexpr std::size_t no_slab = static_cast<std::size_t>(-1);
+  /// The slab just below this rank's share, another rank's, whose pairs reach into this
+  /// rank's first slab: the contact pair loop evaluates its pairs too, in its phase, for
+  /// their forces on this rank's particles (rank_split.hpp). no_slab on one rank, on a
+  /// rank without slabs, and on the rank holding slab 0.
+  std::size_t shadow_slab() const {
+    return rank_split_ && rank_slabs_.first > 0 && rank_slabs_.first < rank_slabs_.second ? rank_slabs_.first - 1
+                                                                                            : no_slab;
+  }
   /// Share the search at each build among processes (nullptr: search alone).
   void set_search_share(SearchShare* s) {
     share_ = s;
