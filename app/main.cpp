@@ -181,12 +181,11 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   if (spec.t_col_min > 0) std::cout << " (t_col/" << spec.t_col_min / spec.dt << ")";
   std::cout << ", " << sim.total_steps() << " steps";
   if (sim.restarted()) std::cout << ", restarting at step " << sim.steps() << " (t = " << sim.time() << " s)";
-  if (const cdm::fluid::GasSolver* gs = sim.gas_solver())
-    std::cout << "; gas pressure solve: " << gs->pressure_solver().method();
+  const cdm::fluid::GasSolver* gas_solver = sim.gas_solver();
+  if (gas_solver) std::cout << "; gas pressure solve: " << gas_solver->pressure_solver().method();
   std::cout << "\n";
   // The multigrid pressure solve is divided among the processes whatever the scene
   // (pressure_multigrid.cpp); the direct one is done whole by each.
-  const cdm::fluid::GasSolver* gas_solver = sim.gas_solver();
   const bool solve_shared =
       gas_solver && gas_solver->pressure_solver().backend() == cdm::fluid::PressureBackend::multigrid;
   if (sim.ranks() > 1 && sim.unshared().empty())

@@ -71,8 +71,14 @@ Box owned_box(const StaggeredGrid& g, int rank, int size) {
 /// other ranks add zeros) and every rank adds them up in plane order.
 class PlaneSums {
  public:
-  PlaneSums(int planes, int m) : m_(m), sums_(static_cast<std::size_t>(planes) * static_cast<std::size_t>(m), 0.0) {}
-  double* plane(int p) { return &sums_[static_cast<std::size_t>(p) * static_cast<std::size_t>(m_)]; }
+  /// @p planes planes of axis @p slow (1 or 2), the first at index @p first; m sums each.
+  PlaneSums(int slow, int first, int planes, int m)
+      : slow_(slow), first_(first), m_(m), sums_(static_cast<std::size_t>(planes) * static_cast<std::size_t>(m), 0.0) {}
+  /// The m sums of the plane holding the row of cells (j, k).
+  double* row(int j, int k) {
+    const int p = (slow_ == 2 ? k : j) - first_;
+    return &sums_[static_cast<std::size_t>(p) * static_cast<std::size_t>(m_)];
+  }
   /// The m totals, into @p total.
   void total(MPI_Comm comm, double* total) {
     int size = 1;
@@ -85,7 +91,7 @@ class PlaneSums {
   }
 
  private:
-  int m_;
+  int slow_, first_, m_;
   std::vector<double> sums_;
 };
 
@@ -99,7 +105,7 @@ HYPRE_Real plane_ordered_inner_product(void* vx, void* vy) {
   const int slow = ndim - 1;
   hypre_Box* whole = hypre_StructGridBoundingBox(grid);
   const HYPRE_Int p0 = hypre_BoxIMinD(whole, slow);
-  PlaneSums sums(static_cast<int>(hypre_BoxIMaxD(whole, slow) - p0 + 1), 1);
+  PlaneSums sums(slow, static_cast<int>(p0), static_cast<int>(hypre_BoxIMaxD(whole, slow) - p0 + 1), 1);
   hypre_BoxArray* boxes = hypre_StructGridBoxes(grid);
   for (HYPRE_Int bi = 0; bi < hypre_BoxArraySize(boxes); ++bi) {
     hypre_Box* box = hypre_BoxArrayBox(boxes, bi);
@@ -123,7 +129,7 @@ HYPRE_Real plane_ordered_inner_product(void* vx, void* vy) {
       for (HYPRE_Int j = lo[1]; j <= hi[1]; ++j) {
         const double* xr = xs + (lo[0] - xo[0]) + xs1 * (j - xo[1]) + xs2 * (k - xo[2]);
         const double* yr = ys + (lo[0] - yo[0]) + ys1 * (j - yo[1]) + ys2 * (k - yo[2]);
-        double* s = sums.plane(static_cast<int>((slow == 2 ? k : j) - p0));
+        double* s = sums.row(static_cast<int>(j), static_cast<int>(k));
         for (HYPRE_Int i = 0; i <= hi[0] - lo[0]; ++i) *s += xr[i] * yr[i];
       }
   }
@@ -234,14 +240,14 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
   // PFMG's strength of the operator along each axis, as hypre_PFMGComputeDxyz sums it
   // (per cell c_a = −sign(diag) (off⁻ + off⁺) along axis a, and c_a²), in plane order.
   const int slow = h.ndim - 1;
-  PlaneSums strength(g_.n(slow), 6);
+  PlaneSums strength(slow, 0, g_.n(slow), 6);
   if (!h.box.empty) {
     h.values.resize(static_cast<std::size_t>(h.counts[static_cast<std::size_t>(h.rank)]) *
                     static_cast<std::size_t>(stored));
     std::size_t q = 0;
     for (int k = h.box.lo[2]; k <= h.box.hi[2]; ++k)
       for (int j = h.box.lo[1]; j <= h.box.hi[1]; ++j) {
-        double* c = strength.plane(slow == 2 ? k : j);
+        double* c = strength.row(j, k);
         for (int i = h.box.lo[0]; i <= h.box.hi[0]; ++i) {
           const CellStencil s = ps.stencil(d, i, j, k);
           h.values[q++] = s.diag;
