@@ -290,12 +290,15 @@ void Simulation::gas_step() {
   gs.clear_force();
   if (exchange_->two_way()) {
     // Gathered over the gas step (evaluated once per gas step, or for the implicit drag):
-    // the impulses deposited where the particles are now.
-    if (implicit_drag_ || lagged()) exchange_->deposit_impulses(particles_);
+    // the impulses deposited where the particles are now; once per gas step, with ε_g
+    // from the same stencils.
+    const bool together = lagged() && !implicit_drag_;
+    if (together) exchange_->deposit_impulses_and_void_fraction(particles_, eps_work_, time_);
+    else if (implicit_drag_) exchange_->deposit_impulses(particles_);
     if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs);
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
-    exchange_->deposit_void_fraction(particles_, eps_work_, time_);
+    if (!together) exchange_->deposit_void_fraction(particles_, eps_work_, time_);
   } else {
     eps_work_ = gas_->eps_g;
   }

@@ -39,29 +39,30 @@ void Deposition::stencil(Vec3 x, Stencil& s) const {
       holding_cell(f, s);
       return;
     case Kernel::trilinear: {
-      int i0[3] = {0, 0, 0};
-      double t[3] = {0, 0, 0};
-      for (int a = 0; a < dims; ++a) {
-        i0[a] = static_cast<int>(std::floor(f[a]));
-        t[a] = f[a] - i0[a];
-      }
-      // The folded neighbours along each axis, combined by the array strides.
+      // Per axis the two neighbours, folded and scaled by the array strides, and their
+      // weights 1 − t and t; an axis the grid lacks (2D: z) has one, of weight 1.
       const std::size_t base = g.at(0, 0, 0);
-      const std::size_t sy = g.at(0, 1, 0) - base, sz = g.at(0, 0, 1) - base;
+      const std::size_t stride[3] = {1, g.at(0, 1, 0) - base, g.at(0, 0, 1) - base};
       std::size_t o[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-      for (int d = 0; d < 2; ++d) {
-        o[0][d] = static_cast<std::size_t>(fold(0, i0[0] + d));
-        o[1][d] = static_cast<std::size_t>(fold(1, i0[1] + d)) * sy;
-        if (dims == 3) o[2][d] = static_cast<std::size_t>(fold(2, i0[2] + d)) * sz;
+      double w[3][2] = {{1.0, 0.0}, {1.0, 0.0}, {1.0, 0.0}};
+      for (int a = 0; a < dims; ++a) {
+        const int i0 = static_cast<int>(std::floor(f[a]));
+        const double t = f[a] - i0;
+        w[a][0] = 1 - t;
+        w[a][1] = t;
+        o[a][0] = static_cast<std::size_t>(fold(a, i0)) * stride[a];
+        o[a][1] = static_cast<std::size_t>(fold(a, i0 + 1)) * stride[a];
       }
       const int kz = dims == 3 ? 2 : 1;
       for (int dk = 0; dk < kz; ++dk)
-        for (int dj = 0; dj < 2; ++dj)
+        for (int dj = 0; dj < 2; ++dj) {
+          const std::size_t row = base + o[1][dj] + o[2][dk];
           for (int di = 0; di < 2; ++di) {
-            const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dims == 3 ? (dk ? t[2] : 1 - t[2]) : 1.0);
-            if (w == 0.0) continue;
-            s.add(base + o[0][di] + o[1][dj] + o[2][dk], w);
+            const double wt = w[0][di] * w[1][dj] * w[2][dk];
+            if (wt == 0.0) continue;
+            s.add(row + o[0][di], wt);
           }
+        }
       return;
     }
     case Kernel::gaussian: {

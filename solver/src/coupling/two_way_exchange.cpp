@@ -16,14 +16,41 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
   imp_y_ = imp_z_ = imp_x_;
 }
 
+namespace {
+/// Particle @p i's volume as a fraction of a cell's, @p vc.
+double volume_in_cells(const ParticleStore& p, std::size_t i, double vc) {
+  const double d = 2.0 * p.radius[i];
+  return std::numbers::pi * d * d * d / 6.0 / vc;
+}
+}  // namespace
+
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
-  const fluid::StaggeredGrid& g = grid_;
-  eps.assign(g.padded_size(), 0.0);
-  const double vc = g.cell_volume();
+  eps.assign(grid_.padded_size(), 0.0);
+  const double vc = grid_.cell_volume();
+  Stencil s;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double d = 2.0 * p.radius[i], vol = std::numbers::pi * d * d * d / 6.0 / vc;
-    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
+    const double vol = volume_in_cells(p, i, vc);
+    deposition_->stencil(p.position(i), s);
+    s.for_each([&](std::size_t c, double w) { eps[c] += w * vol; });
   }
+  finish_void_fraction(eps, time);
+}
+
+void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time) {
+  eps.assign(grid_.padded_size(), 0.0);
+  const double vc = grid_.cell_volume();
+  Stencil s;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    deposition_->stencil(p.position(i), s);
+    deposit_impulse(p, i, s);
+    const double vol = volume_in_cells(p, i, vc);
+    s.for_each([&](std::size_t c, double w) { eps[c] += w * vol; });
+  }
+  finish_void_fraction(eps, time);
+}
+
+void TwoWayExchange::finish_void_fraction(std::vector<double>& eps, double time) const {
+  const fluid::StaggeredGrid& g = grid_;
   double worst = 1.0;
   int wc[3] = {0, 0, 0};
   for (int k = 0; k < g.n(2); ++k)
@@ -46,17 +73,21 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
   g.fill_scalar_ghosts(eps);
 }
 
-void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
+void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, const Stencil& s) {
   const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
   particle_impulse_ += Vec3{jx, jy, jz};
-  deposition_->for_each_weight(at, [&](std::size_t c, double w) {
+  s.for_each([&](std::size_t c, double w) {
     imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
   });
   p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
 }
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
+  Stencil s;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    deposition_->stencil(p.position(i), s);
+    deposit_impulse(p, i, s);
+  }
 }
 
 void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
@@ -64,7 +95,9 @@ void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i)
   double at[3] = {x.x, x.y, x.z};
   for (int a = 0; a < grid_.dims(); ++a)
     if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
-  deposit_impulse(p, i, {at[0], at[1], at[2]});
+  Stencil s;
+  deposition_->stencil({at[0], at[1], at[2]}, s);
+  deposit_impulse(p, i, s);
 }
 
 FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {

@@ -47,6 +47,9 @@ class TwoWayExchange {
   /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
   /// the reaction on the gas.
   void deposit_impulses(ParticleStore& p);
+  /// deposit_impulses and deposit_void_fraction at once, each particle's stencil
+  /// computed once for both (the same sums, in the same order).
+  void deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time);
   /// The same for particle @p i alone (one leaving through an outlet before its gas
   /// step), its impulse spread about the point of the gas domain nearest to it.
   void deposit_impulse_of_leaving(ParticleStore& p, std::size_t i);
@@ -68,7 +71,11 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
-  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
+  /// Particle @p i's impulse onto the cells of its stencil @p s; its accumulator emptied.
+  void deposit_impulse(ParticleStore& p, std::size_t i, const Stencil& s);
+  /// ε_g = 1 − the deposited solids fraction on the cells of @p eps, checked (throws
+  /// SimulationError naming the cell and @p time), its ghosts filled.
+  void finish_void_fraction(std::vector<double>& eps, double time) const;
 
   const fluid::StaggeredGrid& grid_;
   std::unique_ptr<Deposition> deposition_;
