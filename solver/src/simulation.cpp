@@ -55,6 +55,10 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   if (spec_.pressure_gradient) {
     auto m = std::make_unique<coupling::PressureGradientModule>(*gas_);
     if (lagged()) m->evaluate_per_gas_step(gas_clock_);
+    // Once per gas step with the explicit drag, one evaluation and one pass per step for both.
+    if (lagged() && drag_ && spec_.drag_update == coupling::DragUpdate::explicit_force &&
+        spec_.coupling_method == coupling::CouplingMethod::interpolate)
+      drag_->take_pressure_gradient(*m);
     modules_.push_back(std::move(m));
   }
   if (spec_.tracers)  // a tracer moves with the gas from the start

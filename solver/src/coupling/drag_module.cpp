@@ -41,8 +41,17 @@ void DragModule::add_forces(ParticleStore& p, double /*dt*/) {
     return;
   }
   const bool relax = update_ != DragUpdate::explicit_force;
-  if (clock_->due || (!relax && k_.size() != p.size())) evaluate(p, !relax);
+  const std::size_t n = p.size();
+  const bool missing = !relax && (k_.size() != n || (grad_p_ && grad_p_->fx_.size() != n));
+  if (clock_->due || missing) evaluate(p, !relax);
   if (!relax) add_cached_explicit(p);
+}
+
+void DragModule::take_pressure_gradient(PressureGradientModule& m) {
+  if (!clock_ || m.clock_ != clock_ || update_ != DragUpdate::explicit_force || method_ != CouplingMethod::interpolate)
+    throw std::logic_error("take_pressure_gradient: both modules once per gas step on one clock, the drag explicit");
+  grad_p_ = &m;
+  m.taken_ = true;
 }
 
 void DragModule::evaluate(ParticleStore& p, bool cache) {
@@ -53,6 +62,10 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
   if (cache) {
     k_.resize(n); ugx_.resize(n); ugy_.resize(n); ugz_.resize(n);
   }
+  PressureGradientModule* const gp = cache ? grad_p_ : nullptr;
+  if (gp) {
+    gp->fx_.resize(n); gp->fy_.resize(n); gp->fz_.resize(n);
+  }
   const double rate = max_own(ranks_, n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
     const double eps = void_fraction_at(x);
@@ -60,7 +73,17 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
     // the interstitial velocity is not: interpolating the flux and dividing by the
     // particle's own ε gives a particle inside a packed layer U/ε, not a blend with the
     // clear gas beside it.
-    const Vec3 ug = superficial_ ? (1.0 / eps) * gas.superficial_velocity_at(x) : gas.velocity_at(x);
+    Vec3 ug, grad_p;
+    if (gp && !superficial_) {
+      gas.velocity_and_pressure_gradient_at(x, ug, grad_p);
+    } else {
+      ug = superficial_ ? (1.0 / eps) * gas.superficial_velocity_at(x) : gas.velocity_at(x);
+      if (gp) grad_p = gas.pressure_gradient_at(x);
+    }
+    if (gp) {
+      const Vec3 f = PressureGradientModule::force(p, i, grad_p);
+      gp->fx_[i] = f.x; gp->fy_[i] = f.y; gp->fz_[i] = f.z;
+    }
     const Vec3 slip = ug - p.velocity(i);
     const double k = drag_coefficient(law_, rho, mu, 2.0 * p.radius[i], eps, norm(slip));
     if (relax) {
@@ -79,32 +102,39 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
 }
 
 void DragModule::add_cached_explicit(ParticleStore& p) const {
-  // add_explicit's arithmetic on raw pointers, one loop per axis and per two-way or not,
-  // so that the loops vectorise (through the store's vectors they did not).
+  // add_explicit's arithmetic on raw pointers, one loop per axis and per variant, so that
+  // the loops vectorise (through the store's vectors they did not); with the pressure
+  // gradient taken, its cached force is subtracted right after the drag is added.
   const std::size_t n = p.size();
   const double* __restrict k = k_.data();
   const double* const ug[3] = {ugx_.data(), ugy_.data(), ugz_.data()};
   const double* const v[3] = {p.vx.data(), p.vy.data(), p.vz.data()};
   double* const f[3] = {p.fx.data(), p.fy.data(), p.fz.data()};
   double* const df[3] = {p.dfx.data(), p.dfy.data(), p.dfz.data()};
-  const bool two_way = two_way_;
-  auto axis = [&](int a, std::size_t i0, std::size_t i1) {
+  const double* const gp[3] = {grad_p_ ? grad_p_->fx_.data() : nullptr, grad_p_ ? grad_p_->fy_.data() : nullptr,
+                               grad_p_ ? grad_p_->fz_.data() : nullptr};
+  auto axis = [&]<bool TwoWay, bool GradP>(int a, std::size_t i0, std::size_t i1) {
     const double* __restrict u = ug[a];
     const double* __restrict va = v[a];
+    const double* __restrict c = gp[a];
     double* __restrict fa = f[a];
-    if (two_way) {
-      double* __restrict d = df[a];
-      for (std::size_t i = i0; i < i1; ++i) {
-        const double fi = k[i] * (u[i] - va[i]);
-        fa[i] += fi;
-        d[i] = fi;
-      }
-    } else {
-      for (std::size_t i = i0; i < i1; ++i) fa[i] += k[i] * (u[i] - va[i]);
+    double* __restrict d = df[a];
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double fi = k[i] * (u[i] - va[i]);
+      double fs = fa[i] + fi;
+      if constexpr (GradP) fs -= c[i];
+      fa[i] = fs;
+      if constexpr (TwoWay) d[i] = fi;
     }
   };
+  const bool two_way = two_way_, grad_p = grad_p_ != nullptr;
   for_own_ranges(ranks_, n, [&](std::size_t i0, std::size_t i1) {
-    for (int a = 0; a < 3; ++a) axis(a, i0, i1);
+    for (int a = 0; a < 3; ++a) {
+      if (two_way && grad_p) axis.template operator()<true, true>(a, i0, i1);
+      else if (two_way) axis.template operator()<true, false>(a, i0, i1);
+      else if (grad_p) axis.template operator()<false, true>(a, i0, i1);
+      else axis.template operator()<false, false>(a, i0, i1);
+    }
   });
 }
 
@@ -197,14 +227,16 @@ double DragModule::relaxation_time_at_rest(const ParticleStore& p) const {
   return tau;
 }
 
+Vec3 PressureGradientModule::force(const ParticleStore& p, std::size_t i, Vec3 grad_p) {
+  const double d = 2.0 * p.radius[i];
+  const double vol = std::numbers::pi * d * d * d / 6.0;
+  return {vol * grad_p.x, vol * grad_p.y, vol * grad_p.z};
+}
+
 void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
+  if (taken_) return;  // the drag module evaluates and applies it
   const std::size_t n = p.size();
-  auto force = [&](std::size_t i) {  // V_p ∇P
-    const double d = 2.0 * p.radius[i];
-    const double vol = std::numbers::pi * d * d * d / 6.0;
-    const Vec3 gp = gas_->pressure_gradient_at(p.position(i));
-    return Vec3{vol * gp.x, vol * gp.y, vol * gp.z};
-  };
+  auto force = [&](std::size_t i) { return PressureGradientModule::force(p, i, gas_->pressure_gradient_at(p.position(i))); };
   if (!clock_) {
     for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 f = force(i);

@@ -29,6 +29,8 @@
 
 namespace cdm::coupling {
 
+class PressureGradientModule;
+
 class DragModule final : public ForceModule {
  public:
   /// @p fixed_void_fraction in (0, 1]: ε_g used in the law; 0 takes ε_g from the grid,
@@ -47,6 +49,12 @@ class DragModule final : public ForceModule {
   /// K (u_g − v) with the K and u_g of that evaluation (coupling.drag_evaluation =
   /// "gas_step"; the interpolate method only).
   void evaluate_per_gas_step(const GasStepClock& clock) { clock_ = &clock; }
+  /// With the explicit update evaluated once per gas step (after evaluate_per_gas_step):
+  /// evaluate @p m's ∇P with the gas velocity, from the same interpolation stencils, into
+  /// m's cache, and subtract m's force in this module's pass right after the drag (the
+  /// sums m's own pass after this one gave); m's add_forces then does nothing. @p m runs
+  /// once per gas step on the same clock and follows this module.
+  void take_pressure_gradient(PressureGradientModule& m);
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
   void permute(const std::vector<std::uint32_t>& from) override;
@@ -90,6 +98,7 @@ class DragModule final : public ForceModule {
   std::vector<double> k_, ugx_, ugy_, ugz_;      // K and u_g of that evaluation (explicit update)
   double tau_min_ = std::numeric_limits<double>::infinity();
   RankSplit* ranks_ = nullptr;  // share_among
+  PressureGradientModule* grad_p_ = nullptr;  // take_pressure_gradient
 };
 
 class PressureGradientModule final : public ForceModule {
@@ -111,10 +120,15 @@ class PressureGradientModule final : public ForceModule {
   }
 
  private:
+  friend class DragModule;  // DragModule::take_pressure_gradient
+  /// Particle @p i's V_p ∇P from the pressure gradient @p grad_p at it.
+  static Vec3 force(const ParticleStore& p, std::size_t i, Vec3 grad_p);
+
   const fluid::GasField* gas_;
   RankSplit* ranks_ = nullptr;  // share_among
   const GasStepClock* clock_ = nullptr;
   std::vector<double> fx_, fy_, fz_;  // V_p ∇P of the last evaluation (per gas step)
+  bool taken_ = false;  // evaluated and applied by the drag module (take_pressure_gradient)
 };
 
 }  // namespace cdm::coupling

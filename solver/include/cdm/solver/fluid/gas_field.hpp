@@ -73,6 +73,19 @@ class GasField {
     if (analytic_) return prescribed_->pressure_gradient(x);
     return gradient_interp_.at(x) + mean_pressure_gradient;
   }
+  /// velocity_at(@p x) and pressure_gradient_at(@p x), to the bit, in @p u and @p grad_p:
+  /// with trilinear interpolation from one set of stencils (the two fields share the
+  /// staggering).
+  void velocity_and_pressure_gradient_at(Vec3 x, Vec3& u, Vec3& grad_p) const {
+    if (analytic_ || velocity_interp_.scheme() != InterpolationScheme::trilinear) {
+      u = velocity_at(x);
+      grad_p = pressure_gradient_at(x);
+      return;
+    }
+    const VectorInterpolator::Stencils s = velocity_interp_.stencils(x);
+    u = scale_ * velocity_interp_.sample(s);
+    grad_p = gradient_interp_.sample(s) + mean_pressure_gradient;
+  }
   /// An imposed mean ∇P̄ [Pa/m] added to the grid's gradient (solved periodic gas).
   Vec3 mean_pressure_gradient;
 
