@@ -6,7 +6,9 @@
 namespace cdm::coupling {
 
 Deposition::Deposition(const fluid::StaggeredGrid& grid, Kernel kernel, double width)
-    : grid_(&grid), kernel_(kernel), sigma_(width) {}
+    : grid_(&grid), base_(grid.at(0, 0, 0)),
+      stride_{1, grid.at(0, 1, 0) - grid.at(0, 0, 0), grid.at(0, 0, 1) - grid.at(0, 0, 0)}, kernel_(kernel),
+      sigma_(width) {}
 
 int Deposition::fold_outside(int axis, int i) const {
   const int n = grid_->n(axis);
@@ -39,30 +41,8 @@ void Deposition::stencil(Vec3 x, Stencil& s) const {
       holding_cell(f, s);
       return;
     case Kernel::trilinear: {
-      // Per axis the two neighbours, folded and scaled by the array strides, and their
-      // weights 1 − t and t; an axis the grid lacks (2D: z) has one, of weight 1.
-      const std::size_t base = g.at(0, 0, 0);
-      const std::size_t stride[3] = {1, g.at(0, 1, 0) - base, g.at(0, 0, 1) - base};
-      std::size_t o[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-      double w[3][2] = {{1.0, 0.0}, {1.0, 0.0}, {1.0, 0.0}};
-      for (int a = 0; a < dims; ++a) {
-        const int i0 = static_cast<int>(std::floor(f[a]));
-        const double t = f[a] - i0;
-        w[a][0] = 1 - t;
-        w[a][1] = t;
-        o[a][0] = static_cast<std::size_t>(fold(a, i0)) * stride[a];
-        o[a][1] = static_cast<std::size_t>(fold(a, i0 + 1)) * stride[a];
-      }
-      const int kz = dims == 3 ? 2 : 1;
-      for (int dk = 0; dk < kz; ++dk)
-        for (int dj = 0; dj < 2; ++dj) {
-          const std::size_t row = base + o[1][dj] + o[2][dk];
-          for (int di = 0; di < 2; ++di) {
-            const double wt = w[0][di] * w[1][dj] * w[2][dk];
-            if (wt == 0.0) continue;
-            s.add(row + o[0][di], wt);
-          }
-        }
+      auto add = [&](std::size_t i, double w) { s.add(i, w); };
+      for_each_trilinear(x, add);
       return;
     }
     case Kernel::gaussian: {

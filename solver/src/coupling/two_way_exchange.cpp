@@ -27,11 +27,9 @@ double volume_in_cells(const ParticleStore& p, std::size_t i, double vc) {
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
   eps.assign(grid_.padded_size(), 0.0);
   const double vc = grid_.cell_volume();
-  Stencil s;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double vol = volume_in_cells(p, i, vc);
-    deposition_->stencil(p.position(i), s);
-    s.for_each([&](std::size_t c, double w) { eps[c] += w * vol; });
+    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
   }
   finish_void_fraction(eps, time);
 }
@@ -39,12 +37,15 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
 void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time) {
   eps.assign(grid_.padded_size(), 0.0);
   const double vc = grid_.cell_volume();
-  Stencil s;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    deposition_->stencil(p.position(i), s);
-    deposit_impulse(p, i, s);
+    const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
     const double vol = volume_in_cells(p, i, vc);
-    s.for_each([&](std::size_t c, double w) { eps[c] += w * vol; });
+    particle_impulse_ += Vec3{jx, jy, jz};
+    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+      imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
+      eps[c] += w * vol;
+    });
+    p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
   }
   finish_void_fraction(eps, time);
 }
@@ -73,21 +74,17 @@ void TwoWayExchange::finish_void_fraction(std::vector<double>& eps, double time)
   g.fill_scalar_ghosts(eps);
 }
 
-void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, const Stencil& s) {
+void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
   const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
   particle_impulse_ += Vec3{jx, jy, jz};
-  s.for_each([&](std::size_t c, double w) {
+  deposition_->for_each_weight(at, [&](std::size_t c, double w) {
     imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
   });
   p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
 }
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  Stencil s;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    deposition_->stencil(p.position(i), s);
-    deposit_impulse(p, i, s);
-  }
+  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
 }
 
 void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
@@ -95,9 +92,7 @@ void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i)
   double at[3] = {x.x, x.y, x.z};
   for (int a = 0; a < grid_.dims(); ++a)
     if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
-  Stencil s;
-  deposition_->stencil({at[0], at[1], at[2]}, s);
-  deposit_impulse(p, i, s);
+  deposit_impulse(p, i, {at[0], at[1], at[2]});
 }
 
 FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {

@@ -71,8 +71,8 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
-  /// Particle @p i's impulse onto the cells of its stencil @p s; its accumulator emptied.
-  void deposit_impulse(ParticleStore& p, std::size_t i, const Stencil& s);
+  /// Particle @p i's impulse onto the cells about @p at; its accumulator emptied.
+  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
   /// ε_g = 1 − the deposited solids fraction on the cells of @p eps, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
   void finish_void_fraction(std::vector<double>& eps, double time) const;
