@@ -106,7 +106,7 @@ class Deposition {
   /// Visit the (cell index, weight) pairs of the particle at @p x: f(padded index, w),
   /// in the order stencil() lists them.
   template <class F>
-  void for_each_weight(Vec3 x, F&& f) const {
+  [[gnu::always_inline]] inline void for_each_weight(Vec3 x, F&& f) const {
     if (kernel_ == Kernel::trilinear) {
       for_each_trilinear(x, f);
       return;
