@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
@@ -191,7 +190,7 @@ void DragModule::add_cell_average(ParticleStore& p) {
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = cell_of(p.position(i));
     const std::size_t k = g.at(c[0], c[1], c[2]);
-    const double d = 2.0 * p.radius[i], vol = std::numbers::pi * d * d * d / 6.0;
+    const double vol = p.volume(i);
     cell_vol_[k] += vol;
     cell_vx_[k] += vol * p.vx[i]; cell_vy_[k] += vol * p.vy[i]; cell_vz_[k] += vol * p.vz[i];
   }
@@ -228,8 +227,7 @@ double DragModule::relaxation_time_at_rest(const ParticleStore& p) const {
 }
 
 Vec3 PressureGradientModule::force(const ParticleStore& p, std::size_t i, Vec3 grad_p) {
-  const double d = 2.0 * p.radius[i];
-  const double vol = std::numbers::pi * d * d * d / 6.0;
+  const double vol = p.volume(i);
   return {vol * grad_p.x, vol * grad_p.y, vol * grad_p.z};
 }
 

@@ -1,7 +1,6 @@
 #include "cdm/solver/coupling/two_way_exchange.hpp"
 
 #include <algorithm>
-#include <numbers>
 #include <sstream>
 
 #include "cdm/solver/run_guards.hpp"
@@ -16,19 +15,22 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
   imp_y_ = imp_z_ = imp_x_;
 }
 
-namespace {
-/// Particle @p i's volume as a fraction of a cell's, @p vc.
-double volume_in_cells(const ParticleStore& p, std::size_t i, double vc) {
-  const double d = 2.0 * p.radius[i];
-  return std::numbers::pi * d * d * d / 6.0 / vc;
+template <class Also>
+void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at, Also&& also) {
+  const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
+  particle_impulse_ += Vec3{jx, jy, jz};
+  deposition_->for_each_weight(at, [&](std::size_t c, double w) {
+    imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
+    also(c, w);
+  });
+  p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
 }
-}  // namespace
 
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
   eps.assign(grid_.padded_size(), 0.0);
   const double vc = grid_.cell_volume();
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double vol = volume_in_cells(p, i, vc);
+    const double vol = p.volume(i) / vc;
     deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
   }
   finish_void_fraction(eps, time);
@@ -38,14 +40,8 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   eps.assign(grid_.padded_size(), 0.0);
   const double vc = grid_.cell_volume();
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
-    const double vol = volume_in_cells(p, i, vc);
-    particle_impulse_ += Vec3{jx, jy, jz};
-    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
-      imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
-      eps[c] += w * vol;
-    });
-    p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
+    const double vol = p.volume(i) / vc;
+    deposit_impulse(p, i, p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
   }
   finish_void_fraction(eps, time);
 }
@@ -74,17 +70,8 @@ void TwoWayExchange::finish_void_fraction(std::vector<double>& eps, double time)
   g.fill_scalar_ghosts(eps);
 }
 
-void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
-  const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
-  particle_impulse_ += Vec3{jx, jy, jz};
-  deposition_->for_each_weight(at, [&](std::size_t c, double w) {
-    imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
-  });
-  p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
-}
-
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
+  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i), [](std::size_t, double) {});
 }
 
 void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
@@ -92,7 +79,7 @@ void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i)
   double at[3] = {x.x, x.y, x.z};
   for (int a = 0; a < grid_.dims(); ++a)
     if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
-  deposit_impulse(p, i, {at[0], at[1], at[2]});
+  deposit_impulse(p, i, {at[0], at[1], at[2]}, [](std::size_t, double) {});
 }
 
 FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {

@@ -3,7 +3,6 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 
 #include "cdm/solver/io/layers.hpp"
 #include "cdm/solver/simulation.hpp"
@@ -29,8 +28,7 @@ double bed_height(const MonitorSpec& m, const Simulation& sim) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int k = static_cast<int>(std::floor((coordinate(p.position(i), a) - lo) / m.bin));
     if (k < 0 || k >= layers) continue;
-    const double d = 2.0 * p.radius[i];
-    solid[static_cast<std::size_t>(k)] += std::numbers::pi * d * d * d / 6.0;
+    solid[static_cast<std::size_t>(k)] += p.volume(i);
   }
   for (int k = layers - 1; k >= 0; --k) {
     const double thickness = std::min(m.bin, g.length(a) - k * m.bin);

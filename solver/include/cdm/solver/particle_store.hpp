@@ -5,6 +5,7 @@
 /// (tangential friction); a frictionless scene carries none.
 #include <cstddef>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "cdm/solver/parallel.hpp"
@@ -85,6 +86,11 @@ struct ParticleStore {
   void set_angular_velocity(std::size_t i, Vec3 w);
 
   Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
+  /// Particle i's volume π d³/6 [m³], d = 2 r.
+  double volume(std::size_t i) const {
+    const double d = 2.0 * radius[i];
+    return std::numbers::pi * d * d * d / 6.0;
+  }
   Vec3 velocity(std::size_t i) const { return {vx[i], vy[i], vz[i]}; }
   Vec3 angular_velocity(std::size_t i) const {
     return has_rotation() ? Vec3{wx[i], wy[i], wz[i]} : Vec3{};

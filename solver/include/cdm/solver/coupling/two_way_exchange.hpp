@@ -71,8 +71,10 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
-  /// Particle @p i's impulse onto the cells about @p at; its accumulator emptied.
-  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
+  /// Particle @p i's impulse onto the cells about @p at, its accumulator emptied; each
+  /// (cell, weight) pair also handed to @p also (another deposit from the same visit).
+  template <class Also>
+  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at, Also&& also);
   /// ε_g = 1 − the deposited solids fraction on the cells of @p eps, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
   void finish_void_fraction(std::vector<double>& eps, double time) const;
