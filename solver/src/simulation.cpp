@@ -202,6 +202,15 @@ void Simulation::complete_step() const {
   if (bad != 0.0) check_state(1.0);
 }
 
+void Simulation::complete_for_gas_step() {
+  if (!ranks_ || implicit_drag_) return complete_step();  // the implicit drag reads the whole state
+  if (integrator_->complete() != 0.0) fail_not_finite();
+  // The explicit exchange reads the positions and, once per gas step, the impulses; every
+  // step, this step's deposit gathered them already.
+  if (exchange_->two_way() && lagged())
+    ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.jx, &particles_.jy, &particles_.jz});
+}
+
 void Simulation::fail_not_finite() const {
   synchronise_ranks();  // names the particles, whichever rank moved them
   check_state(1.0);
@@ -249,7 +258,7 @@ void Simulation::step() {
     }
     if (++substep_ == substeps_) {
       substep_ = 0;
-      complete_step();  // the gas step reads the particles' state at the step's end
+      complete_for_gas_step();
       gas_step();
     }
   }

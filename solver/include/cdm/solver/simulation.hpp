@@ -131,6 +131,9 @@ class Simulation : private integrators::StepHost {
   void check_state(double nonfinite = -1.0) const;
   /// Finish the step the integrator left pending, if any, and check the state it gives.
   void complete_step() const;
+  /// complete_step() before a gas step: among ranks, only what the gas step reads of the
+  /// particles is gathered.
+  void complete_for_gas_step();
   void build_gas();
   /// Under mpirun with several processes: share the particles' work among them
   /// (rank_split.hpp), or, for a scene the distributed step does not cover, say why
