@@ -204,11 +204,9 @@ void Simulation::complete_step() const {
 
 void Simulation::complete_for_gas_step() {
   if (!ranks_ || implicit_drag_) return complete_step();  // the implicit drag reads the whole state
+  // The explicit exchange reads the positions and impulses: once per gas step each rank
+  // deposits its own particles; every step, this step's deposit gathered them already.
   if (integrator_->complete() != 0.0) fail_not_finite();
-  // The explicit exchange reads the positions and, once per gas step, the impulses; every
-  // step, this step's deposit gathered them already.
-  if (exchange_->two_way() && lagged())
-    ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.jx, &particles_.jy, &particles_.jz});
 }
 
 void Simulation::fail_not_finite() const {
@@ -306,7 +304,7 @@ void Simulation::gas_step() {
     // the impulses deposited where the particles are now; once per gas step, with ε_g
     // from the same stencils.
     const bool together = lagged() && !implicit_drag_;
-    if (together) exchange_->deposit_impulses_and_void_fraction(particles_, eps_work_, time_);
+    if (together) exchange_->deposit_impulses_and_void_fraction(particles_, eps_work_, time_, ranks_.get());
     else if (implicit_drag_) exchange_->deposit_impulses(particles_);
     if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs);
     exchange_->apply_reaction(gs, dtg);

@@ -1,8 +1,12 @@
 #include "cdm/solver/coupling/two_way_exchange.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
+#include <string>
 
+#include "cdm/solver/own_particles.hpp"
+#include "cdm/solver/parallel.hpp"
 #include "cdm/solver/run_guards.hpp"
 
 namespace cdm::coupling {
@@ -15,34 +19,105 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
   imp_y_ = imp_z_ = imp_x_;
 }
 
-template <class Also>
-void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at, Also&& also) {
+void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
   const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
   particle_impulse_ += Vec3{jx, jy, jz};
   deposition_->for_each_weight(at, [&](std::size_t c, double w) {
     imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
-    also(c, w);
   });
   p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
 }
 
-void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
-  eps.assign(grid_.padded_size(), 0.0);
+void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const {
   const double vc = grid_.cell_volume();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double vol = p.volume(i) / vc;
-    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
+  const std::size_t nc = grid_.padded_size();
+  // Each thread deposits a contiguous range of the particles into sums of its own (the
+  // first thread into imp and vol), added up afterwards: the same on any number of threads.
+  std::size_t threads = 1;
+#ifdef _OPENMP
+  threads = static_cast<std::size_t>(omp_get_max_threads());
+#endif
+  partial_.resize(2 * (threads - 1));
+  for (std::size_t t = 1; t < threads; ++t) {
+    if (imp) partial_[2 * t - 2].reset_like(*imp);
+    partial_[2 * t - 1].reset_like(vol);
   }
+  const double si = imp ? imp->scale() : 0.0, sv = vol.scale();
+  auto range = [&](std::size_t i0, std::size_t i1) {
+    const std::size_t t = thread_id().first;
+    ExactSums* const ti = t == 0 ? imp : imp ? &partial_[2 * t - 2] : nullptr;
+    ExactSums& tv = t == 0 ? vol : partial_[2 * t - 1];
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double v = p.volume(i) / vc * sv;
+      if (!ti) {
+        deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { tv.add_scaled(c, w * v); });
+        continue;
+      }
+      const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
+      const double rx = -jx * si, ry = -jy * si, rz = -jz * si;
+      deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+        ti->add_scaled(c, w * rx); ti->add_scaled(nc + c, w * ry); ti->add_scaled(2 * nc + c, w * rz);
+        tv.add_scaled(c, w * v);
+      });
+      ti->add(3 * nc, jx); ti->add(3 * nc + 1, jy); ti->add(3 * nc + 2, jz);
+    }
+    return 0.0;
+  };
+  if (own) {
+    for (const auto& [i0, i1] : own->own_runs(p.size()))
+      parallel_max_ranges(i1 - i0, [&](std::size_t a, std::size_t b) { return range(i0 + a, i0 + b); });
+  } else {
+    parallel_max_ranges(p.size(), range);
+  }
+  for (std::size_t t = 1; t < threads; ++t) {
+    if (imp) imp->add(partial_[2 * t - 2]);
+    vol.add(partial_[2 * t - 1]);
+  }
+  if (own) {
+    if (imp) own->add_up(*imp);
+    own->add_up(vol);
+  }
+}
+
+void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
+  const double vc = grid_.cell_volume();
+  const std::size_t n = p.size();
+  ExactSums sums;
+  const double vmax = max_own(nullptr, n, [&](std::size_t i) { return p.volume(i) / vc; });
+  sums.reset(grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
+  deposit_sums(p, nullptr, nullptr, sums);
+  eps.resize(sums.size());
+  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = sums.value(c);
   finish_void_fraction(eps, time);
 }
 
-void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time) {
-  eps.assign(grid_.padded_size(), 0.0);
+void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
+                                                        RankSplit* ranks) {
   const double vc = grid_.cell_volume();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double vol = p.volume(i) / vc;
-    deposit_impulse(p, i, p.position(i), [&](std::size_t c, double w) { eps[c] += w * vol; });
+  const std::size_t n = p.size(), nc = grid_.padded_size();
+  // Each rank deposits its own particles (all of them before the particles are dealt
+  // out); the partial sums then add up to the same cells on any number of ranks.
+  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
+  const double jmax = max_own(own, n, [&](std::size_t i) {
+    return std::max({std::abs(p.jx[i]), std::abs(p.jy[i]), std::abs(p.jz[i])});
+  });
+  if (!std::isfinite(jmax))
+    throw SimulationError("a particle's drag impulse is not finite at t = " + std::to_string(time) + " s");
+  ExactSums& imp = impulse_sums_;
+  ExactSums& vol = volume_sums_;
+  // The reaction per cell along x, y, z, then the particles' total: each particle's
+  // weights add up to one, so a sum's terms add up to at most n jmax.
+  imp.reset(3 * nc + 3, jmax, static_cast<double>(n) * jmax);
+  const double vmax = max_own(own, n, [&](std::size_t i) { return p.volume(i) / vc; });
+  vol.reset(nc, vmax, static_cast<double>(n) * vmax);
+  deposit_sums(p, own, &imp, vol);
+  for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
+  for (std::size_t c = 0; c < nc; ++c) {
+    imp_x_[c] += imp.value(c); imp_y_[c] += imp.value(nc + c); imp_z_[c] += imp.value(2 * nc + c);
   }
+  particle_impulse_ += Vec3{imp.value(3 * nc), imp.value(3 * nc + 1), imp.value(3 * nc + 2)};
+  eps.resize(nc);
+  for (std::size_t c = 0; c < nc; ++c) eps[c] = vol.value(c);
   finish_void_fraction(eps, time);
 }
 
@@ -71,7 +146,7 @@ void TwoWayExchange::finish_void_fraction(std::vector<double>& eps, double time)
 }
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i), [](std::size_t, double) {});
+  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
 }
 
 void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
@@ -79,7 +154,7 @@ void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i)
   double at[3] = {x.x, x.y, x.z};
   for (int a = 0; a < grid_.dims(); ++a)
     if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
-  deposit_impulse(p, i, {at[0], at[1], at[2]}, [](std::size_t, double) {});
+  deposit_impulse(p, i, {at[0], at[1], at[2]});
 }
 
 FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {

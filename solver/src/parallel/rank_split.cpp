@@ -354,6 +354,11 @@ double RankSplit::max(double x) const {
   return out;
 }
 
+void RankSplit::add_up(ExactSums& s) const {
+  check(MPI_Allreduce(MPI_IN_PLACE, s.data(), static_cast<int>(s.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
+        "MPI_Allreduce");
+}
+
 bool RankSplit::any(bool flag) const {
   int in = flag ? 1 : 0, out = 0;
   check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
@@ -389,6 +394,7 @@ std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { retur
 void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>&) {}
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
+void RankSplit::add_up(ExactSums&) const {}
 
 #endif
 

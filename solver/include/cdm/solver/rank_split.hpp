@@ -25,14 +25,19 @@
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles, wall and pair histories) before the list is
-/// built again and whenever the state is read (output, checkpoints, the gas step, the
-/// end), after which every rank does the same sort, build and output arithmetic; the
+/// built again and whenever the state is read (output, checkpoints, the implicit drag's
+/// gas step, the end), after which every rank does the same sort, build and output arithmetic; the
 /// build's search is shared (each rank lists a run of rows, SearchShare). Each
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas and steps it alike; the drag
 /// and pressure-gradient forces are evaluated by each particle's owner, and what those
 /// modules keep per particle between evaluations (the K, u_g and −V∇P of a once-per-gas-step
-/// evaluation) travels with the gathered state (ForceModule::share_among).
+/// evaluation) travels with the gathered state (ForceModule::share_among). Once per gas
+/// step each rank deposits its own particles' impulses and volumes, in sums that do not
+/// depend on the order of their terms (exact_sums.hpp), added up over the ranks
+/// (add_up()): the gas gets the same cells on any number of ranks without a gather.
+/// Deposited at every step, the impulses are deposited by every rank from the gathered
+/// positions and impulses, in the one-rank order.
 ///
 /// Insertions and outlets change the whole, gathered state alike on every rank; until the
 /// list is built again (at the next step) every rank then moves every particle.
@@ -58,6 +63,7 @@
 
 #include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/particle_store.hpp"
 
 namespace cdm {
@@ -142,6 +148,12 @@ class RankSplit final : public SearchShare {
   void reduce_contacts(OverlapRecord& worst, std::size_t& active) const;
   /// Whether @p flag is set on any rank.
   bool any(bool flag) const;
+  /// Whether each particle is one rank's own (after assign(); before it, every rank
+  /// moves every particle).
+  bool partitioned() const { return assigned_; }
+  /// Every rank gets the sums of @p s over the ranks (each rank's partial sums of the
+  /// same terms' bound).
+  void add_up(ExactSums& s) const;
 
   // The contact search at a build (SearchShare): rank r lists the r-th of size() equal
   // runs of rows, and every rank then gets all the candidates.

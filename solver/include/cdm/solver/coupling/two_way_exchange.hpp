@@ -9,10 +9,15 @@
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/coupling/deposition.hpp"
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/fluid/staggered_grid.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/vec3.hpp"
+
+namespace cdm {
+class RankSplit;
+}
 
 namespace cdm::coupling {
 
@@ -41,15 +46,20 @@ class TwoWayExchange {
   /// The deposition kernel (nullptr without two-way coupling).
   const Deposition* deposition() const { return deposition_.get(); }
 
-  /// ε_g on the cells from the particles' volumes; throws SimulationError, naming the
-  /// cell and @p time, if a cell is packed beyond what the gas equations can take.
+  /// ε_g on the cells from the particles' volumes, each cell's sum the same whatever the
+  /// order of its terms (exact_sums.hpp); throws SimulationError, naming the cell and
+  /// @p time, if a cell is packed beyond what the gas equations can take.
   void deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const;
   /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
   /// the reaction on the gas.
   void deposit_impulses(ParticleStore& p);
   /// deposit_impulses and deposit_void_fraction at once, each particle's stencil
-  /// computed once for both (the same sums, in the same order).
-  void deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time);
+  /// computed once for both; the impulses' sums too the same whatever their order
+  /// (exact_sums.hpp). Among MPI ranks (@p ranks, once the particles are dealt out)
+  /// each rank deposits its own particles and the cells' sums are added up over the
+  /// ranks: the same cells on any number of ranks, without the particles gathered.
+  void deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
+                                          RankSplit* ranks = nullptr);
   /// The same for particle @p i alone (one leaving through an outlet before its gas
   /// step), its impulse spread about the point of the gas domain nearest to it.
   void deposit_impulse_of_leaving(ParticleStore& p, std::size_t i);
@@ -71,10 +81,13 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
-  /// Particle @p i's impulse onto the cells about @p at, its accumulator emptied; each
-  /// (cell, weight) pair also handed to @p also (another deposit from the same visit).
-  template <class Also>
-  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at, Also&& also);
+  /// Particle @p i's impulse onto the cells about @p at, its accumulator emptied.
+  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
+  /// The volumes of @p p's particles (over the cell volume) onto @p vol and, with
+  /// @p imp, their impulses' reaction (per cell along x, y, z; then their total): each
+  /// rank its own particles with @p own, the sums then added up over the ranks; each
+  /// thread a range of them. The sums must be reset (their bounds) first.
+  void deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
   /// ε_g = 1 − the deposited solids fraction on the cells of @p eps, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
   void finish_void_fraction(std::vector<double>& eps, double time) const;
@@ -82,6 +95,8 @@ class TwoWayExchange {
   const fluid::StaggeredGrid& grid_;
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
+  ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps
+  mutable std::vector<ExactSums> partial_;  // deposit_sums's other threads' (impulses, volumes)
   Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
   CouplingBalance balance_;
 };
