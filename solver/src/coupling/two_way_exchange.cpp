@@ -80,20 +80,21 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
 }
 
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
+  ExactSums sums;
+  start_volume_sums(p, nullptr, sums);
+  deposit_sums(p, nullptr, nullptr, sums);
+  finish_void_fraction(sums, eps, time);
+}
+
+void TwoWayExchange::start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const {
   const double vc = grid_.cell_volume();
   const std::size_t n = p.size();
-  ExactSums sums;
-  const double vmax = max_own(nullptr, n, [&](std::size_t i) { return p.volume(i) / vc; });
-  sums.reset(grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
-  deposit_sums(p, nullptr, nullptr, sums);
-  eps.resize(sums.size());
-  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = sums.value(c);
-  finish_void_fraction(eps, time);
+  const double vmax = max_own(own, n, [&](std::size_t i) { return p.volume(i) / vc; });
+  vol.reset(grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
 }
 
 void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
                                                         RankSplit* ranks) {
-  const double vc = grid_.cell_volume();
   const std::size_t n = p.size(), nc = grid_.padded_size();
   // Each rank deposits its own particles (all of them before the particles are dealt
   // out); the partial sums then add up to the same cells on any number of ranks.
@@ -108,20 +109,19 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   // The reaction per cell along x, y, z, then the particles' total: each particle's
   // weights add up to one, so a sum's terms add up to at most n jmax.
   imp.reset(3 * nc + 3, jmax, static_cast<double>(n) * jmax);
-  const double vmax = max_own(own, n, [&](std::size_t i) { return p.volume(i) / vc; });
-  vol.reset(nc, vmax, static_cast<double>(n) * vmax);
+  start_volume_sums(p, own, vol);
   deposit_sums(p, own, &imp, vol);
   for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
   for (std::size_t c = 0; c < nc; ++c) {
     imp_x_[c] += imp.value(c); imp_y_[c] += imp.value(nc + c); imp_z_[c] += imp.value(2 * nc + c);
   }
   particle_impulse_ += Vec3{imp.value(3 * nc), imp.value(3 * nc + 1), imp.value(3 * nc + 2)};
-  eps.resize(nc);
-  for (std::size_t c = 0; c < nc; ++c) eps[c] = vol.value(c);
-  finish_void_fraction(eps, time);
+  finish_void_fraction(vol, eps, time);
 }
 
-void TwoWayExchange::finish_void_fraction(std::vector<double>& eps, double time) const {
+void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {
+  eps.resize(vol.size());
+  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = vol.value(c);
   const fluid::StaggeredGrid& g = grid_;
   double worst = 1.0;
   int wc[3] = {0, 0, 0};

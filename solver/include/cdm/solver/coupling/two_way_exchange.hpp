@@ -88,9 +88,12 @@ class TwoWayExchange {
   /// rank its own particles with @p own, the sums then added up over the ranks; each
   /// thread a range of them. The sums must be reset (their bounds) first.
   void deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
-  /// ε_g = 1 − the deposited solids fraction on the cells of @p eps, checked (throws
+  /// Reset @p vol for the volumes of @p p's particles (over the cell volume), each rank's
+  /// own with @p own.
+  void start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const;
+  /// @p eps = 1 − the solids fraction deposited in @p vol, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
-  void finish_void_fraction(std::vector<double>& eps, double time) const;
+  void finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const;
 
   const fluid::StaggeredGrid& grid_;
   std::unique_ptr<Deposition> deposition_;
