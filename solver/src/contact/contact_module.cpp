@@ -26,6 +26,12 @@ std::string ContactModule::name() const {
   return laws + (friction_ ? "+spring_coulomb" : "");
 }
 
+void ContactModule::permute(const std::vector<std::uint32_t>& from) {
+  list_.permute(from);
+  if (mesh_) mesh_->permute(from);
+  if (ranks_) ranks_->permute(from);  // the ownership follows the particles to the next build
+}
+
 void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;

@@ -31,7 +31,7 @@ std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bo
   return a;
 }
 
-void RankSplit::assign(VerletList& list, const ParticleStore& p) {
+void RankSplit::assign(VerletList& list, ParticleStore& p) {
   const std::size_t n = p.size(), nslab = list.slab_count();
   const std::vector<std::uint32_t> slab_of = list.particle_slabs(p);
   const std::vector<std::uint32_t>& start = list.slab_start();
@@ -49,17 +49,16 @@ void RankSplit::assign(VerletList& list, const ParticleStore& p) {
   slab_owner_.assign(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
     for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
-  rank_particles_.assign(size, {});
-  for (std::size_t i = 0; i < n; ++i)
-    rank_particles_[static_cast<std::size_t>(slab_owner_[slab_of[i]])].push_back(static_cast<std::uint32_t>(i));
-  const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
-  owned_.assign(n, 0);
-  runs_.clear();
-  for (std::uint32_t i : rank_particles_[static_cast<std::size_t>(rank_)]) {
-    owned_[i] = 1;
-    if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
-    else runs_.push_back({i, i + 1});
+  // Where only the positions were gathered, each particle's state is its old owner's.
+  std::vector<int> before;
+  if (moving_) {
+    if (owner_.size() != n) throw std::logic_error("RankSplit: particles changed while their owners change");
+    before.swap(owner_);
   }
+  owner_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) owner_[i] = slab_owner_[slab_of[i]];
+  own_from_owners();
+  const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
   lower_.clear();
   upper_.clear();
   top_.clear();
@@ -85,8 +84,55 @@ void RankSplit::assign(VerletList& list, const ParticleStore& p) {
   }
   list.set_rank_slabs(s0, s1);
   assigned_ = true;
-  stale_ = false;
   builds_ = list.builds();
+  moving_ = false;
+  stale_ = !before.empty();  // else every rank holds the whole state
+  if (stale_) {
+    migrate(p, list, before);
+    exchange_ghosts(p);
+  }
+}
+
+void RankSplit::own_from_owners() {
+  const std::size_t n = owner_.size();
+  rank_particles_.assign(static_cast<std::size_t>(size_), {});
+  for (std::size_t i = 0; i < n; ++i)
+    rank_particles_[static_cast<std::size_t>(owner_[i])].push_back(static_cast<std::uint32_t>(i));
+  owned_.assign(n, 0);
+  runs_.clear();
+  for (std::uint32_t i : rank_particles_[static_cast<std::size_t>(rank_)]) {
+    owned_[i] = 1;
+    if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
+    else runs_.push_back({i, i + 1});
+  }
+}
+
+void RankSplit::permute(const std::vector<std::uint32_t>& from) {
+  if (!assigned_ || owner_.size() != from.size()) return;
+  std::vector<int> o(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) o[i] = owner_[from[i]];
+  owner_.swap(o);
+  own_from_owners();  // the boundary slabs' lists follow at the next assign()
+}
+
+RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
+  const std::size_t nw = list.walls().size();
+  if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};
+  Vec3* const wh = list.wall_history();
+  std::uint8_t* const wt = list.wall_touch();
+  return {4 * nw,
+          [=](std::uint32_t i, double* out) {
+            for (std::size_t w = 0; w < nw; ++w, out += 4) {
+              const Vec3 h = wh[i * nw + w];
+              out[0] = h.x; out[1] = h.y; out[2] = h.z; out[3] = wt[i * nw + w];
+            }
+          },
+          [=](std::uint32_t i, const double* in) {
+            for (std::size_t w = 0; w < nw; ++w, in += 4) {
+              wh[i * nw + w] = {in[0], in[1], in[2]};
+              wt[i * nw + w] = static_cast<std::uint8_t>(in[3]);
+            }
+          }};
 }
 
 #ifdef CDM_WITH_MPI
@@ -111,8 +157,9 @@ void check(int rc, const char* what) {
 /// Sends each of @p sends and receives each of @p recvs, the values of @p arrays at the
 /// legs' slots, particle by particle.
 void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector<Leg>& sends,
-              const std::vector<Leg>& recvs, int tag, RankSplit::LegBuffers& buffers) {
-  const std::size_t k = arrays.size();
+              const std::vector<Leg>& recvs, int tag, RankSplit::LegBuffers& buffers,
+              const RankSplit::WallRows& rows) {
+  const std::size_t k = arrays.size() + rows.count;
   // Buffers kept between calls: fresh ones cost an allocation and a zero fill per step.
   std::vector<std::vector<double>>& out = buffers.out;
   std::vector<std::vector<double>>& in = buffers.in;
@@ -130,8 +177,11 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
     std::vector<double>& b = out[m];
     b.resize(sends[m].idx->size() * k);
     std::size_t at = 0;
-    for (std::uint32_t i : *sends[m].idx)
+    for (std::uint32_t i : *sends[m].idx) {
       for (const auto* a : arrays) b[at++] = (*a)[i];
+      if (rows.count) rows.put(i, &b[at]);
+      at += rows.count;
+    }
     req.emplace_back();
     check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, tag, MPI_COMM_WORLD,
                     &req.back()),
@@ -140,8 +190,11 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
   check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     std::size_t at = 0;
-    for (std::uint32_t i : *recvs[m].idx)
+    for (std::uint32_t i : *recvs[m].idx) {
       for (auto* a : arrays) (*a)[i] = in[m][at++];
+      if (rows.count) rows.get(i, &in[m][at]);
+      at += rows.count;
+    }
   }
 }
 }  // namespace
@@ -157,7 +210,7 @@ void RankSplit::exchange_ghosts(ParticleStore& p) {
     sends.push_back({&top_, above_});
     recvs.push_back({&upper_, above_});
   }
-  exchange(dynamic_arrays(p), sends, recvs, 11, legs_);
+  exchange(dynamic_arrays(p), sends, recvs, 11, legs_, {});
 }
 
 void RankSplit::exchange_ghost_torques(ParticleStore& p) {
@@ -165,7 +218,7 @@ void RankSplit::exchange_ghost_torques(ParticleStore& p) {
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) sends.push_back({&lower_, below_});
   if (above_ >= 0) recvs.push_back({&upper_, above_});
-  exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14, legs_);
+  exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14, legs_, {});
 }
 
 void RankSplit::boundary_torques(ParticleStore& p, int pass) {
@@ -187,30 +240,20 @@ void RankSplit::boundary_torques(ParticleStore& p, int pass) {
     if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
     if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
   }
-  exchange(f, sends, recvs, 15 + pass, legs_);
+  exchange(f, sends, recvs, 15 + pass, legs_, {});
 }
 
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
-  if (!stale_) return;
-  const std::size_t n = p.size(), nw = list.walls().size();
-  const std::size_t rows = list.keeps_history() && nw > 0 && list.listed(n) ? 4 * nw : 0;
-  Vec3* const wh = list.wall_history();
-  std::uint8_t* const wt = list.wall_touch();
-  // With each particle, its row of wall history (x, y, z and the contact flag per wall).
-  share_particles(dynamic_arrays(p, true), rows,
-                  [&](std::uint32_t i, double* out) {
-                    for (std::size_t w = 0; w < nw; ++w, out += 4) {
-                      const Vec3 h = wh[i * nw + w];
-                      out[0] = h.x; out[1] = h.y; out[2] = h.z; out[3] = wt[i * nw + w];
-                    }
-                  },
-                  [&](std::uint32_t i, const double* in) {
-                    for (std::size_t w = 0; w < nw; ++w, in += 4) {
-                      wh[i * nw + w] = {in[0], in[1], in[2]};
-                      wt[i * nw + w] = static_cast<std::uint8_t>(in[3]);
-                    }
-                  });
-  if (meshes_) share_mesh_contacts();
+  if (!stale_ || (moving_ && for_build)) return;
+  // A build reads the positions; the rest of the state moves with the particles that
+  // change owner (assign). The mesh contacts are joined only here.
+  const bool positions_only = for_build && !meshes_;
+  if (positions_only) {
+    share_particles({&p.x, &p.y, &p.z}, {});
+  } else {
+    share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()));
+    if (meshes_) share_mesh_contacts();
+  }
   // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
   // First the contact flags, in place; then the history of the pairs in contact, or for
   // a build, which carries only theirs, of every pair.
@@ -251,21 +294,36 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
         at += 3;
       }
   }
-  stale_ = false;
+  stale_ = moving_ = positions_only;
 }
 
-void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
-                                const std::function<void(std::uint32_t, double*)>& put_rows,
-                                const std::function<void(std::uint32_t, const double*)>& get_rows) {
-  const std::size_t per = arrays.size() + rows;
+void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before) {
+  const auto size = static_cast<std::size_t>(size_);
+  std::vector<std::vector<std::uint32_t>> out(size), in(size);
+  for (std::size_t i = 0; i < owner_.size(); ++i) {
+    const int was = before[i], is = owner_[i];
+    if (was == is) continue;
+    if (was == rank_) out[static_cast<std::size_t>(is)].push_back(static_cast<std::uint32_t>(i));
+    else if (is == rank_) in[static_cast<std::size_t>(was)].push_back(static_cast<std::uint32_t>(i));
+  }
+  std::vector<Leg> sends, recvs;
+  for (std::size_t r = 0; r < size; ++r) {
+    if (!out[r].empty()) sends.push_back({&out[r], static_cast<int>(r)});
+    if (!in[r].empty()) recvs.push_back({&in[r], static_cast<int>(r)});
+  }
+  exchange(dynamic_arrays(p, true), sends, recvs, 17, legs_, wall_rows(list, p.size()));
+}
+
+void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows) {
+  const std::size_t per = arrays.size() + rows.count;
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
   send_.resize(mine.size() * per);
   std::size_t at = 0;
   for (std::uint32_t i : mine) {
     for (const auto* a : arrays) send_[at++] = (*a)[i];
-    if (rows) put_rows(i, &send_[at]);
-    at += rows;
+    if (rows.count) rows.put(i, &send_[at]);
+    at += rows.count;
   }
   std::vector<int> counts(size), displs(size);
   std::size_t total = 0;
@@ -282,8 +340,8 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
   for (const auto& own : rank_particles_)
     for (std::uint32_t i : own) {
       for (auto* a : arrays) (*a)[i] = recv_[at++];
-      if (rows) get_rows(i, &recv_[at]);
-      at += rows;
+      if (rows.count) rows.get(i, &recv_[at]);
+      at += rows.count;
     }
 }
 
@@ -317,7 +375,7 @@ void RankSplit::share_mesh_contacts() {
 
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
   if (!stale_) return;  // every rank holds the same state already
-  share_particles(arrays, 0, nullptr, nullptr);
+  share_particles(arrays, {});
 }
 
 std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
@@ -389,6 +447,7 @@ void RankSplit::boundary_torques(ParticleStore&, int) { throw std::logic_error("
 void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<int>&) { throw std::logic_error("RankSplit without MPI"); }
 double RankSplit::max(double x) const { return x; }
 std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { return {0, n}; }
 void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>&) {}

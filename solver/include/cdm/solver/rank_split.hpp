@@ -24,10 +24,15 @@
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
-/// whole state (each rank's own particles, wall and pair histories) before the list is
-/// built again and whenever the state is read (output, checkpoints, the implicit drag's
-/// gas step, the end), after which every rank does the same sort, build and output arithmetic; the
-/// build's search is shared (each rank lists a run of rows, SearchShare). Each
+/// whole state (each rank's own particles, wall and pair histories) whenever the state is
+/// read (output, checkpoints, the implicit drag's gas step, the end). Before the list is
+/// built again every rank gets the positions only, and the history of the pairs in
+/// contact: every rank then does the same sort and build (its search shared, each rank
+/// listing a run of rows: SearchShare), and assign() sends each particle whose slab now
+/// belongs to another rank with its whole state (the arrays below, its row of wall
+/// history) from its old owner to its new one, then the ghosts. With triangle meshes,
+/// whose contact lists are joined only when the state is gathered, the whole state is
+/// gathered before a build. Each
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas and steps it alike; the drag
 /// and pressure-gradient forces are evaluated by each particle's owner, and what those
@@ -93,10 +98,15 @@ class RankSplit final : public SearchShare {
   void set_meshes(MeshContacts* meshes) { meshes_ = meshes; }
 
   /// Deal the slabs of @p list out (after each build, or a list loaded from a
-  /// checkpoint): the list's threads then split this rank's slabs only.
-  void assign(VerletList& list, const ParticleStore& p);
+  /// checkpoint): the list's threads then split this rank's slabs only. After a build
+  /// that gathered the positions only, the particles that changed owner move to their
+  /// new one with their state, and the ghosts are exchanged.
+  void assign(VerletList& list, ParticleStore& p);
+  /// The particles were sorted (slot i now holds the particle of slot from[i]): the
+  /// ownership follows them until the next assign().
+  void permute(const std::vector<std::uint32_t>& from);
   /// Whether ownership follows build number @p builds of the list.
-  bool assigned_for(std::uint64_t builds) const { return assigned_ && builds == builds_; }
+  bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && builds == builds_; }
 
   /// This rank's particles as runs of slots [first, last); all @p n of them until the
   /// first assign() (every rank then holds and moves the same whole state).
@@ -128,8 +138,9 @@ class RankSplit final : public SearchShare {
 
   /// Every rank gets the whole state: every particle's, the wall history of the
   /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
-  /// @p for_build: the list is built next, which carries the history of the pairs in
-  /// contact only, so only theirs is sent.
+  /// @p for_build: the list is built next, which reads the positions and carries the
+  /// history of the pairs in contact only, so only those are sent (all of the state
+  /// with meshes); assign() then moves the rest with the particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
@@ -139,7 +150,7 @@ class RankSplit final : public SearchShare {
   /// The particles' slots changed on every rank alike (particles were inserted or
   /// removed from the whole, gathered state): each rank moves all of them again until
   /// the next assign().
-  void unassign() { assigned_ = stale_ = false; }
+  void unassign() { assigned_ = stale_ = moving_ = false; }
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
@@ -160,6 +171,20 @@ class RankSplit final : public SearchShare {
   std::pair<std::size_t, std::size_t> rows(std::size_t n) const override;
   void gather_candidates(std::vector<std::vector<ContactPair>>& chunks) override;
 
+  /// The send and receive buffers of the exchanges with the neighbouring ranks, one per
+  /// message, kept between steps.
+  struct LegBuffers {
+    std::vector<std::vector<double>> out, in;
+  };
+  /// The values that travel with each particle besides its arrays' (its row of wall
+  /// history: x, y, z and the contact flag per wall): @p put writes a particle's
+  /// @p count values, @p get reads them back.
+  struct WallRows {
+    std::size_t count = 0;
+    std::function<void(std::uint32_t, double*)> put;
+    std::function<void(std::uint32_t, const double*)> get;
+  };
+
  private:
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}
   /// The per-particle arrays exchanged (the store's dynamic ones and extra_), and
@@ -170,8 +195,10 @@ class RankSplit final : public SearchShare {
   std::vector<std::vector<double>*> extra_, carried_;
   MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
+  bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   std::uint64_t builds_ = 0;
   std::vector<int> slab_owner_;                      // per slab
+  std::vector<int> owner_;                           // per particle slot
   std::vector<std::uint32_t> slab_first_;            // per rank: first slab (size_ + 1 entries)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> runs_;
   std::vector<std::vector<std::uint32_t>> rank_particles_;  // per rank, in slot order
@@ -185,23 +212,17 @@ class RankSplit final : public SearchShare {
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
   /// Every rank gets every rank's mesh contacts (meshes_), in particle order.
   void share_mesh_contacts();
-  /// Every rank gets each rank's particles' values of @p arrays and, after them, @p rows
-  /// more values per particle, which @p put_rows writes for one of this rank's particles
-  /// and @p get_rows reads back for every particle.
-  void share_particles(const std::vector<std::vector<double>*>& arrays, std::size_t rows,
-                       const std::function<void(std::uint32_t, double*)>& put_rows,
-                       const std::function<void(std::uint32_t, const double*)>& get_rows);
+  /// This rank's particles' runs, flags and lists from owner_.
+  void own_from_owners();
+  /// The particles whose owner was @p before and is owner_ now travel with their state.
+  void migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before);
+  /// Every rank gets each rank's particles' values of @p arrays and, after them, their
+  /// @p rows.
+  void share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows);
   std::vector<double> send_, recv_;
   std::vector<MeshContacts::Contact> mesh_recv_;  // share_mesh_contacts
-
- public:
-  /// The send and receive buffers of the exchanges with the neighbouring ranks, one per
-  /// message, kept between steps.
-  struct LegBuffers {
-    std::vector<std::vector<double>> out, in;
-  };
-
- private:
+  /// The rows of @p list's wall history, where it keeps one for @p n particles.
+  static WallRows wall_rows(VerletList& list, std::size_t n);
   LegBuffers legs_;
 };
 

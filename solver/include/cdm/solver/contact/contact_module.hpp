@@ -99,10 +99,7 @@ class ContactModule final : public ForceModule {
   void set_periodic_box(const PeriodicBox& box) { list_.set_periodic_box(box); }
   void save_state(OutArchive& a) const override;
   void load_state(InArchive& a) override;
-  void permute(const std::vector<std::uint32_t>& from) override {
-    list_.permute(from);
-    if (mesh_) mesh_->permute(from);
-  }
+  void permute(const std::vector<std::uint32_t>& from) override;
   void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p) override {
     list_.remap(from, p);
     if (mesh_) mesh_->remap(from);
