@@ -184,16 +184,18 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   const cdm::fluid::GasSolver* gas_solver = sim.gas_solver();
   if (gas_solver) std::cout << "; gas pressure solve: " << gas_solver->pressure_solver().method();
   std::cout << "\n";
-  // The multigrid pressure solve is divided among the processes whatever the scene
-  // (pressure_multigrid.cpp); the direct one is done whole by each.
+  // The gas step's loops (plane_share.hpp) and its multigrid pressure solve
+  // (pressure_multigrid.cpp) are divided among the processes whatever the scene; the
+  // direct solve is done whole by each.
   const bool solve_shared =
       gas_solver && gas_solver->pressure_solver().backend() == cdm::fluid::PressureBackend::multigrid;
+  const std::string direct_whole = solve_shared ? "" : " (its direct pressure solve done whole by each)";
   if (sim.ranks() > 1 && sim.unshared().empty())
-    std::cout << "cdm run: the particles' work" << (solve_shared ? " and the gas pressure solve are" : " is")
+    std::cout << "cdm run: the particles' work" << (gas_solver ? " and the gas step" + direct_whole + " are" : " is")
               << " shared among " << sim.ranks() << " MPI processes\n";
   else if (sim.ranks() > 1)
     std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene "
-              << (solve_shared ? "but the gas pressure solve, which they share," : "(no speed-up),") << " since "
+              << (gas_solver ? "but the gas step" + direct_whole + ", which they share," : "(no speed-up),") << " since "
               << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
               << "or without a gas, stepped by velocity Verlet, so far\n";
   std::cout << std::flush;
@@ -272,8 +274,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
                                                   std::to_string(omp_get_max_threads()) + " thread(s)" +
                                                   (sim.unshared().empty() ? ""
-                                                   : solve_shared ? ", each the whole scene but the pressure solve"
-                                                                  : ", each the whole scene")
+                                                   : gas_solver ? ", each the whole scene but the gas step"
+                                                                : ", each the whole scene")
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
               loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),

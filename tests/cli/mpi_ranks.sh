@@ -12,8 +12,8 @@
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
 # on 3), and the fluidisation bed with the cell-average drag on 2; a scene the shared step does not cover yet (a gas without contacts) runs
-# whole on each process, says so, and gives one process's results. The multigrid pressure
-# solve, divided among the processes, gives the same files on 2, 3 and 4.
+# whole on each process but for its gas step, says so, and gives one process's results. The gas
+# step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work/tmp"
@@ -125,18 +125,20 @@ shared "fluidisation once per gas step" 3 "${fluid[@]}" --set 'coupling.drag_eva
 # every rank's particles are gathered first): the fluidisation bed on 2 processes.
 shared "cell-average drag" 2 "${fluid[@]}" --set 'coupling={mode="two_way", method="cell_average"}'
 
-# Not covered yet (no contacts): each process runs the whole scene, as it says; the
-# results are those of one process.
+# Not covered yet (no contacts): each process runs the whole scene but the gas step's
+# loops, which they divide by planes (plane_share.hpp), as it says; the results are those
+# of one process.
 gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integrator.end_time=2.0e-4)
 "$cdm" run "${gas[@]}" -q -o "$work/gas-1" > /dev/null || fail "gas scene: one process"
 "${launch[@]}" -np 2 "$cdm" run "${gas[@]}" -q -o "$work/gas-2" > "$work/gas-2.out" 2>&1 ||
   fail "gas scene: 2 processes: $(tail -5 "$work/gas-2.out")"
-[ "$(grep -c "each of the 2 MPI processes runs the whole scene (no speed-up), since it has no contacts" "$work/gas-2.out")" -eq 1 ] ||
+[ "$(grep -c "each of the 2 MPI processes runs the whole scene but the gas step (its direct pressure solve done whole by each), which they share, since it has no contacts" "$work/gas-2.out")" -eq 1 ] ||
   fail "gas scene on 2 processes: not one notice: $(cat "$work/gas-2.out")"
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 
-# The multigrid pressure solve is divided among the processes in every scene (each owns
-# whole planes of cells; pressure_multigrid.cpp), with phi the same to the bit: the gas
+# The gas step, its loops and its multigrid pressure solve, is divided among the processes
+# in every scene (each owns whole planes of cells; plane_share.hpp, pressure_multigrid.cpp),
+# with the gas the same to the bit: the gas
 # scene without contacts (its 8 planes split 3, 3, 2 on 3 processes; VTK of the gas and a
 # checkpoint), the periodic 2D gas of the MMS case on 2, and the fluidisation bed (2
 # planes: the third and fourth process own none) on 4.
@@ -145,7 +147,7 @@ gas_mg=("${gas[@]}" --set 'gas.pressure_solver="multigrid"' --set output.interva
 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-1" > /dev/null || fail "gas scene, multigrid: one process"
 "${launch[@]}" -np 3 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-3" > "$work/gas-mg-3.out" 2>&1 ||
   fail "gas scene, multigrid: 3 processes: $(tail -5 "$work/gas-mg-3.out")"
-grep -q "each of the 3 MPI processes runs the whole scene but the gas pressure solve, which they share," "$work/gas-mg-3.out" ||
+grep -q "each of the 3 MPI processes runs the whole scene but the gas step, which they share," "$work/gas-mg-3.out" ||
   fail "gas scene, multigrid, on 3 processes: the shared solve not reported: $(cat "$work/gas-mg-3.out")"
 same "gas scene with the multigrid solve, 3 processes" "$work/gas-mg-1" "$work/gas-mg-3"
 mms=("$src/verification/cases/gas_mms/scene.toml" --set 'gas.cells=[32,32]' --set 'gas.pressure_solver="multigrid"'
@@ -155,7 +157,7 @@ mms=("$src/verification/cases/gas_mms/scene.toml" --set 'gas.cells=[32,32]' --se
   fail "MMS gas, multigrid: 2 processes: $(tail -5 "$work/mms-2.out")"
 same "MMS gas with the multigrid solve, 2 processes" "$work/mms-1" "$work/mms-2"
 shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressure_solver="multigrid"'
-grep -q "the particles' work and the gas pressure solve are shared among 4 MPI processes" \
+grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 ls "$TMPDIR" | grep -q '^cdm-rank-' && fail "a scratch folder of rank 1 was left in $TMPDIR"
 

@@ -11,15 +11,23 @@ namespace cdm::fluid {
 
 namespace {
 
-/// f(i, j, k) for every stored sample of an array staggered as @p s, k split among
-/// threads when @p threads (f must then be safe to call from any thread).
+/// f(i, j, k) for every stored sample of an array staggered as @p s (for the planes k of
+/// @p share's process only, given one), k split among threads when @p threads (f must
+/// then be safe to call from any thread).
 template <class F>
-void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f) {
+void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, const PlaneShare* share = nullptr) {
   const int n0 = g.samples(s, 0), n1 = g.samples(s, 1), n2 = g.samples(s, 2);
+  const auto [k0, k1] = share ? share->mine(n2) : std::pair{0, n2};
 #pragma omp parallel for schedule(static) if (threads)
-  for (int k = 0; k < n2; ++k)
+  for (int k = k0; k < k1; ++k)
     for (int j = 0; j < n1; ++j)
       for (int i = 0; i < n0; ++i) f(i, j, k);
+}
+
+/// Every process gets every plane of @p a (staggered as @p s) from the one that computed it.
+void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a) {
+  const int ghosts = StaggeredGrid::ghosts;
+  share.gather(a, g.at(-ghosts, -ghosts, 0), static_cast<std::size_t>(g.stride(2)), g.samples(s, 2));
 }
 
 }  // namespace
@@ -161,7 +169,7 @@ void GasSolver::predictor(double dt) {
       // the explicit part here; project() divides by ε_f^{n+1} and applies ∂p^n/∂x.
       out[f] = eps_f * u0 + dt / rho * (-adv + diff + eps_f * (rho * gvec[c] - mean_gp[c]) + src);
     };
-    for_each_sample(g, s, threads, face);
+    for_each_sample(g, s, threads, face, &share_);  // project() gathers u*
   }
 }
 
@@ -192,8 +200,14 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     return implicit ? e * e / (e + drag_c(a, f)) : e;
   };
   auto along = [](int a, int i, int j, int k) { return a == 0 ? i : a == 1 ? j : k; };
-  auto faces_of = [&](int c, auto&& f) { for_each_sample(g, static_cast<Staggering>(c), threads, f); };
   auto cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f); };
+  // This process's planes of the faces and cells (plane_share.hpp), and their gathers.
+  auto own_faces_of = [&](int c, auto&& f) { for_each_sample(g, static_cast<Staggering>(c), threads, f, &share_); };
+  auto own_cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f, &share_); };
+  auto gather_velocity = [&](std::vector<double>* const comp[3]) {
+    for (int c = 0; c < dims; ++c) gather_samples(share_, g, static_cast<Staggering>(c), *comp[c]);
+  };
+  const auto [own_k0, own_k1] = share_.mine(nz);
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.
@@ -201,7 +215,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     const std::vector<char> unknown = unknown_faces(c);
     double* const S = star[c]->data();
     const double h = g.h(c);
-    faces_of(c, [&](int i, int j, int k) {
+    own_faces_of(c, [&](int i, int j, int k) {
       const int m = along(c, i, j, k);
       if (!unknown[static_cast<std::size_t>(m)]) return;
       const std::ptrdiff_t f = static_cast<std::ptrdiff_t>(g.at(i, j, k));
@@ -214,6 +228,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
       }
     });
   }
+  gather_velocity(star);
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
   // The coefficient of −∇·(d ∇φ) on every face 0..n along each axis: d = ε_f^{n+1}, or
@@ -252,12 +267,13 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   };
   // A user's source is called from one thread only.
   if (mass_source) {
-    for (int k = 0; k < nz; ++k)
+    for (int k = own_k0; k < own_k1; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) rhs(i, j, k);
   } else {
-    cells_of(rhs);
+    own_cells_of(rhs);
   }
+  share_.gather(b_cells_, 0, static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), nz);
   // A = −L, so L φ = rhs becomes A φ = −rhs, and b already carries the minus sign.
   // φ starts from zero, not from the previous step's φ: that warm start saved 3 % of the
   // iterations on bench/scenes/gas_scaling.toml, and it would make a run restarted from
@@ -293,7 +309,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     const double* const S = star[c]->data();
     double* const V = vel[c]->data();
     const double h = g.h(c);
-    faces_of(c, [&](int i, int j, int k) {
+    own_faces_of(c, [&](int i, int j, int k) {
       const int m = along(c, i, j, k);
       const std::ptrdiff_t f = static_cast<std::ptrdiff_t>(g.at(i, j, k));
       if (!unknown[static_cast<std::size_t>(m)]) {
@@ -309,6 +325,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
       }
     });
   }
+  gather_velocity(vel);
   // The mean in cell order, on one thread: the sum's order fixes its bits.
   double* const PN = gas_.p.data();
   double pmean = 0.0;
@@ -337,16 +354,16 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   };
   double res = 0.0;
   if (mass_source) {
-    for (int k = 0; k < nz; ++k)
+    for (int k = own_k0; k < own_k1; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) res = std::max(res, residual(i, j, k));
   } else {
 #pragma omp parallel for schedule(static) if (threads) reduction(max : res)
-    for (int k = 0; k < nz; ++k)
+    for (int k = own_k0; k < own_k1; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) res = std::max(res, residual(i, j, k));
   }
-  continuity_residual_ = res;
+  continuity_residual_ = share_.max(res);
 }
 
 void GasSolver::step(double dt, const std::vector<double>& eps_new) {

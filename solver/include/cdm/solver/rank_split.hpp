@@ -34,7 +34,9 @@
 /// whose contact lists are joined only when the state is gathered, the whole state is
 /// gathered before a build. Each
 /// particle's force is thus summed in the same order as on one rank: results are
-/// bit-identical. With a gas every rank holds the whole gas and steps it alike; the drag
+/// bit-identical. With a gas every rank holds the whole gas; the gas step's loops are
+/// divided by planes (plane_share.hpp) and its multigrid pressure solve likewise
+/// (pressure_multigrid.cpp), each rank then getting every plane; the drag
 /// and pressure-gradient forces are evaluated by each particle's owner, and what those
 /// modules keep per particle between evaluations (the K, u_g and −V∇P of a once-per-gas-step
 /// evaluation) travels with the gathered state (ForceModule::share_among). Once per gas
@@ -56,9 +58,10 @@
 /// contact lists are joined, in particle order, whenever the state is gathered.
 ///
 /// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step is not shared but for its multigrid pressure solve (which divides
-/// itself among the ranks, pressure_multigrid.cpp), and scenes without contacts (tracers, or particles
-/// moved by drag alone) are run whole by every rank (Simulation::unshared()).
+/// gas), the gas step's smaller loops (ghost layers, the pressure's update, the
+/// interpolators' refresh) and a direct pressure solve are done whole by each rank, and
+/// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
+/// every rank but for their gas step (Simulation::unshared()).
 #include <cstdint>
 #include <functional>
 #include <memory>

@@ -41,6 +41,7 @@
 #include <memory>
 #include <vector>
 
+#include "cdm/solver/fluid/plane_share.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/fluid/pressure_solver.hpp"
 #include "cdm/solver/keywords.hpp"
@@ -127,6 +128,7 @@ class GasSolver {
   std::array<std::vector<double>, 3> d_;  // coefficient of the pressure equation (faces)
   std::vector<double> phi_cells_, b_cells_;  // φ and the right-hand side, one per cell
   std::unique_ptr<PressureSolver> pressure_;
+  PlaneShare share_;  // the loops' planes among MPI processes
   PressureSolveStats last_solve_;
   double continuity_residual_ = 0.0;
 };

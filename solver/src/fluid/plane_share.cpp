@@ -1,0 +1,51 @@
+#include "cdm/solver/fluid/plane_share.hpp"
+
+#include <stdexcept>
+
+#include "cdm/solver/mpi_session.hpp"
+
+#ifdef CDM_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace cdm::fluid {
+
+#ifdef CDM_WITH_MPI
+
+PlaneShare::PlaneShare() {
+  const WorldPlace w = mpi_world();
+  rank_ = w.rank;
+  size_ = w.size;
+}
+
+void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
+  if (size_ <= 1) return;
+  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(counts.size());
+  for (int r = 0; r < size_; ++r) {
+    const int k0 = static_cast<int>(static_cast<long long>(planes) * r / size_);
+    const int k1 = static_cast<int>(static_cast<long long>(planes) * (r + 1) / size_);
+    counts[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k1 - k0));
+    displs[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k0));
+  }
+  if (MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, a.data() + first, counts.data(), displs.data(), MPI_DOUBLE,
+                     MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allgatherv of the gas planes failed");
+}
+
+double PlaneShare::max(double x) const {
+  if (size_ <= 1) return x;
+  double out = x;
+  if (MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the gas step's residual failed");
+  return out;
+}
+
+#else  // one process: every plane is this one's
+
+PlaneShare::PlaneShare() = default;
+void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
+double PlaneShare::max(double x) const { return x; }
+
+#endif
+
+}  // namespace cdm::fluid
