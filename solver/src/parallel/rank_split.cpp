@@ -31,6 +31,14 @@ std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bo
   return a;
 }
 
+std::vector<std::vector<double>*> RankSplit::ghost_arrays(ParticleStore& p) const {
+  std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz};
+  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz});
+  for (auto* e : extra_)
+    if (e->size() == p.size()) a.push_back(e);
+  return a;
+}
+
 void RankSplit::assign(VerletList& list, ParticleStore& p) {
   const std::size_t n = p.size(), nslab = list.slab_count();
   const std::vector<std::uint32_t> slab_of = list.particle_slabs(p);
@@ -210,7 +218,7 @@ void RankSplit::exchange_ghosts(ParticleStore& p) {
     sends.push_back({&top_, above_});
     recvs.push_back({&upper_, above_});
   }
-  exchange(dynamic_arrays(p), sends, recvs, 11, legs_, {});
+  exchange(ghost_arrays(p), sends, recvs, 11, legs_, {});
 }
 
 void RankSplit::exchange_ghost_torques(ParticleStore& p) {

@@ -193,6 +193,10 @@ class RankSplit final : public SearchShare {
   /// The per-particle arrays exchanged (the store's dynamic ones and extra_), and
   /// @p with_carried carried_.
   std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p, bool with_carried = false) const;
+  /// What the pair loop reads of a ghost: its position, velocity, spin and the extra_
+  /// arrays (the integrator's step velocities); not its forces (its owner sums them)
+  /// nor the drag's values (its owner evaluates the drag).
+  std::vector<std::vector<double>*> ghost_arrays(ParticleStore& p) const;
 
   int rank_, size_;
   std::vector<std::vector<double>*> extra_, carried_;
