@@ -22,8 +22,7 @@ void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t p
   if (size_ <= 1) return;
   std::vector<int> counts(static_cast<std::size_t>(size_)), displs(counts.size());
   for (int r = 0; r < size_; ++r) {
-    const int k0 = static_cast<int>(static_cast<long long>(planes) * r / size_);
-    const int k1 = static_cast<int>(static_cast<long long>(planes) * (r + 1) / size_);
+    const auto [k0, k1] = planes_of(planes, r, size_);
     counts[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k1 - k0));
     displs[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k0));
   }

@@ -33,6 +33,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cdm/solver/fluid/plane_share.hpp"
 #include "cdm/solver/mpi_session.hpp"
 #include "pressure_backends.hpp"
 
@@ -40,12 +41,8 @@ namespace cdm::fluid {
 
 namespace {
 
-/// The planes of the slowest axis a rank owns: [first, last) of @p planes, in contiguous
-/// runs by rank.
-std::pair<int, int> owned_planes(int planes, int rank, int size) {
-  const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(planes) * r / size); };
-  return {at(rank), at(rank + 1)};
-}
+/// The planes of the slowest axis a rank owns: those the gas step's loops give it.
+std::pair<int, int> owned_planes(int planes, int rank, int size) { return PlaneShare::planes_of(planes, rank, size); }
 
 /// The cells [lo, hi] (inclusive, hypre's convention) a rank owns; empty = false.
 struct Box {

@@ -19,11 +19,14 @@ class PlaneShare {
  public:
   /// Among the processes of the MPI world (mpi_world()).
   PlaneShare();
-  /// This process's planes [first, last) of @p planes.
-  std::pair<int, int> mine(int planes) const {
-    const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(planes) * r / size_); };
-    return {at(rank_), at(rank_ + 1)};
+  /// The planes [first, last) of @p planes that process @p rank of @p size computes:
+  /// contiguous runs by rank (the multigrid pressure solve owns the same).
+  static std::pair<int, int> planes_of(int planes, int rank, int size) {
+    const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(planes) * r / size); };
+    return {at(rank), at(rank + 1)};
   }
+  /// This process's planes [first, last) of @p planes.
+  std::pair<int, int> mine(int planes) const { return planes_of(planes, rank_, size_); }
   /// Every process gets the planes [0, @p planes) of @p a, each from the process that
   /// computed it; plane k holds the @p plane values from @p first + k @p plane.
   void gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
