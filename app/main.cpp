@@ -78,28 +78,12 @@ std::atomic<int> g_signal{0};
 /// The MPI processes this run is one of ({1, 0} without a launcher).
 cdm::WorldPlace g_world;
 
-/// The output folder of a process other than rank 0 (removed at exit).
-struct Scratch {
-  std::string path;
-  Scratch() {
-    std::string t = (fs::temp_directory_path() / "cdm-rank-XXXXXX").string();
-    if (!mkdtemp(t.data())) throw std::runtime_error("cannot make a scratch folder in " + fs::temp_directory_path().string());
-    path = t;
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-std::optional<Scratch> g_scratch;
-
 /// Reports @p e and gives exit code @p rc. Among several processes, a failure on one
 /// would leave the others waiting for it: the whole run is stopped (MPI_Abort). Every
 /// process fails alike on a bad scene or an unstable state, so rank 0 reports and stops
 /// the run; another rank reports only if it is still running a moment later (rank 0 did
 /// not fail with it).
 int fail(int rc, const char* prefix, const std::exception& e) {
-  g_scratch.reset();
   if (g_world.size > 1 && g_world.rank != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
   std::cerr << (std::string(prefix) + e.what() +
                 (g_world.size > 1 ? " (rank " + std::to_string(g_world.rank) + ")" : std::string()) + "\n");
@@ -199,31 +183,30 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
               << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
               << "or without a gas, stepped by velocity Verlet, so far\n";
   std::cout << std::flush;
-  if (sim.ranks() > 1 && g_world.rank != 0) {
-    // Every process runs the observers alike (they gather the state at the same steps);
-    // rank 0 writes the files, the others into a scratch folder.
-    g_scratch.emplace();
-    out_dir = g_scratch->path;
-  }
-  cdm::make_output_directory(out_dir);
+  // Rank 0 writes the files. The other processes run the same observers, which read the
+  // state (and so gather it) at the same steps, but write nothing: their paths are empty.
+  const bool writes = sim.ranks() <= 1 || g_world.rank == 0;
+  auto file = [&](const std::string& name) { return writes ? (fs::path(out_dir) / name).string() : std::string(); };
+  const std::string files_dir = writes ? out_dir : std::string();
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.cdmck").string();
-  if (fs::exists(ckpt) && !fs::is_regular_file(ckpt))
-    throw cdm::OutputError("cannot write the checkpoint '" + ckpt + "': it exists and is not a regular file");
+  if (writes) {
+    cdm::make_output_directory(out_dir);
+    if (fs::exists(ckpt) && !fs::is_regular_file(ckpt))
+      throw cdm::OutputError("cannot write the checkpoint '" + ckpt + "': it exists and is not a regular file");
+  }
 
   // A restart cuts each output back to where the checkpoint recorded it before appending.
   std::optional<cdm::ParticleTableObserver> table;
   if (spec.output_particles)
-    table.emplace((fs::path(out_dir) / "particles.dat").string(), sim,
-                  ck ? ck->outputs.particle_table : std::optional<std::uint64_t>());
+    table.emplace(file("particles.dat"), sim, ck ? ck->outputs.particle_table : std::optional<std::uint64_t>());
   std::optional<cdm::VtkObserver> vtk;
-  if (spec.output_vtk) vtk.emplace(out_dir, sim, ck ? ck->outputs.vtk : std::optional<cdm::VtkMark>());
+  if (spec.output_vtk) vtk.emplace(files_dir, sim, ck ? ck->outputs.vtk : std::optional<cdm::VtkMark>());
   std::optional<cdm::ThermoLogObserver> log;
-  if (spec.log_interval > 0)
-    log.emplace((fs::path(out_dir) / "log.dat").string(), sim, ck ? ck->outputs.log : std::optional<std::uint64_t>());
-  cdm::MonitorObserver monitors(out_dir, sim, ck ? ck->outputs.monitors : std::vector<std::uint64_t>());
+  if (spec.log_interval > 0) log.emplace(file("log.dat"), sim, ck ? ck->outputs.log : std::optional<std::uint64_t>());
+  cdm::MonitorObserver monitors(files_dir, sim, ck ? ck->outputs.monitors : std::vector<std::uint64_t>());
   std::optional<cdm::PopulationTableObserver> population;
   if (spec.population_changes())
-    population.emplace((fs::path(out_dir) / "outlets.dat").string(), sim,
+    population.emplace(file("outlets.dat"), sim,
                        ck ? ck->outputs.population : std::optional<std::uint64_t>());
   ck.reset();  // the state is restored; its bytes are not needed any more
   // The outputs are made durable and their lengths recorded in the checkpoint.
@@ -234,7 +217,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     if (log) marks.log = log->sync();
     marks.monitors = monitors.sync();
     if (population) marks.population = population->sync();
-    cdm::write_checkpoint(ckpt, s, origin, marks);
+    if (writes) cdm::write_checkpoint(ckpt, s, origin, marks);
+    else s.particles();  // the state at the checkpoint's step, gathered as rank 0's is
   };
   Progress progress(!quiet && isatty(STDERR_FILENO));
   progress.start_at(sim.steps());

@@ -109,7 +109,7 @@ MonitorObserver::MonitorObserver(const std::string& out_dir, const Simulation& s
     : schedule_(sim, sim.spec().log_interval) {
   const auto& ms = sim.spec().monitors;
   for (std::size_t k = 0; k < ms.size(); ++k) {
-    const std::string path = (std::filesystem::path(out_dir) / monitor_file(ms[k])).string();
+    const std::string path = out_dir.empty() ? std::string() : (std::filesystem::path(out_dir) / monitor_file(ms[k])).string();
     const std::optional<std::uint64_t> recorded =
         k < resume_at.size() ? std::optional<std::uint64_t>(resume_at[k]) : std::nullopt;
     tables_.push_back(std::make_unique<TableWriter>(path, monitor_columns(ms[k]),

@@ -185,10 +185,10 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
       walls_move_(std::any_of(sim.spec().walls.begin(), sim.spec().walls.end(), [](const Wall& w) { return w.motion.moving(); }) ||
                   std::any_of(sim.spec().meshes.begin(), sim.spec().meshes.end(),
                               [](const TriangleMesh& m) { return m.motion.moving(); })) {
-  make_output_directory((fs::path(dir_) / "vtk").string());
+  if (!dir_.empty()) make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
   last_ = resume ? resume->last : output_sample(sim, interval_);
-  if (!resume) return;  // the first run wrote no VTK: new collections from here on
+  if (!resume || dir_.empty()) return;  // the first run wrote no VTK: new collections from here on
   // Continue the collections: cut them back to the frames the checkpoint recorded.
   auto reload = [&](const std::string& name, std::uint64_t frames, std::vector<std::pair<double, std::string>>& entries) {
     const std::string path = (fs::path(dir_) / name).string();
@@ -210,8 +210,10 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
 }
 
 VtkMark VtkObserver::sync() const {
-  sync_directory((fs::path(dir_) / "vtk").string());
-  sync_directory(dir_);
+  if (!dir_.empty()) {
+    sync_directory((fs::path(dir_) / "vtk").string());
+    sync_directory(dir_);
+  }
   return {last_, particle_files_.size(), gas_files_.size()};
 }
 
@@ -221,7 +223,8 @@ void VtkObserver::operator()(const Simulation& sim) {
   if (k <= last_ && !last) return;
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;
-  write(sim, k);
+  if (dir_.empty()) sim.particles();  // the frame's state, gathered as where it is written
+  else write(sim, k);
 }
 
 void VtkObserver::write(const Simulation& sim, long long k) {

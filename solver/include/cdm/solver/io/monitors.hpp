@@ -34,6 +34,7 @@ std::string monitor_file(const MonitorSpec& m);
 class MonitorObserver {
  public:
   /// @p resume_at: the table lengths a checkpoint recorded, in scene order (empty: new tables).
+  /// With an empty @p out_dir the tables discard their rows (TableWriter).
   MonitorObserver(const std::string& out_dir, const Simulation& sim, const std::vector<std::uint64_t>& resume_at);
   void operator()(const Simulation& sim);
   /// Flush and fsync every table; their lengths in bytes, in scene order.

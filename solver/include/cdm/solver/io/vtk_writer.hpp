@@ -48,7 +48,9 @@ struct VtkMark {
 /// do not move are written once, at the first sample. After a restart it continues the
 /// collections the first run wrote, cut back to the frames the checkpoint recorded
 /// (@p resume); without them in OUTDIR it starts new collections. Every file is written
-/// atomically (temporary file, fsync, rename); failures throw OutputError.
+/// atomically (temporary file, fsync, rename); failures throw OutputError. With an empty
+/// OUTDIR nothing is written: each sample only reads the particles (among MPI processes,
+/// those other than rank 0 thus gather the state at the same steps as rank 0).
 class VtkObserver {
  public:
   VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume = std::nullopt);
