@@ -34,7 +34,8 @@ class ForceModule {
   /// Among MPI ranks (rank_split.hpp): evaluate the forces of @p ranks' own particles
   /// (those of the others are theirs to evaluate) and return the per-particle arrays the
   /// module keeps from one evaluation to the next, which then travel with the particles
-  /// whenever the ranks gather the state. Modules whose forces need no more than each
+  /// whenever the ranks gather the state, and with each particle that changes rank at a
+  /// list build (RankSplit::assign). Modules whose forces need no more than each
   /// particle's own state may ignore it.
   virtual std::vector<std::vector<double>*> share_among(RankSplit* /*ranks*/) { return {}; }
 };

@@ -39,10 +39,11 @@
 /// (pressure_multigrid.cpp), each rank then getting every plane; the drag
 /// and pressure-gradient forces are evaluated by each particle's owner, and what those
 /// modules keep per particle between evaluations (the K, u_g and −V∇P of a once-per-gas-step
-/// evaluation) travels with the gathered state (ForceModule::share_among). Once per gas
-/// step each rank deposits its own particles' impulses and volumes, in sums that do not
-/// depend on the order of their terms (exact_sums.hpp), added up over the ranks
-/// (add_up()): the gas gets the same cells on any number of ranks without a gather.
+/// evaluation) travels with the gathered state and with a particle that changes rank
+/// (ForceModule::share_among). Once per gas step each rank deposits its own particles'
+/// impulses and volumes, in sums that do not depend on the order of their terms
+/// (exact_sums.hpp), added up over the ranks (add_up()): the gas gets the same cells on
+/// any number of ranks without a gather.
 /// Deposited at every step, the impulses are deposited by every rank from the gathered
 /// positions and impulses, in the one-rank order.
 ///
@@ -93,8 +94,9 @@ class RankSplit final : public SearchShare {
   /// integrator's half-step velocities), exchanged with the store's.
   void set_extra_arrays(std::vector<std::vector<double>*> extra) { extra_ = std::move(extra); }
   /// The per-particle arrays the force modules keep between evaluations
-  /// (ForceModule::share_among), which travel with the state when it is gathered (not
-  /// with the ghosts, whose forces their owner evaluates).
+  /// (ForceModule::share_among), which travel with the state when it is gathered and with
+  /// a particle that changes rank at assign() (not with the ghosts, whose forces their
+  /// owner evaluates).
   void set_carried_arrays(std::vector<std::vector<double>*> carried) { carried_ = std::move(carried); }
   /// The triangle-mesh contacts, whose list (each rank's particles' contacts between
   /// gathers) travels with the state.
