@@ -14,7 +14,8 @@
 # on 3), and the fluidisation bed with the cell-average drag on 2; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process but for its gas step, says so, and gives one process's results. The gas
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
-# The processes other than rank 0 write no file (their temporary folder does not exist).
+# The processes other than rank 0 write no file (their temporary folder does not exist). A
+# bed of 2e5 particles, whose state is gathered in rounds, is compared on 2.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -73,6 +74,12 @@ done
 # Logged every 1e-5 s (about every 6 steps; each line gathers the state), so that list
 # builds fall on steps that follow a gather: the chute on 2 processes.
 shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
+
+# 200,000 particles: their whole state (about 40 values each, with the wall history) is
+# gathered in rounds of at most 2^22 values (RankSplit::share_particles), two here.
+shared "settle 2e5 gathered in rounds" 2 "$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[100,80,25]' \
+  --set 'walls[2].point=[0.11,0.0,0.0]' --set 'walls[4].point=[0.0,0.088,0.0]' --set output.particles=false \
+  --set integrator.end_time=1.0 --max-steps 40
 
 "${launch[@]}" -np 2 "$cdm" run "${settle[@]}" -q -j 2 -o "$work/settle-2x2" > "$work/settle-2x2.out" 2>&1 ||
   fail "settle: 2 processes of 2 threads: $(tail -5 "$work/settle-2x2.out")"

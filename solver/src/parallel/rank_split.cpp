@@ -263,8 +263,8 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
     if (meshes_) share_mesh_contacts();
   }
   // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
-  // First the contact flags, in place; then the history of the pairs in contact, or for
-  // a build, which carries only theirs, of every pair.
+  // First the contact flags, in place; then the history of every pair, in place, or for
+  // a build, which carries only theirs, of the pairs in contact.
   if (list.keeps_history() && list.size() > 0) {
     const auto size = static_cast<std::size_t>(size_);
     const std::vector<std::uint32_t>& start = list.slab_start();
@@ -279,28 +279,39 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
     check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_UINT8_T, pt, counts.data(), displs.data(), MPI_UINT8_T,
                          MPI_COMM_WORLD),
           "MPI_Allgatherv");
-    auto sent = [&](std::size_t k) { return !for_build || pt[k] != 0; };
-    std::size_t total = 0;
-    for (std::size_t r = 0; r < size; ++r) {
-      std::size_t c = 0;
-      for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += sent(k) ? 3 : 0;
-      counts[r] = static_cast<int>(c);
-      displs[r] = static_cast<int>(total);
-      total += c;
-    }
-    send_.clear();
-    for (std::size_t k = first_pair(static_cast<std::size_t>(rank_)); k < first_pair(static_cast<std::size_t>(rank_) + 1); ++k)
-      if (sent(k)) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
-    recv_.resize(total);
-    check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                         displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-          "MPI_Allgatherv");
-    std::size_t at = 0;
-    for (std::size_t k = 0; k < list.size(); ++k)
-      if (sent(k)) {
-        ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
-        at += 3;
+    if (!for_build) {  // every pair's history: each rank's run of the list, gathered in place
+      static_assert(sizeof(Vec3) == 3 * sizeof(double));
+      for (std::size_t r = 0; r < size; ++r) {
+        counts[r] = static_cast<int>(3 * (first_pair(r + 1) - first_pair(r)));
+        displs[r] = static_cast<int>(3 * first_pair(r));
       }
+      check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, reinterpret_cast<double*>(ph), counts.data(), displs.data(),
+                           MPI_DOUBLE, MPI_COMM_WORLD),
+            "MPI_Allgatherv");
+    } else {  // a build: the history of the pairs in contact
+      auto sent = [&](std::size_t k) { return pt[k] != 0; };
+      std::size_t total = 0;
+      for (std::size_t r = 0; r < size; ++r) {
+        std::size_t c = 0;
+        for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += sent(k) ? 3 : 0;
+        counts[r] = static_cast<int>(c);
+        displs[r] = static_cast<int>(total);
+        total += c;
+      }
+      send_.clear();
+      for (std::size_t k = first_pair(static_cast<std::size_t>(rank_)); k < first_pair(static_cast<std::size_t>(rank_) + 1); ++k)
+        if (sent(k)) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
+      recv_.resize(total);
+      check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                           displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+            "MPI_Allgatherv");
+      std::size_t at = 0;
+      for (std::size_t k = 0; k < list.size(); ++k)
+        if (sent(k)) {
+          ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
+          at += 3;
+        }
+    }
   }
   stale_ = moving_ = positions_only;
 }
@@ -326,31 +337,48 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
   const std::size_t per = arrays.size() + rows.count;
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
-  send_.resize(mine.size() * per);
-  std::size_t at = 0;
-  for (std::uint32_t i : mine) {
-    for (const auto* a : arrays) send_[at++] = (*a)[i];
-    if (rows.count) rows.put(i, &send_[at]);
-    at += rows.count;
-  }
+  // In rounds of at most `batch` particles from each rank, so that the buffers stay near
+  // 2^22 values (32 MiB) whatever the state's size: gathered at once, a million
+  // particles' whole state needed 600 MB of buffers on every rank.
+  std::size_t most = 0;
+  for (const auto& own : rank_particles_) most = std::max(most, own.size());
+  const std::size_t batch = std::max<std::size_t>(1, (std::size_t{1} << 22) / std::max<std::size_t>(1, per * size));
   std::vector<int> counts(size), displs(size);
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < size; ++r) {
-    counts[r] = static_cast<int>(rank_particles_[r].size() * per);
-    displs[r] = static_cast<int>(total);
-    total += rank_particles_[r].size() * per;
-  }
-  recv_.resize(total);
-  check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                       displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-        "MPI_Allgatherv");
-  at = 0;
-  for (const auto& own : rank_particles_)
-    for (std::uint32_t i : own) {
-      for (auto* a : arrays) (*a)[i] = recv_[at++];
-      if (rows.count) rows.get(i, &recv_[at]);
+  for (std::size_t b0 = 0; b0 < most; b0 += batch) {
+    auto part = [&](const std::vector<std::uint32_t>& own) {
+      return std::pair{std::min(b0, own.size()), std::min(b0 + batch, own.size())};
+    };
+    const auto [m0, m1] = part(mine);
+    send_.resize((m1 - m0) * per);
+    std::size_t at = 0;
+    for (std::size_t k = m0; k < m1; ++k) {
+      const std::uint32_t i = mine[k];
+      for (const auto* a : arrays) send_[at++] = (*a)[i];
+      if (rows.count) rows.put(i, &send_[at]);
       at += rows.count;
     }
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < size; ++r) {
+      const auto [k0, k1] = part(rank_particles_[r]);
+      counts[r] = static_cast<int>((k1 - k0) * per);
+      displs[r] = static_cast<int>(total);
+      total += (k1 - k0) * per;
+    }
+    recv_.resize(total);
+    check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                         displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    at = 0;
+    for (const auto& own : rank_particles_) {
+      const auto [k0, k1] = part(own);
+      for (std::size_t k = k0; k < k1; ++k) {
+        const std::uint32_t i = own[k];
+        for (auto* a : arrays) (*a)[i] = recv_[at++];
+        if (rows.count) rows.get(i, &recv_[at]);
+        at += rows.count;
+      }
+    }
+  }
 }
 
 void RankSplit::share_mesh_contacts() {
