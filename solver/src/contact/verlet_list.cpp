@@ -117,7 +117,7 @@ bool VerletList::needs_rebuild(const ParticleStore& p) const {
 
 VerletList::Slabs VerletList::slabs(const double* x, const double* y, const double* z,
                                     const std::vector<double>& radius, std::size_t n) const {
-  // Slabs along the longest side of the particles' bounding box, each at least one
+  // Slabs along the longest side of the particles' bounding box (below), each at least one
   // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
   // neighbouring slab. The slab count depends on the geometry only, never on threads.
   // A periodic axis is never cut (partners across its faces would sit in the first and
@@ -135,9 +135,15 @@ VerletList::Slabs VerletList::slabs(const double* x, const double* y, const doub
       rmax = std::max(rmax, radius[i]);
     }
   }
-  int axis = -1;
+  // Of sides within a tenth of the longest, the first (x, y, z): a bed about as wide as it
+  // is deep keeps its axis as its sides trade places by a grain, and with it the
+  // particles' order and, among MPI ranks, their owners.
+  double longest = 0.0;
   for (int a = 0; a < 3; ++a)
-    if (!box_.on[a] && (axis < 0 || g.hi[a] - g.lo[a] > g.hi[axis] - g.lo[axis])) axis = a;
+    if (!box_.on[a]) longest = std::max(longest, g.hi[a] - g.lo[a]);
+  int axis = -1;
+  for (int a = 0; a < 3 && axis < 0; ++a)
+    if (!box_.on[a] && g.hi[a] - g.lo[a] >= 0.9 * longest) axis = a;
   const bool cut = axis >= 0;
   g.axis = cut ? axis : 0;
   g.range = 2.0 * rmax + skin_;

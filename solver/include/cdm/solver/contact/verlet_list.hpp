@@ -13,15 +13,16 @@
 /// it, carried across rebuilds and reorderings, so the force loop does no hashing.
 ///
 /// Slabs: at each build the particles' bounding box is cut into slabs along its longest
-/// side, at least one interaction range wide, and each pair belongs to the lower of its
-/// particles' slabs, so it touches only particles of that slab and the next. Even slabs
-/// may run in parallel, then odd ones, each slab one thread's, in a fixed order: every
-/// particle receives its contributions in the same order whatever the number of
-/// threads. Each thread takes one contiguous run of slabs with about an equal share of
-/// their estimated cost (listed pairs, those in contact at the last evaluation counted
-/// kTouchCost times more): after the spatial sort its slabs' particles are about its
-/// share of the integrator's pass (thread_range), so a thread finds in its own cache
-/// the forces and positions it works on.
+/// side (the first, x before y before z, of the sides within a tenth of it), at least one
+/// interaction range wide, and each pair belongs to the lower of its particles' slabs, so
+/// it touches only particles of that slab and the next. Even slabs may run in parallel,
+/// then odd ones, each slab one thread's, in a fixed order: every particle receives its
+/// contributions in the same order whatever the number of threads. Each thread takes one
+/// contiguous run of slabs with about an equal share of their estimated cost (listed
+/// pairs, those in contact at the last evaluation counted kTouchCost times more): after
+/// the spatial sort its slabs' particles are about its share of the integrator's pass
+/// (thread_range), so a thread finds in its own cache the forces and positions it works
+/// on.
 #include <cmath>
 #include <cstdint>
 #include <utility>
