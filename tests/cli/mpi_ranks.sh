@@ -15,7 +15,8 @@
 # whole on each process but for its gas step, says so, and gives one process's results. The gas
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
-# bed of 2e5 particles, whose state is gathered in rounds, is compared on 2.
+# bed of 2e5 particles, whose state is gathered in rounds, is compared on 2. A run on 2
+# stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -168,4 +169,21 @@ shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressu
 grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4"
+# SIGTERM to mpirun, which passes it to every process (as Slurm does to each task): a
+# checkpoint, the command to continue, and a restart on 3 processes that ends as one
+# process's uninterrupted run.
+sigrun=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]' --set integrator.end_time=0.1
+        --set output.interval=0.01)
+"$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig-1" > /dev/null || fail "signal: one process"
+"${launch[@]}" -np 2 "$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig" > /dev/null 2> "$work/sig.err" &
+pid=$!
+sleep 2
+kill -TERM "$pid"
+wait "$pid"
+[ -s "$work/sig/checkpoint.cdmck" ] || fail "SIGTERM to mpirun: no checkpoint: $(tail -3 "$work/sig.err")"
+grep -q "stopped by signal 15; continue with" "$work/sig.err" || fail "SIGTERM to mpirun: no command to continue"
+"${launch[@]}" -np 3 "$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig" --restart "$work/sig/checkpoint.cdmck" \
+  > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
+cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
+
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
