@@ -186,8 +186,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   // Rank 0 writes the files. The other processes run the same observers, which read the
   // state (and so gather it) at the same steps, but write nothing: their paths are empty.
   const bool writes = sim.ranks() <= 1 || g_world.rank == 0;
-  auto file = [&](const std::string& name) { return writes ? (fs::path(out_dir) / name).string() : std::string(); };
   const std::string files_dir = writes ? out_dir : std::string();
+  auto file = [&](const std::string& name) { return writes ? (fs::path(files_dir) / name).string() : std::string(); };
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.cdmck").string();
   if (writes) {
     cdm::make_output_directory(out_dir);

@@ -188,7 +188,8 @@ VtkObserver::VtkObserver(const std::string& out_dir, const Simulation& sim, std:
   if (!dir_.empty()) make_output_directory((fs::path(dir_) / "vtk").string());
   if (!sim.restarted()) return;
   last_ = resume ? resume->last : output_sample(sim, interval_);
-  if (!resume || dir_.empty()) return;  // the first run wrote no VTK: new collections from here on
+  // Without a recorded mark the first run wrote no VTK: new collections from here on.
+  if (!resume || dir_.empty()) return;
   // Continue the collections: cut them back to the frames the checkpoint recorded.
   auto reload = [&](const std::string& name, std::uint64_t frames, std::vector<std::pair<double, std::string>>& entries) {
     const std::string path = (fs::path(dir_) / name).string();

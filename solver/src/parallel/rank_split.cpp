@@ -289,25 +289,24 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
                            MPI_DOUBLE, MPI_COMM_WORLD),
             "MPI_Allgatherv");
     } else {  // a build: the history of the pairs in contact
-      auto sent = [&](std::size_t k) { return pt[k] != 0; };
       std::size_t total = 0;
       for (std::size_t r = 0; r < size; ++r) {
         std::size_t c = 0;
-        for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += sent(k) ? 3 : 0;
+        for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += pt[k] != 0 ? 3 : 0;
         counts[r] = static_cast<int>(c);
         displs[r] = static_cast<int>(total);
         total += c;
       }
       send_.clear();
       for (std::size_t k = first_pair(static_cast<std::size_t>(rank_)); k < first_pair(static_cast<std::size_t>(rank_) + 1); ++k)
-        if (sent(k)) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
+        if (pt[k] != 0) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
       recv_.resize(total);
       check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
                            displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
             "MPI_Allgatherv");
       std::size_t at = 0;
       for (std::size_t k = 0; k < list.size(); ++k)
-        if (sent(k)) {
+        if (pt[k] != 0) {
           ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
           at += 3;
         }
@@ -338,8 +337,8 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
   // In rounds of at most `batch` particles from each rank, so that the buffers stay near
-  // 2^22 values (32 MiB) whatever the state's size: gathered at once, a million
-  // particles' whole state needed 600 MB of buffers on every rank.
+  // 2^22 values (32 MiB) whatever the state's size (a million particles' whole state is
+  // about 400 MB).
   std::size_t most = 0;
   for (const auto& own : rank_particles_) most = std::max(most, own.size());
   const std::size_t batch = std::max<std::size_t>(1, (std::size_t{1} << 22) / std::max<std::size_t>(1, per * size));
