@@ -76,7 +76,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // A velocity made NaN between steps: the next step's pass finds it before moving on.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().vx[17] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().vx[sim.particles().slot_of(17)] = std::numeric_limits<double>::quiet_NaN();
     expect_reported([&] { sim.step(); }, "5", "17", "a NaN velocity went unreported");
   }
   {
@@ -84,7 +84,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // the state reports it at that step instead of returning it.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().fz[3] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().fz[sim.particles().slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
     expect_reported([&] { (void)sim.particles(); }, "6", "3", "a NaN state was returned");
   }
@@ -94,7 +94,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // its final kick done there) finds before moving on, and reports at its step.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().tz[3] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().tz[sim.particles().slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
     expect_reported([&] { sim.step(); }, "6", "3", "a NaN spin went unreported");
   }
@@ -176,7 +176,8 @@ TEST(VelocityVerlet, PassCoversEveryBlock) {
       cdm::load_scene_from_string(box_scene, "box.toml",
                                   {cdm::parse_override("lattices[0].count=[50, 50, 28]"),
                                    cdm::parse_override("lattices[0].origin=[0.00055, 0.00055, 0.002]"),
-                                   cdm::parse_override("walls[2].point=[0.0556, 0.0, 0.0]")});
+                                   cdm::parse_override("walls[2].point=[0.0556, 0.0, 0.0]"),
+                                   cdm::parse_override("neighbour_list.sort_interval=0")});  // blocks in scene order
   const std::size_t n = 50 * 50 * 28;
   // Free fall: every particle's vertical velocity follows velocity Verlet's two half
   // kicks with its weight, v + (Δt/2)(1/m)(m g) twice a step, to the bit.

@@ -144,8 +144,8 @@ struct SceneSpec {
   std::vector<MonitorSpec> monitors;
 
   // Spatial sorting of the particles at Verlet-list rebuilds, at most every this many
-  // steps; 0 = never (particles stay in scene order).
-  std::uint64_t sort_interval = 0;
+  // steps (and at the first build); 0 = never (particles stay in scene order).
+  std::uint64_t sort_interval = 1000;
 
   bool allow_initial_overlap = false;
   double max_overlap_fraction = 1.0;  // stop when overlap / radius reaches this [-]
