@@ -281,9 +281,11 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     std::cout << "wrote " << (fs::path(out_dir) / "particles.pvd").string()
               << (sim.gas() ? " and " + (fs::path(out_dir) / "gas.pvd").string() : std::string()) << " (VTK)\n";
   if (sig != 0) {
-    std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << shell_quote(scene);
-    for (const auto& s : sets) std::cerr << " --set " << shell_quote(s);
-    std::cerr << " --restart " << shell_quote(ckpt) << " -o " << shell_quote(out_dir) << "\n";
+    if (writes) {  // once, from the process that wrote the checkpoint
+      std::cerr << "cdm run: stopped by signal " << sig << "; continue with: cdm run " << shell_quote(scene);
+      for (const auto& s : sets) std::cerr << " --set " << shell_quote(s);
+      std::cerr << " --restart " << shell_quote(ckpt) << " -o " << shell_quote(out_dir) << "\n";
+    }
     return 128 + sig;
   }
   return 0;

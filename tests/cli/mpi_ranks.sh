@@ -181,7 +181,8 @@ sleep 2
 kill -TERM "$pid"
 wait "$pid"
 [ -s "$work/sig/checkpoint.cdmck" ] || fail "SIGTERM to mpirun: no checkpoint: $(tail -3 "$work/sig.err")"
-grep -q "stopped by signal 15; continue with" "$work/sig.err" || fail "SIGTERM to mpirun: no command to continue"
+stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
+[ "$stops" = 1 ] || fail "SIGTERM to mpirun: the command to continue printed $stops times, expected once"
 "${launch[@]}" -np 3 "$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig" --restart "$work/sig/checkpoint.cdmck" \
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
