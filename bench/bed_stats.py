@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Pressure drop and bed height of a fluidised bed, from cdm's output or an OpenFOAM case.
 
-    bed_stats.py cdm OUTDIR --axis z       cdm run -o OUTDIR with output.vtk and output.particles
+    bed_stats.py cdm OUTDIR --axis z       cdm run -o OUTDIR with output.vtk (binary or ascii) and output.particles
     bed_stats.py openfoam CASE --axis z    a DPMFoam case written in ascii (last time directory)
 
 prints one line at the last written time (with --series, one per written time):
@@ -19,8 +19,10 @@ import argparse
 import gzip
 import os
 import re
+import struct
 import sys
 import xml.etree.ElementTree as ET
+import zlib
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -57,6 +59,41 @@ def heights(z, r, base):
     return 2.0 * mean, h[min(len(h) - 1, int(0.99 * len(h)))]
 
 
+def vtk_file(path):
+    """(XML root, {array name: list of floats}) of a VTK XML file: ascii, or appended raw
+    data, zlib-compressed or not, as cdm writes it (Float64/Float32/Int32/Int64/UInt8)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    cut = data.find(b"<AppendedData")
+    if cut < 0:
+        root = ET.fromstring(data)
+        return root, {a.get("Name"): [float(v) for v in (a.text or "").split()]
+                      for a in root.iter("DataArray")}
+    start = data.index(b"_", cut) + 1
+    root = ET.fromstring(data[:cut] + b"</VTKFile>")
+    head = {"UInt32": "<I", "UInt64": "<Q"}[root.get("header_type", "UInt32")]
+    hsize = struct.calcsize(head)
+    kinds = {"Float64": "d", "Float32": "f", "Int32": "i", "Int64": "q", "UInt8": "B"}
+    arrays = {}
+    for a in root.iter("DataArray"):
+        pos = start + int(a.get("offset"))
+        if root.get("compressor"):
+            blocks = struct.unpack_from(head, data, pos)[0]
+            sizes = struct.unpack_from("<" + head[1] * (3 + blocks), data, pos)[3:]
+            pos += hsize * (3 + blocks)
+            raw = b""
+            for s in sizes:
+                raw += zlib.decompress(data[pos:pos + s])
+                pos += s
+        else:
+            n = struct.unpack_from(head, data, pos)[0]
+            raw = data[pos + hsize:pos + hsize + n]
+        kind = kinds[a.get("type")]
+        arrays[a.get("Name")] = [float(v) for v in
+                                 struct.unpack("<%d%s" % (len(raw) // struct.calcsize(kind), kind), raw)]
+    return root, arrays
+
+
 def cdm_stats(out, axis):
     """(t, dp, (bed_height, h99)) at every frame that has gas, particle VTK and particles.dat rows."""
     vtk = os.path.join(out, "vtk")
@@ -77,25 +114,21 @@ def cdm_stats(out, axis):
     parts = sorted(f for f in os.listdir(vtk) if f.startswith("particles_") and f.endswith(".vtp"))
     rows = []
     for name in gas:
-        root = ET.parse(os.path.join(vtk, name)).getroot()
-        if root.get("format") == "appended" or root.find(".//AppendedData") is not None:
-            fail(f"{name} is binary: run with --set 'output.vtk_format=\"ascii\"'")
+        root, arrays = vtk_file(os.path.join(vtk, name))
         image = root.find("ImageData")
         ext = [int(v) for v in image.get("WholeExtent").split()]
         cells = [ext[1] - ext[0], ext[3] - ext[2], ext[5] - ext[4]]
         base = float(image.get("Origin").split()[axis])
-        t = float(root.find(".//FieldData/DataArray").text)
-        arrays = {a.get("Name"): a for a in root.iter("DataArray")}
+        t = arrays["TIME"][0]
         if "pressure" not in arrays:
             fail(f"{name} has no pressure array")
-        dp = layer_dp([float(v) for v in arrays["pressure"].text.split()], cells, axis)
+        dp = layer_dp(arrays["pressure"], cells, axis)
         z = next((zs for ts, zs in samples.items() if abs(ts - t) <= 1e-9), None)
         if z is None:
             fail(f"particles.dat has no sample at t = {t} (the gas frame {name})")
         frame = name[len("gas_"):-len(".vti")]
         pname = f"particles_{frame}.vtp" if f"particles_{frame}.vtp" in parts else parts[-1]
-        radius = [float(v) for v in ET.parse(os.path.join(vtk, pname)).getroot()
-                  .find(".//DataArray[@Name='radius']").text.split()]
+        radius = vtk_file(os.path.join(vtk, pname))[1]["radius"]
         if len(radius) != len(z):
             radius = [radius[0]] * len(z)
         rows.append((t, dp, heights(z, radius, base)))
