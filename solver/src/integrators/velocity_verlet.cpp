@@ -1,5 +1,7 @@
 #include "cdm/solver/integrators/velocity_verlet.hpp"
 
+#include <limits>
+
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
@@ -14,12 +16,10 @@ namespace {
 /// Whether the final kick of a step can wait for the next step's pass: nothing may read
 /// the particles' velocities or impulses between a step's force evaluation and its final
 /// kick. With a gas the reaction is then deposited only at the gas step (which completes
-/// the step first), not after every step; and the pass has no exponential drag kick.
+/// the step first), not after every step.
 bool can_defer(const SceneSpec& s, bool gas) {
   if (!gas) return true;
-  const bool deposit_every_step =
-      s.two_way && !s.implicit_gas_drag && s.drag_evaluation == coupling::DragEvaluation::every_step;
-  return !deposit_every_step && s.drag_update != coupling::DragUpdate::exponential;
+  return !(s.two_way && !s.implicit_gas_drag && s.drag_evaluation == coupling::DragEvaluation::every_step);
 }
 
 /// verlet_pass's kick for the scene's drag.
@@ -27,6 +27,8 @@ verlet::DragKick drag_kick(const SceneSpec& s, bool gas) {
   if (!gas || !s.drag) return verlet::DragKick::none;
   if (s.drag_update == coupling::DragUpdate::implicit)
     return s.two_way ? verlet::DragKick::implicit_impulse : verlet::DragKick::implicit;
+  if (s.drag_update == coupling::DragUpdate::exponential)
+    return s.two_way ? verlet::DragKick::exponential_impulse : verlet::DragKick::exponential;
   return s.two_way ? verlet::DragKick::explicit_impulse : verlet::DragKick::none;
 }
 }  // namespace
@@ -136,13 +138,25 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   }
   // The drag's share of the kicks (the kick Kick would give, DragKick).
   const auto dk = static_cast<verlet::DragKick>(drag_kick_);
-  if (dk == verlet::DragKick::implicit || dk == verlet::DragKick::implicit_impulse) {
+  if (dk == verlet::DragKick::implicit || dk == verlet::DragKick::implicit_impulse ||
+      dk == verlet::DragKick::exponential || dk == verlet::DragKick::exponential_impulse) {
     a.drag_k = p.drag_k.data();
     a.ug[0] = p.ugx.data(); a.ug[1] = p.ugy.data(); a.ug[2] = p.ugz.data();
     a.mass = p.mass.data();
   }
+  if (dk == verlet::DragKick::exponential || dk == verlet::DragKick::exponential_impulse) {
+    // φ kept per slot with the λ it belongs to; a slot whose particle changed (a sort,
+    // a migration, an insertion) holds some other λ, or NaN, and gets its φ computed.
+    if (phi_.size() != n) {
+      phi_.resize(n);
+      phi_lam_.resize(n, std::numeric_limits<double>::quiet_NaN());
+    }
+    a.phi = phi_.data();
+    a.phi_lam = phi_lam_.data();
+  }
   if (dk == verlet::DragKick::explicit_impulse) { a.df[0] = p.dfx.data(); a.df[1] = p.dfy.data(); a.df[2] = p.dfz.data(); }
-  if (dk == verlet::DragKick::explicit_impulse || dk == verlet::DragKick::implicit_impulse) {
+  if (dk == verlet::DragKick::explicit_impulse || dk == verlet::DragKick::implicit_impulse ||
+      dk == verlet::DragKick::exponential_impulse) {
     a.j[0] = p.jx.data(); a.j[1] = p.jy.data(); a.j[2] = p.jz.data();
   }
   // One contiguous range per thread, about the particles whose forces the same

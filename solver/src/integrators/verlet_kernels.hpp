@@ -34,17 +34,20 @@ struct VerletArrays {
   double one_inv_mass = 0.0, one_inv_inertia = 0.0, one_mass = 0.0;
   // The drag's part of verlet_pass's kick (DragKick): the drag coefficient K and the gas
   // velocity u_g of a relaxed drag, the explicit drag force F_d, and the two-way impulse
-  // accumulator J, per axis (ParticleStore's drag_k, ugx..., dfx..., jx...).
+  // accumulator J, per axis (ParticleStore's drag_k, ugx..., dfx..., jx...); for the
+  // exact relaxation, each particle's φ = (1 − e^(−λh))/λ and the λ it was computed
+  // for (verlet_pass recomputes φ only where λ changed: e^x is most of the kick's cost).
   const double* drag_k = nullptr;
+  double *phi = nullptr, *phi_lam = nullptr;
   const double *ug[3] = {nullptr, nullptr, nullptr}, *df[3] = {nullptr, nullptr, nullptr};
   double* j[3] = {nullptr, nullptr, nullptr};
 };
 
 /// The kick of verlet_pass (Kick's arithmetic, kick.hpp): the plain one; the plain one
 /// with the explicit drag's impulse τ F_d added to J (two-way); the drag relaxed
-/// implicitly (backward Euler over the kick), without or with its impulse
-/// m Δv − τ F added to J.
-enum class DragKick { none, explicit_impulse, implicit, implicit_impulse };
+/// implicitly (backward Euler over the kick) or exactly (exponential), without or with
+/// its impulse m Δv − τ F added to J.
+enum class DragKick { none, explicit_impulse, implicit, implicit_impulse, exponential, exponential_impulse };
 
 inline VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vector<double>& hvy,
                            std::vector<double>& hvz, std::vector<double>& hwx, std::vector<double>& hwy,
@@ -129,6 +132,8 @@ decltype(auto) with_drag_kick(DragKick d, F&& f) {
     case DragKick::explicit_impulse: return f.template operator()<DragKick::explicit_impulse>();
     case DragKick::implicit: return f.template operator()<DragKick::implicit>();
     case DragKick::implicit_impulse: return f.template operator()<DragKick::implicit_impulse>();
+    case DragKick::exponential: return f.template operator()<DragKick::exponential>();
+    case DragKick::exponential_impulse: return f.template operator()<DragKick::exponential_impulse>();
     case DragKick::none: break;
   }
   return f.template operator()<DragKick::none>();
@@ -152,12 +157,15 @@ template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, b
                                                double* __restrict F, double* __restrict HV,
                                                const double* __restrict X0, double g, const PeriodicBox& box, double dt,
                                                std::size_t i0, std::size_t i1, double* __restrict d2) {
-  constexpr bool relaxed = D == DragKick::implicit || D == DragKick::implicit_impulse;
-  constexpr bool impulse = D == DragKick::explicit_impulse || D == DragKick::implicit_impulse;
+  constexpr bool exact = D == DragKick::exponential || D == DragKick::exponential_impulse;
+  constexpr bool relaxed = exact || D == DragKick::implicit || D == DragKick::implicit_impulse;
+  constexpr bool impulse =
+      D == DragKick::explicit_impulse || D == DragKick::implicit_impulse || D == DragKick::exponential_impulse;
   const double h = 0.5 * dt;
   const double* __restrict const IM = a.inv_mass;
   const double* __restrict const M = a.mass;
   const double* __restrict const K = a.drag_k;
+  const double* __restrict const PHI = a.phi;
   const double* __restrict const UG = a.ug[A];
   const double* __restrict const DF = a.df[A];
   double* __restrict const J = a.j[A];
@@ -167,13 +175,14 @@ template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, b
     double v, s, x, jj = 0.0;
     if constexpr (impulse) jj = J[i];
     if constexpr (relaxed) {
-      // dv/dt = a + λ (u_g − v), λ = K/m, over h with a, λ, u_g frozen (Kick::relaxed).
+      // dv/dt = a + λ (u_g − v), λ = K/m, over h with a, λ, u_g frozen (Kick::relaxed):
+      // backward Euler, or exact with φ = (1 − e^(−λh))/λ.
       const double lam = im * K[i];
-      const double c = 1.0 / (1.0 + lam * h);
+      const double c = exact ? 0.0 : 1.0 / (1.0 + lam * h);
       const double acc = im * f, ug = UG[i];
       const double m = One ? a.one_mass : M[i];
       auto kick = [&](double v0, bool with_impulse) {
-        const double v1 = c * (v0 + h * (acc + lam * ug));
+        const double v1 = exact ? v0 + PHI[i] * (acc + lam * (ug - v0)) : c * (v0 + h * (acc + lam * ug));
         if (impulse && with_impulse) jj += m * (v1 - v0) - h * f;
         return v1;
       };
@@ -279,11 +288,24 @@ inline double* pass_scratch(std::size_t n) {
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One, DragKick D>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 32768;
+  constexpr bool exact = D == DragKick::exponential || D == DragKick::exponential_impulse;
   // Each particle's squared displacement (NaN if its state is not finite), per block.
   double* const d2 = pass_scratch(std::min(block, i1 - i0));
   double worst = 0.0;
   for (std::size_t b0 = i0; b0 < i1; b0 += block) {
     const std::size_t b1 = std::min(i1, b0 + block);
+    if constexpr (exact) {
+      // Kick::relaxed's φ over the half step h (the same for the pass's three kicks on
+      // each axis), computed again only where λ is not the one it was computed for: the
+      // same φ to the bit, and between gas steps λ does not change.
+      const double h = 0.5 * dt;
+      for (std::size_t i = b0; i < b1; ++i) {
+        const double lam = (One ? a.one_inv_mass : a.inv_mass[i]) * a.drag_k[i];
+        if (a.phi_lam[i] == lam) continue;
+        a.phi_lam[i] = lam;
+        a.phi[i] = lam * h > 1e-12 ? -std::expm1(-lam * h) / lam : h;
+      }
+    }
     verlet_axis<0, true, Pending, Wrap, Measure, Grav, One, D>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, d2);
     verlet_axis<1, false, Pending, Wrap, Measure, Grav, One, D>(a, a.y, a.vy, a.fy, a.hvy, a.y0, a.g.y, box, dt, b0, b1, d2);
     verlet_axis<2, false, Pending, Wrap, Measure, Grav, One, D>(a, a.z, a.vz, a.fz, a.hvz, a.z0, a.g.z, box, dt, b0, b1, d2);

@@ -50,6 +50,9 @@ class VelocityVerlet final : public Integrator {
   bool gravity_;
   bool deferred_; // the final kick waits for the next step or a read
   int drag_kick_; // verlet::DragKick of the fused pass
+  // The exact drag relaxation's φ = (1 − e^(−λΔt/2))/λ per slot and the λ it is for
+  // (verlet_pass).
+  std::vector<double> phi_, phi_lam_;
   Kick kick_;
   bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   // Whether every particle has the same m, 1/m and 1/I (ParticleStore::same_mass): 1 yes,
