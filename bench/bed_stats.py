@@ -81,10 +81,11 @@ def vtk_file(path):
             blocks = struct.unpack_from(head, data, pos)[0]
             sizes = struct.unpack_from("<" + head[1] * (3 + blocks), data, pos)[3:]
             pos += hsize * (3 + blocks)
-            raw = b""
+            chunks = []
             for s in sizes:
-                raw += zlib.decompress(data[pos:pos + s])
+                chunks.append(zlib.decompress(data[pos:pos + s]))
                 pos += s
+            raw = b"".join(chunks)
         else:
             n = struct.unpack_from(head, data, pos)[0]
             raw = data[pos + hsize:pos + hsize + n]

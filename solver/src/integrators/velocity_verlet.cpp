@@ -138,13 +138,12 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   }
   // The drag's share of the kicks (the kick Kick would give, DragKick).
   const auto dk = static_cast<verlet::DragKick>(drag_kick_);
-  if (dk == verlet::DragKick::implicit || dk == verlet::DragKick::implicit_impulse ||
-      dk == verlet::DragKick::exponential || dk == verlet::DragKick::exponential_impulse) {
+  if (verlet::relaxed_kick(dk)) {
     a.drag_k = p.drag_k.data();
     a.ug[0] = p.ugx.data(); a.ug[1] = p.ugy.data(); a.ug[2] = p.ugz.data();
     a.mass = p.mass.data();
   }
-  if (dk == verlet::DragKick::exponential || dk == verlet::DragKick::exponential_impulse) {
+  if (verlet::exact_kick(dk)) {
     // φ kept per slot with the λ it belongs to; a slot whose particle changed (a sort,
     // a migration, an insertion) holds some other λ, or NaN, and gets its φ computed.
     if (phi_.size() != n) {
@@ -155,8 +154,7 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
     a.phi_lam = phi_lam_.data();
   }
   if (dk == verlet::DragKick::explicit_impulse) { a.df[0] = p.dfx.data(); a.df[1] = p.dfy.data(); a.df[2] = p.dfz.data(); }
-  if (dk == verlet::DragKick::explicit_impulse || dk == verlet::DragKick::implicit_impulse ||
-      dk == verlet::DragKick::exponential_impulse) {
+  if (verlet::impulse_kick(dk)) {
     a.j[0] = p.jx.data(); a.j[1] = p.jy.data(); a.j[2] = p.jz.data();
   }
   // One contiguous range per thread, about the particles whose forces the same

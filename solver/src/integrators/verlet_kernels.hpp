@@ -13,6 +13,7 @@
 
 #include <sys/mman.h>
 
+#include "cdm/solver/integrators/kick.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/vec3.hpp"
@@ -48,6 +49,15 @@ struct VerletArrays {
 /// implicitly (backward Euler over the kick) or exactly (exponential), without or with
 /// its impulse m Δv − τ F added to J.
 enum class DragKick { none, explicit_impulse, implicit, implicit_impulse, exponential, exponential_impulse };
+/// Whether the kick relaxes the drag exactly; implicitly or exactly (reading K and u_g);
+/// adds the drag impulse to J.
+constexpr bool exact_kick(DragKick d) { return d == DragKick::exponential || d == DragKick::exponential_impulse; }
+constexpr bool relaxed_kick(DragKick d) {
+  return exact_kick(d) || d == DragKick::implicit || d == DragKick::implicit_impulse;
+}
+constexpr bool impulse_kick(DragKick d) {
+  return d == DragKick::explicit_impulse || d == DragKick::implicit_impulse || d == DragKick::exponential_impulse;
+}
 
 inline VerletArrays verlet_arrays(ParticleStore& p, std::vector<double>& hvx, std::vector<double>& hvy,
                            std::vector<double>& hvz, std::vector<double>& hwx, std::vector<double>& hwy,
@@ -157,10 +167,7 @@ template <int A, bool First, bool Pending, bool Wrap, bool Measure, bool Grav, b
                                                double* __restrict F, double* __restrict HV,
                                                const double* __restrict X0, double g, const PeriodicBox& box, double dt,
                                                std::size_t i0, std::size_t i1, double* __restrict d2) {
-  constexpr bool exact = D == DragKick::exponential || D == DragKick::exponential_impulse;
-  constexpr bool relaxed = exact || D == DragKick::implicit || D == DragKick::implicit_impulse;
-  constexpr bool impulse =
-      D == DragKick::explicit_impulse || D == DragKick::implicit_impulse || D == DragKick::exponential_impulse;
+  constexpr bool exact = exact_kick(D), relaxed = relaxed_kick(D), impulse = impulse_kick(D);
   const double h = 0.5 * dt;
   const double* __restrict const IM = a.inv_mass;
   const double* __restrict const M = a.mass;
@@ -288,13 +295,12 @@ inline double* pass_scratch(std::size_t n) {
 template <bool Pending, bool Rot, bool Wrap, bool Measure, bool Grav, bool One, DragKick D>
 double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std::size_t i0, std::size_t i1) {
   constexpr std::size_t block = 32768;
-  constexpr bool exact = D == DragKick::exponential || D == DragKick::exponential_impulse;
   // Each particle's squared displacement (NaN if its state is not finite), per block.
   double* const d2 = pass_scratch(std::min(block, i1 - i0));
   double worst = 0.0;
   for (std::size_t b0 = i0; b0 < i1; b0 += block) {
     const std::size_t b1 = std::min(i1, b0 + block);
-    if constexpr (exact) {
+    if constexpr (exact_kick(D)) {
       // Kick::relaxed's φ over the half step h (the same for the pass's three kicks on
       // each axis), computed again only where λ is not the one it was computed for: the
       // same φ to the bit, and between gas steps λ does not change.
@@ -303,7 +309,7 @@ double verlet_pass(const VerletArrays& a, const PeriodicBox& box, double dt, std
         const double lam = (One ? a.one_inv_mass : a.inv_mass[i]) * a.drag_k[i];
         if (a.phi_lam[i] == lam) continue;
         a.phi_lam[i] = lam;
-        a.phi[i] = lam * h > 1e-12 ? -std::expm1(-lam * h) / lam : h;
+        a.phi[i] = exact_relaxation_phi(lam, h);
       }
     }
     verlet_axis<0, true, Pending, Wrap, Measure, Grav, One, D>(a, a.x, a.vx, a.fx, a.hvx, a.x0, a.g.x, box, dt, b0, b1, d2);

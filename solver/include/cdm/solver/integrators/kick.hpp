@@ -12,6 +12,12 @@
 
 namespace cdm::integrators {
 
+/// φ = (1 − e^(−λτ))/λ of the exact drag relaxation over τ (→ τ as λ → 0): the kick is
+/// then v' = v + (a + λ(u_g − v)) φ.
+[[gnu::always_inline]] inline double exact_relaxation_phi(double lam, double tau) {
+  return lam * tau > 1e-12 ? -std::expm1(-lam * tau) / lam : tau;
+}
+
 /// The kick without a drag: v += τ/m F.
 struct PlainKick {
   const double *inv_mass, *fx, *fy, *fz;
@@ -58,8 +64,8 @@ class Kick {
       vy = c * (vy + tau * (ay + lam * p.ugy[i]));
       vz = c * (vz + tau * (az + lam * p.ugz[i]));
     } else {
-      // Exact: v' = v + (a + λ(u_g − v)) φ, φ = (1 − e^(−λτ))/λ (→ τ as λ → 0).
-      const double phi = lam * tau > 1e-12 ? -std::expm1(-lam * tau) / lam : tau;
+      // Exact: v' = v + (a + λ(u_g − v)) φ.
+      const double phi = exact_relaxation_phi(lam, tau);
       vx += phi * (ax + lam * (p.ugx[i] - vx));
       vy += phi * (ay + lam * (p.ugy[i] - vy));
       vz += phi * (az + lam * (p.ugz[i] - vz));
