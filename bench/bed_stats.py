@@ -3,10 +3,23 @@
 
     bed_stats.py cdm OUTDIR --axis z       cdm run -o OUTDIR with output.vtk (binary or ascii) and output.particles
     bed_stats.py openfoam CASE --axis z    a DPMFoam case written in ascii (last time directory)
+    bed_stats.py openfoam CASE --axis z --probes
+                                           the pressure drop only, at every step a `probes`
+                                           function object on p wrote (postProcessing/*/*/p)
 
 prints one line at the last written time (with --series, one per written time):
 
     t=<s> dp=<Pa> bed_height=<m> h99=<m>
+
+With --window W the rows are averaged over windows of W seconds, [0, W), [W, 2W), ...
+(a window holds the rows whose t lies in it), one line per window that holds rows:
+
+    t0=<s> t1=<s> n=<rows> dp=<Pa> dp_sd=<Pa> bed_height=<m> h99=<m>
+
+dp_sd is the standard deviation of the window's rows (not of its mean). DPMFoam's
+pressure sampled at single steps is noisy (whole particles crossing cell faces), so
+compare its windowed probes with cdm's windowed frames; --window with --probes and
+--series is the time-averaged pressure drop of bench/README.md.
 
 dp is the mean gas pressure of the lowest layer of cells minus that of the highest layer
 (cell centres, so both codes are measured on the same points of the same grid). OpenFOAM's
@@ -17,6 +30,7 @@ particles); h99 is the 99th percentile of centre height plus radius.
 """
 import argparse
 import gzip
+import math
 import os
 import re
 import struct
@@ -190,15 +204,80 @@ def openfoam_time(case, tdir, axis):
     return float(tdir), dp, heights(z, [0.5 * v for v in d], base)
 
 
+def openfoam_probes(case, axis):
+    """(t, dp, (nan, nan)) at every probed step: the mean over the probes of the lowest
+    probed layer minus the mean over those of the highest, times the gas density."""
+    with open(os.path.join(case, "constant", "transportProperties")) as f:
+        rho = float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
+    root = os.path.join(case, "postProcessing")
+    def start(d):  # the time a function object's folder starts at (its name), else 0
+        try:
+            return float(os.path.basename(d))
+        except ValueError:
+            return 0.0
+    dirs = [d for d, _, names in os.walk(root) if "p" in names] if os.path.isdir(root) else []
+    files = [os.path.join(d, "p") for d in sorted(dirs, key=lambda d: (start(d), d))]
+    if not files:
+        fail(f"{case}: no postProcessing/*/*/p (a probes function object on p)")
+    rows = {}
+    for path in files:  # one file per restart time; a later start overrides the overlap
+        height, values = [], []
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"#\s*Probe\s+\d+\s*\(\s*([-\d.eE+]+)\s+([-\d.eE+]+)\s+([-\d.eE+]+)\s*\)", line)
+                if m:
+                    height.append(float(m.group(1 + axis)))
+                elif line.strip() and not line.startswith("#"):
+                    values.append([float(v) for v in line.split()])
+        if not height:
+            fail(f"{path}: no '# Probe k (x y z)' header lines")
+        low = [k for k, h in enumerate(height) if h == min(height)]
+        high = [k for k, h in enumerate(height) if h == max(height)]
+        if low == high:
+            fail(f"{path}: the probes lie at one height: expected a lowest and a highest layer")
+        for v in values:
+            if len(v) != len(height) + 1:
+                fail(f"{path}: a row of {len(v)} values, expected the time and {len(height)} probes")
+            p = v[1:]
+            dp = sum(p[k] for k in low) / len(low) - sum(p[k] for k in high) / len(high)
+            rows[v[0]] = (v[0], rho * dp, (float("nan"), float("nan")))
+    return [rows[t] for t in sorted(rows)]
+
+
+def windows(rows, width):
+    """The rows averaged over windows [k width, (k + 1) width): (t0, t1, n, dp, dp_sd, h, h99)."""
+    groups = {}
+    for t, dp, (h, h99) in rows:
+        groups.setdefault(math.floor(t / width + 1e-9), []).append((dp, h, h99))  # t = k width lands in k
+    out = []
+    for k in sorted(groups):
+        g = groups[k]
+        n = len(g)
+        mean = [sum(r[i] for r in g) / n for i in range(3)]
+        sd = (sum((r[0] - mean[0]) ** 2 for r in g) / (n - 1)) ** 0.5 if n > 1 else 0.0
+        out.append((k * width, (k + 1) * width, n, mean[0], sd, mean[1], mean[2]))
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("code", choices=["cdm", "openfoam"])
     ap.add_argument("dir")
     ap.add_argument("--axis", choices=sorted(AXES), default="z", help="the vertical axis")
     ap.add_argument("--series", action="store_true", help="one line per written time, not the last only")
+    ap.add_argument("--probes", action="store_true", help="openfoam: the pressure drop from the p probes, every step")
+    ap.add_argument("--window", type=float, help="average the rows over windows of this many seconds")
     a = ap.parse_args()
-    stats = cdm_stats if a.code == "cdm" else openfoam_stats
+    if a.probes and a.code != "openfoam":
+        fail("--probes reads an OpenFOAM case's probes: expected the code openfoam")
+    if a.window is not None and not a.window > 0.0:
+        fail(f"--window {a.window}: expected a window longer than 0 s")
+    stats = openfoam_probes if a.probes else cdm_stats if a.code == "cdm" else openfoam_stats
     rows = stats(a.dir, AXES[a.axis])
+    if a.window is not None:
+        for t0, t1, n, dp, sd, h, h99 in windows(rows, a.window):
+            print(f"t0={t0:.6g} t1={t1:.6g} n={n} dp={dp:.6g} dp_sd={sd:.6g} bed_height={h:.6g} h99={h99:.6g}")
+        return
     for t, dp, (h, h99) in (rows if a.series else rows[-1:]):
         print(f"t={t:.6g} dp={dp:.6g} bed_height={h:.6g} h99={h99:.6g}")
 
