@@ -63,9 +63,9 @@ double direct_factor_work_per_cell(const StaggeredGrid& grid) {
   return ldlt.sum_of_squared_column_counts() / static_cast<double>(ncell);
 }
 
-bool direct_is_cheaper(double cells, double work_per_cell) {
-  const double direct = cells * (0.15e-6 + 0.55e-9 * work_per_cell);
-  const double multigrid = 350e-6 + 0.5e-6 * cells;
+bool direct_is_cheaper(double cells, double lines, double work_per_cell) {
+  const double direct = cells * (0.32e-6 + 0.51e-9 * work_per_cell);
+  const double multigrid = 430e-6 + 0.49e-6 * cells + 1.6e-6 * lines;
   return direct < multigrid;
 }
 
@@ -73,10 +73,12 @@ PressureBackend automatic_backend(const StaggeredGrid& grid) {
   if (!multigrid_available()) return PressureBackend::direct;
   const double cells = static_cast<double>(grid.cell_count());
   // Beyond 1e5 cells the direct solve would need less work per cell than a 2D grid's
-  // factorisation does (direct_is_cheaper: below about 640): not worth the analysis.
+  // factorisation does (direct_is_cheaper: below about 340 plus 3100 / n_x): not worth
+  // the analysis.
   if (cells > 1e5) return PressureBackend::multigrid;
-  return direct_is_cheaper(cells, direct_factor_work_per_cell(grid)) ? PressureBackend::direct
-                                                                      : PressureBackend::multigrid;
+  const double lines = cells / grid.n(0);
+  return direct_is_cheaper(cells, lines, direct_factor_work_per_cell(grid)) ? PressureBackend::direct
+                                                                             : PressureBackend::multigrid;
 }
 
 PressureSolver::PressureSolver(const StaggeredGrid& grid, const PressureSolverSpec& spec) : grid_(grid), spec_(spec) {
