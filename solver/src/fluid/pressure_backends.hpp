@@ -14,6 +14,12 @@ namespace cdm::fluid {
 
 using FaceCoefficients = std::array<const std::vector<double>*, 3>;
 
+/// The grid's axis along each of the multigrid backend's (hypre's): hypre's loops run
+/// along its first axis and cost per cell about twice as much on lines of 2 cells as on
+/// lines of 30 or more (bench/README.md), so in 3D the longer of x and y goes first; the
+/// slowest axis, whose planes the ranks own, stays last. Its own inverse.
+std::array<int, 3> multigrid_axes(const StaggeredGrid& g);
+
 /// Eigen's sparse LDLᵀ of A.
 class PressureSolver::Direct {
  public:

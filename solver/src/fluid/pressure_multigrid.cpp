@@ -29,6 +29,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -50,13 +51,13 @@ struct Box {
   HYPRE_Int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
-Box owned_box(const StaggeredGrid& g, int rank, int size) {
+Box owned_box(const StaggeredGrid& g, const std::array<int, 3>& axes, int rank, int size) {
   const int slow = g.dims() - 1;
   const auto [first, last] = owned_planes(g.n(slow), rank, size);
   Box b;
   if (first == last) return b;
   b.empty = false;
-  for (int a = 0; a < 3; ++a) b.hi[a] = g.n(a) - 1;
+  for (int a = 0; a < 3; ++a) b.hi[a] = g.n(axes[static_cast<std::size_t>(a)]) - 1;
   b.lo[slow] = first;
   b.hi[slow] = last - 1;
   return b;
@@ -148,6 +149,7 @@ void check(HYPRE_Int rc, const char* what) {
 struct PressureSolver::Multigrid::Hypre {
   MPI_Comm comm = MPI_COMM_SELF;
   int ndim = 3, rank = 0, size = 1;
+  std::array<int, 3> axes{0, 1, 2};  // multigrid_axes
   Box box;
   std::vector<int> counts, offsets;  // per rank: its cells in the cell array (x fastest)
   HYPRE_StructGrid grid = nullptr;
@@ -156,6 +158,25 @@ struct PressureSolver::Multigrid::Hypre {
   HYPRE_StructVector b = nullptr, x = nullptr;
   HYPRE_StructSolver pcg = nullptr, pre = nullptr;
   std::vector<double> values;  // scratch for SetBoxValues
+  std::vector<double> swapped;  // this rank's b or φ in hypre's order, where x and y swap
+  /// This rank's cells of @p grid_order (x fastest) into swapped, in hypre's order.
+  void to_hypre(const StaggeredGrid& g, const double* grid_order) {
+    swapped.resize(static_cast<std::size_t>(counts[static_cast<std::size_t>(rank)]));
+    for_swapped(g, [&](std::size_t hq, std::size_t gq) { swapped[hq] = grid_order[gq]; });
+  }
+  /// swapped back into this rank's cells of @p grid_order.
+  void from_hypre(const StaggeredGrid& g, double* grid_order) const {
+    for_swapped(g, [&](std::size_t hq, std::size_t gq) { grid_order[gq] = swapped[hq]; });
+  }
+  /// f(hypre's index, the grid's index) for each of this rank's cells (x and y swapped).
+  template <class F>
+  void for_swapped(const StaggeredGrid& g, F&& f) const {
+    const std::size_t nx = static_cast<std::size_t>(g.n(0)), ny = static_cast<std::size_t>(g.n(1));
+    const std::size_t n = static_cast<std::size_t>(counts[static_cast<std::size_t>(rank)]);
+    for (std::size_t q = 0; q < n; q += nx * ny)  // one plane of z at a time
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) f(q + j + ny * i, q + i + nx * j);
+  }
 };
 
 PressureSolver::Multigrid::Multigrid(const StaggeredGrid& g, const PressureSolverSpec& spec)
@@ -168,7 +189,8 @@ PressureSolver::Multigrid::Multigrid(const StaggeredGrid& g, const PressureSolve
   MPI_Comm_rank(h.comm, &h.rank);
   MPI_Comm_size(h.comm, &h.size);
   h.ndim = g.dims();
-  h.box = owned_box(g, h.rank, h.size);
+  h.axes = multigrid_axes(g);
+  h.box = owned_box(g, h.axes, h.rank, h.size);
   const int slow = h.ndim - 1;
   const std::size_t per_plane = g.cell_count() / static_cast<std::size_t>(g.n(slow));
   for (int r = 0; r < h.size; ++r) {
@@ -179,11 +201,13 @@ PressureSolver::Multigrid::Multigrid(const StaggeredGrid& g, const PressureSolve
   check(HYPRE_StructGridCreate(h.comm, h.ndim, &h.grid), "grid");
   if (!h.box.empty) HYPRE_StructGridSetExtents(h.grid, h.box.lo, h.box.hi);
   HYPRE_Int period[3] = {0, 0, 0};
-  for (int a = 0; a < h.ndim; ++a)
-    if (g.spec().periodic(a)) period[a] = g.n(a);
+  for (int a = 0; a < h.ndim; ++a) {
+    const int ga = h.axes[static_cast<std::size_t>(a)];
+    if (g.spec().periodic(ga)) period[a] = g.n(ga);
+  }
   HYPRE_StructGridSetPeriodic(h.grid, period);
   check(HYPRE_StructGridAssemble(h.grid), "grid assembly");
-  // Stencil entries: 0 the cell, then −x, +x, −y, +y (, −z, +z): CellStencil's order.
+  // Stencil entries: 0 the cell, then −x, +x, −y, +y (, −z, +z) along hypre's axes.
   const int entries = 1 + 2 * h.ndim;
   HYPRE_StructStencilCreate(h.ndim, entries, &h.stencil);
   HYPRE_Int centre[3] = {0, 0, 0};
@@ -242,16 +266,20 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
     h.values.resize(static_cast<std::size_t>(h.counts[static_cast<std::size_t>(h.rank)]) *
                     static_cast<std::size_t>(stored));
     std::size_t q = 0;
+    const auto& ax = h.axes;
     for (int k = h.box.lo[2]; k <= h.box.hi[2]; ++k)
       for (int j = h.box.lo[1]; j <= h.box.hi[1]; ++j) {
         double* c = strength.row(j, k);
         for (int i = h.box.lo[0]; i <= h.box.hi[0]; ++i) {
-          const CellStencil s = ps.stencil(d, i, j, k);
+          int cell[3];  // the grid's indices of hypre's cell (i, j, k)
+          cell[ax[0]] = i; cell[ax[1]] = j; cell[ax[2]] = k;
+          const CellStencil s = ps.stencil(d, cell[0], cell[1], cell[2]);
           h.values[q++] = s.diag;
-          for (int a = 0; a < h.ndim; ++a) h.values[q++] = s.off[static_cast<std::size_t>(2 * a)];
+          for (int a = 0; a < h.ndim; ++a) h.values[q++] = s.off[static_cast<std::size_t>(2 * ax[static_cast<std::size_t>(a)])];
           const double sign = s.diag < 0.0 ? -1.0 : 1.0;
           for (int a = 0; a < h.ndim; ++a) {
-            const double ca = -sign * (s.off[static_cast<std::size_t>(2 * a)] + s.off[static_cast<std::size_t>(2 * a + 1)]);
+            const std::size_t ga = static_cast<std::size_t>(ax[static_cast<std::size_t>(a)]);
+            const double ca = -sign * (s.off[2 * ga] + s.off[2 * ga + 1]);
             c[a] += ca;
             c[3 + a] += ca * ca;
           }
@@ -327,9 +355,12 @@ void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const Fac
 PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b, std::vector<double>& phi) {
   Hypre& h = *h_;
   const std::size_t mine = static_cast<std::size_t>(h.offsets[static_cast<std::size_t>(h.rank)]);
+  const bool swap = h.axes[0] != 0;
   if (!h.box.empty) {
-    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, const_cast<double*>(b.data() + mine));
-    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, phi.data() + mine);
+    if (swap) h.to_hypre(g_, b.data() + mine);
+    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, swap ? h.swapped.data() : const_cast<double*>(b.data() + mine));
+    if (swap) h.to_hypre(g_, phi.data() + mine);
+    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, swap ? h.swapped.data() : phi.data() + mine);
   }
   HYPRE_StructVectorAssemble(h.b);
   HYPRE_StructVectorAssemble(h.x);
@@ -340,7 +371,10 @@ PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b
   HYPRE_StructPCGGetFinalRelativeResidualNorm(h.pcg, &st.relative_residual);
   st.iterations = static_cast<int>(it);
   HYPRE_ClearAllErrors();
-  if (!h.box.empty) HYPRE_StructVectorGetBoxValues(h.x, h.box.lo, h.box.hi, phi.data() + mine);
+  if (!h.box.empty) {
+    HYPRE_StructVectorGetBoxValues(h.x, h.box.lo, h.box.hi, swap ? h.swapped.data() : phi.data() + mine);
+    if (swap) h.from_hypre(g_, phi.data() + mine);
+  }
   if (h.size > 1)
     MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, phi.data(), h.counts.data(), h.offsets.data(), MPI_DOUBLE,
                    h.comm);

@@ -63,9 +63,14 @@ double direct_factor_work_per_cell(const StaggeredGrid& grid) {
   return ldlt.sum_of_squared_column_counts() / static_cast<double>(ncell);
 }
 
+std::array<int, 3> multigrid_axes(const StaggeredGrid& g) {
+  if (g.dims() == 3 && g.n(1) > g.n(0)) return {1, 0, 2};
+  return {0, 1, 2};
+}
+
 bool direct_is_cheaper(double cells, double lines, double work_per_cell) {
-  const double direct = cells * (0.32e-6 + 0.51e-9 * work_per_cell);
-  const double multigrid = 430e-6 + 0.49e-6 * cells + 1.6e-6 * lines;
+  const double direct = cells * (0.21e-6 + 0.39e-9 * work_per_cell);
+  const double multigrid = 220e-6 + 0.35e-6 * cells + 1.6e-6 * lines;
   return direct < multigrid;
 }
 
@@ -73,10 +78,10 @@ PressureBackend automatic_backend(const StaggeredGrid& grid) {
   if (!multigrid_available()) return PressureBackend::direct;
   const double cells = static_cast<double>(grid.cell_count());
   // Beyond 1e5 cells the direct solve would need less work per cell than a 2D grid's
-  // factorisation does (direct_is_cheaper: below about 340 plus 3100 / n_x): not worth
-  // the analysis.
+  // factorisation does (direct_is_cheaper: below about 360 plus 4100 / line length): not
+  // worth the analysis.
   if (cells > 1e5) return PressureBackend::multigrid;
-  const double lines = cells / grid.n(0);
+  const double lines = cells / grid.n(multigrid_axes(grid)[0]);
   return direct_is_cheaper(cells, lines, direct_factor_work_per_cell(grid)) ? PressureBackend::direct
                                                                              : PressureBackend::multigrid;
 }

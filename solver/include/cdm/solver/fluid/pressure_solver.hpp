@@ -75,13 +75,14 @@ bool multigrid_available();
 double direct_factor_work_per_cell(const StaggeredGrid& grid);
 
 /// Whether one factorisation and solve is estimated to cost less than one multigrid
-/// setup and solve on a grid of @p cells cells in @p lines lines along x (cells / n_x),
+/// setup and solve on a grid of @p cells cells in @p lines lines along the multigrid's
+/// first axis (cells / n_y where y is longer than x in 3D, else cells / n_x),
 /// whose factorisation does @p work_per_cell (direct_factor_work_per_cell). The
-/// estimates, fitted to bench/gas_poisson on grids of 256 to 32,768 cells, cubes, slabs
-/// and columns with each axis the short one (bench/README.md): direct 0.32 µs per cell
-/// plus 0.51 ns per unit of factorisation work; multigrid 430 µs (hypre's fixed cost)
-/// plus 0.49 µs per cell plus 1.6 µs per line along x (hypre's loops run along x: a
-/// grid 2 cells wide along x costs twice what it costs 90 wide).
+/// estimates, fitted to bench/gas_poisson on 28 grids of 27 to 32,768 cells (cubes, slabs
+/// and columns, each axis the short one; bench/README.md): direct 0.21 µs per cell plus
+/// 0.39 ns per unit of factorisation work; multigrid 220 µs (hypre's fixed cost) plus
+/// 0.35 µs per cell plus 1.6 µs per line (hypre's loops run along its first axis: lines
+/// of 2 cells cost twice what lines of 90 do).
 bool direct_is_cheaper(double cells, double lines, double work_per_cell);
 
 /// The backend PressureBackend::automatic resolves to on @p grid: direct where
