@@ -164,6 +164,12 @@ def foam_list(path):
     return text
 
 
+def foam_density(case):
+    """The carrier gas's density, from constant/transportProperties (rho.<phase>)."""
+    with open(os.path.join(case, "constant", "transportProperties")) as f:
+        return float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
+
+
 def openfoam_stats(case, axis):
     """(t, dp, (bed_height, h99)) at every written time after 0."""
     times = [d for d in os.listdir(case) if re.fullmatch(r"[\d.eE+-]+", d) and float(d) > 0]
@@ -173,8 +179,7 @@ def openfoam_stats(case, axis):
 
 
 def openfoam_time(case, tdir, axis):
-    with open(os.path.join(case, "constant", "transportProperties")) as f:
-        rho = float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
+    rho = foam_density(case)
     with open(os.path.join(case, "system", "blockMeshDict")) as f:
         bm = f.read()
     cells = [int(v) for v in re.search(r"hex\s*\([\d\s]+\)\s*\((\d+)\s+(\d+)\s+(\d+)\)",
@@ -207,8 +212,7 @@ def openfoam_time(case, tdir, axis):
 def openfoam_probes(case, axis):
     """(t, dp, (nan, nan)) at every probed step: the mean over the probes of the lowest
     probed layer minus the mean over those of the highest, times the gas density."""
-    with open(os.path.join(case, "constant", "transportProperties")) as f:
-        rho = float(re.search(r"rho\.\w+\s+(?:\[[^\]]*\]\s*)?([-\d.eE+]+)", f.read()).group(1))
+    rho = foam_density(case)
     root = os.path.join(case, "postProcessing")
     def start(d):  # the time a function object's folder starts at (its name), else 0
         try:

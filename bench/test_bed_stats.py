@@ -22,15 +22,14 @@ import subprocess
 import sys
 
 
-def series(tool, out):
-    text = subprocess.run(["/usr/bin/python3", tool, "cdm", out, "--axis", "y", "--series"],
-                          check=True, capture_output=True, text=True).stdout
-    return [{k: float(v) for k, v in (kv.split("=") for kv in line.split())} for line in text.splitlines()]
-
-
 def lines(tool, *args):
+    """bed_stats.py's output lines as {key: value}."""
     text = subprocess.run(["/usr/bin/python3", tool, *args], check=True, capture_output=True, text=True).stdout
     return [{k: float(v) for k, v in (kv.split("=") for kv in line.split())} for line in text.splitlines()]
+
+
+def series(tool, out):
+    return lines(tool, "cdm", out, "--axis", "y", "--series")
 
 
 def close(a, b):

@@ -356,11 +356,15 @@ PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b
   Hypre& h = *h_;
   const std::size_t mine = static_cast<std::size_t>(h.offsets[static_cast<std::size_t>(h.rank)]);
   const bool swap = h.axes[0] != 0;
+  // This rank's cells of @p v as hypre reads them: in place, or reordered into swapped.
+  auto in_hypre_order = [&](const double* v) {
+    if (!swap) return const_cast<double*>(v);  // hypre's setters take a non-const pointer
+    h.to_hypre(g_, v);
+    return h.swapped.data();
+  };
   if (!h.box.empty) {
-    if (swap) h.to_hypre(g_, b.data() + mine);
-    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, swap ? h.swapped.data() : const_cast<double*>(b.data() + mine));
-    if (swap) h.to_hypre(g_, phi.data() + mine);
-    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, swap ? h.swapped.data() : phi.data() + mine);
+    HYPRE_StructVectorSetBoxValues(h.b, h.box.lo, h.box.hi, in_hypre_order(b.data() + mine));
+    HYPRE_StructVectorSetBoxValues(h.x, h.box.lo, h.box.hi, in_hypre_order(phi.data() + mine));
   }
   HYPRE_StructVectorAssemble(h.b);
   HYPRE_StructVectorAssemble(h.x);
