@@ -277,9 +277,9 @@ TEST(SceneLoader, GasPressureSolver) {
   EXPECT_EQ(d.pressure_solver.tolerance, 1e-10);
   EXPECT_EQ(cdm::load_scene_from_string(with("pressure_solver = \"multigrid\"\n"), "f.toml").pressure_solver.backend,
             cdm::fluid::PressureBackend::multigrid);
-  // The fluidisation case's 4 x 32 x 2 cells: "auto" factorises, so a tolerance has no use there.
+  // The fluidisation case's 8 x 64 x 4 cells: "auto" factorises, so a tolerance has no use there.
   expect_refused(with("pressure_tolerance = 1e-8\n"),
-                 {"gas.pressure_tolerance", "1e-08", "\"auto\"", "256 cells", "direct", "\"multigrid\""});
+                 {"gas.pressure_tolerance", "1e-08", "\"auto\"", "2048 cells", "direct", "\"multigrid\""});
   const cdm::SceneSpec m =
       cdm::load_scene_from_string(with("pressure_solver = \"multigrid\"\npressure_tolerance = 1e-8\n"), "f.toml");
   EXPECT_EQ(m.pressure_solver.tolerance, 1e-8);

@@ -17,6 +17,16 @@ void add_explicit(ParticleStore& p, std::size_t i, double k, Vec3 slip, bool two
 }
 }  // namespace
 
+Vec3 particle_pressure_gradient(const fluid::GasField& gas, const Deposition* kernel, Vec3 x) {
+  if (!kernel) return gas.pressure_gradient_at(x);
+  const double* const gx = gas.cell_gpx.data();
+  const double* const gy = gas.cell_gpy.data();
+  const double* const gz = gas.cell_gpz.data();
+  Vec3 g;
+  kernel->for_each_weight(x, [&](std::size_t c, double w) { g.x += w * gx[c]; g.y += w * gy[c]; g.z += w * gz[c]; });
+  return g + gas.mean_pressure_gradient;
+}
+
 std::string DragModule::name() const { return std::string("drag_") + to_string(law_) + "_" + to_string(update_); }
 
 double DragModule::void_fraction_at(Vec3 x) const {
@@ -65,19 +75,34 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
   if (gp) {
     gp->fx_.resize(n); gp->fy_.resize(n); gp->fz_.resize(n);
   }
+  // Two-way with the pressure gradient taken: ε_g and ∇p weighted by the particle's
+  // deposition weights, in one pass over them (each sum in the order of its own function).
+  const bool fused = gp && kernel_ && eps_fixed_ <= 0.0;
+  const double* const E = gas.eps_g.data();
+  const double* const G[3] = {gas.cell_gpx.data(), gas.cell_gpy.data(), gas.cell_gpz.data()};
   const double rate = max_own(ranks_, n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
-    const double eps = void_fraction_at(x);
+    double eps = 0.0;
+    Vec3 cell_grad;
+    if (fused) {
+      kernel_->for_each_weight(x, [&](std::size_t c, double w) {
+        eps += w * E[c];
+        cell_grad.x += w * G[0][c]; cell_grad.y += w * G[1][c]; cell_grad.z += w * G[2][c];
+      });
+      cell_grad += gas.mean_pressure_gradient;
+    } else {
+      eps = void_fraction_at(x);
+    }
     // The flux ε u is continuous where ε jumps (at a bed's surface or its distributor),
     // the interstitial velocity is not: interpolating the flux and dividing by the
     // particle's own ε gives a particle inside a packed layer U/ε, not a blend with the
     // clear gas beside it.
     Vec3 ug, grad_p;
-    if (gp && !superficial_) {
+    if (gp && !superficial_ && !kernel_) {
       gas.velocity_and_pressure_gradient_at(x, ug, grad_p);
     } else {
       ug = superficial_ ? (1.0 / eps) * gas.superficial_velocity_at(x) : gas.velocity_at(x);
-      if (gp) grad_p = gas.pressure_gradient_at(x);
+      if (gp) grad_p = fused ? cell_grad : particle_pressure_gradient(gas, kernel_, x);
     }
     if (gp) {
       const Vec3 f = PressureGradientModule::force(p, i, grad_p);
@@ -234,7 +259,9 @@ Vec3 PressureGradientModule::force(const ParticleStore& p, std::size_t i, Vec3 g
 void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
   if (taken_) return;  // the drag module evaluates and applies it
   const std::size_t n = p.size();
-  auto force = [&](std::size_t i) { return PressureGradientModule::force(p, i, gas_->pressure_gradient_at(p.position(i))); };
+  auto force = [&](std::size_t i) {
+    return PressureGradientModule::force(p, i, particle_pressure_gradient(*gas_, kernel_, p.position(i)));
+  };
   if (!clock_) {
     for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 f = force(i);

@@ -12,9 +12,10 @@ ImplicitDrag::ImplicitDrag(const fluid::StaggeredGrid& grid, const Deposition& d
 
 namespace {
 
-/// Calls f(c, cell, upper face, shares) for every cell and component c: the cell's
-/// index (that of its lower face along c), its upper face along c (wrapped on a periodic
-/// axis) and the shares of the cell's value the two faces take (face_shares).
+/// Calls f(c, cell, upper face, top) for every cell and component c: the cell's index
+/// (that of its lower face along c), its upper face along c (wrapped on a periodic axis),
+/// and whether that upper face is the grid's last face along c on a bounded axis (a
+/// face no other cell names as its lower one). Each face takes half of a cell's value.
 template <class F>
 void for_each_cell_faces(const fluid::StaggeredGrid& g, F&& f) {
   for (int c = 0; c < g.dims(); ++c)
@@ -23,9 +24,10 @@ void for_each_cell_faces(const fluid::StaggeredGrid& g, F&& f) {
         for (int i = 0; i < g.n(0); ++i) {
           int hi[3] = {i, j, k};
           hi[c] += 1;
-          if (g.spec().periodic(c)) hi[c] %= g.n(c);
-          const int lo_c = c == 0 ? i : c == 1 ? j : k;
-          f(c, g.at(i, j, k), g.at(hi[0], hi[1], hi[2]), face_shares(g, c, lo_c));
+          const bool periodic = g.spec().periodic(c);
+          if (periodic) hi[c] %= g.n(c);
+          const bool top = !periodic && hi[c] == g.n(c);
+          f(c, g.at(i, j, k), g.at(hi[0], hi[1], hi[2]), top);
         }
 }
 
@@ -58,12 +60,12 @@ void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchang
     target[c]->assign(g.padded_size(), 0.0);
   }
   const double inv_v = 1.0 / g.cell_volume();
-  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, FaceShares s) {
-    const double b = k_cell_[cell] * inv_v, t = kv_[c][cell] * inv_v;
-    (*beta[c])[cell] += s.lo * b;
-    (*beta[c])[hi] += s.hi * b;
-    (*target[c])[cell] += s.lo * t;
-    (*target[c])[hi] += s.hi * t;
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, bool) {
+    const double b = 0.5 * k_cell_[cell] * inv_v, t = 0.5 * kv_[c][cell] * inv_v;
+    (*beta[c])[cell] += b;
+    (*beta[c])[hi] += b;
+    (*target[c])[cell] += t;
+    (*target[c])[hi] += t;
   });
   // A periodic axis's last face, n, is its face 0 (the pressure operator reads it there).
   for (int c = 0; c < g.dims(); ++c) {
@@ -92,8 +94,8 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
   // The gas's momentum per cell, G_c = −Δt (K_c ū_c − Σ w K v); the difference −G_c − J_c
   // to the particles (diff_ holds −J_c and what was pending): diff_c − G_c.
   for (auto& v : pending_) std::fill(v.begin(), v.end(), 0.0);
-  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, FaceShares s) {
-    const double u = s.lo * (*u1[c])[cell] + s.hi * (*u1[c])[hi];
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, bool) {
+    const double u = 0.5 * (*u1[c])[cell] + 0.5 * (*u1[c])[hi];
     const double gc = -dtg * (k_cell_[cell] * u - kv_[c][cell]);
     *cells[c] += gc;
     diff_[c][cell] -= gc;
@@ -104,13 +106,15 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
       diff_[c][cell] = 0.0;
     }
   });
-  // The gas's momentum on its faces, −Δt V Σ_f (β_f u_f − β V_s,f), summed on its own as a check.
+  // The gas's momentum on its faces (the fixed ones' included: their share goes to the
+  // wall or inlet), −Δt V Σ_f (β_f u_f − β V_s,f), summed on its own as a check.
   const std::vector<double>* beta[3] = {&gs.drag_u, &gs.drag_v, &gs.drag_w};
   const std::vector<double>* target[3] = {&gs.drag_target_u, &gs.drag_target_v, &gs.drag_target_w};
   double* faces[3] = {&b.gas_faces.x, &b.gas_faces.y, &b.gas_faces.z};
   const double vdt = g.cell_volume() * dtg;
-  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t, FaceShares) {
+  for_each_cell_faces(g, [&](int c, std::size_t cell, std::size_t hi, bool top) {
     *faces[c] -= vdt * ((*beta[c])[cell] * (*u1[c])[cell] - (*target[c])[cell]);
+    if (top) *faces[c] -= vdt * ((*beta[c])[hi] * (*u1[c])[hi] - (*target[c])[hi]);
   });
   // The exchange recorded the gathered reaction −J as the gas's: replace it by the above.
   b.gas_cells -= gathered_;

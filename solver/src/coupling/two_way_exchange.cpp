@@ -157,18 +157,6 @@ void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i)
   deposit_impulse(p, i, {at[0], at[1], at[2]});
 }
 
-FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i) {
-  auto fixed_face = [&](int f) {
-    if (g.spec().periodic(c) || (f > 0 && f < g.n(c))) return false;
-    return g.spec().faces[2 * c + (f == 0 ? 0 : 1)].kind != fluid::BoundaryKind::pressure_outlet;
-  };
-  const bool lo_fixed = fixed_face(i), hi_fixed = fixed_face(i + 1);
-  if (lo_fixed && hi_fixed) return {0.0, 0.0};  // a single cell between walls: the walls take it
-  if (lo_fixed) return {0.0, 1.0};
-  if (hi_fixed) return {1.0, 0.0};
-  return {0.5, 0.5};
-}
-
 void TwoWayExchange::add_to_balance(const CouplingBalance& b) {
   balance_.particles += b.particles;
   balance_.gas_cells += b.gas_cells;
@@ -177,9 +165,10 @@ void TwoWayExchange::add_to_balance(const CouplingBalance& b) {
 
 void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   // The drag reaction, deposited on the cells, as a force per unit volume on the faces:
-  // each cell gives half to each of its two faces along the component; the share of a
-  // face whose velocity is fixed (a wall or an inlet) goes to the cell's other face, so
-  // the gas receives all of it.
+  // each cell gives half to each of its two faces along the component. A face whose
+  // velocity is fixed (a wall or an inlet) keeps its share: the gas solver does not
+  // solve that face, and its drag sets the pressure gradient there
+  // (GasField::drag_gradient).
   const fluid::StaggeredGrid& g = grid_;
   const double per = 1.0 / (g.cell_volume() * dtg);
   std::vector<double>* force[3] = {&gs.force_u, &gs.force_v, &gs.force_w};
@@ -196,11 +185,10 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
           int lo[3] = {i, j, k}, hi[3] = {i, j, k};
           hi[c] += 1;
           if (g.spec().periodic(c)) hi[c] %= g.n(c);
-          const FaceShares sh = face_shares(g, c, lo[c]);
-          const double to_lo = sh.lo * v, to_hi = sh.hi * v;
-          (*force[c])[g.at(lo[0], lo[1], lo[2])] += to_lo * per;
-          (*force[c])[g.at(hi[0], hi[1], hi[2])] += to_hi * per;
-          *fc[c] += to_lo + to_hi;
+          const double half = 0.5 * v;
+          (*force[c])[g.at(lo[0], lo[1], lo[2])] += half * per;
+          (*force[c])[g.at(hi[0], hi[1], hi[2])] += half * per;
+          *fc[c] += half + half;
         }
   balance_ = {particle_impulse_, cells, faces};
   particle_impulse_ = {};

@@ -21,6 +21,14 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
     gpz = grid_.make_array();
   }
   if (with_void_fraction) eps_g.assign(grid_.padded_size(), 1.0);
+  if (with_pressure && !spec.prescribed)
+    for (int a = 0; a < grid_.dims(); ++a)
+      for (int side = 0; side < 2; ++side) {
+        if (spec.grid.periodic(a) || spec.grid.faces[2 * a + side].kind == BoundaryKind::pressure_outlet) continue;
+        const int o1 = a == 0 ? 1 : 0, o2 = a == 2 ? 1 : 2;
+        drag_gradient_[static_cast<std::size_t>(2 * a + side)].assign(
+            static_cast<std::size_t>(grid_.n(o1)) * static_cast<std::size_t>(grid_.n(o2)), 0.0);
+      }
   if (spec.prescribed) {
     prescribed_.emplace(*spec.prescribed, spec.grid.lo, spec.grid.hi, spec.density, gravity);
     sample_prescribed();
@@ -88,8 +96,8 @@ void GasField::refresh() {
     grad(gpy, Staggering::v, 1);
     if (!g.two_d()) grad(gpz, Staggering::w, 2);
   } else {
-    std::vector<double>& pp = p;
-    g.fill_pressure_ghosts(pp);
+    const std::vector<double>& pp = p;
+    fill_pressure_ghosts();
     for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
       for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
         for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
@@ -106,12 +114,41 @@ void GasField::refresh() {
   }
   // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
   // of the gradient), which is exact for the linear hydrostatic part.
-  if (!prescribed_) g.fill_pressure_ghosts(p);
+  if (!prescribed_) fill_pressure_ghosts();
   else g.fill_scalar_ghosts(p);
   g.fill_even_ghosts(gpx, Staggering::u);
   g.fill_even_ghosts(gpy, Staggering::v);
   if (!g.two_d()) g.fill_even_ghosts(gpz, Staggering::w);
   gradient_interp_.update(gpx, gpy, gpz);
+  if (!with_cell_gradient_ || prescribed_) return;
+  if (cell_gpx.size() != gpx.size()) cell_gpx = cell_gpy = cell_gpz = g.make_array();
+  const std::vector<double>* face[3] = {&gpx, &gpy, &gpz};
+  std::vector<double>* cell[3] = {&cell_gpx, &cell_gpy, &cell_gpz};
+  for (int a = 0; a < g.dims(); ++a) {
+    const std::size_t up = static_cast<std::size_t>(g.stride(a));
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j < g.n(1); ++j)
+        for (int i = 0; i < g.n(0); ++i) {
+          const std::size_t c = g.at(i, j, k);
+          (*cell[a])[c] = 0.5 * ((*face[a])[c] + (*face[a])[c + up]);
+        }
+  }
+}
+
+void GasField::fill_pressure_ghosts() {
+  const StaggeredGrid& g = grid_;
+  g.fill_pressure_ghosts(p);
+  for_each_fixed_face_cell([&](int a, int side, int c[3], std::size_t at) {
+    const double d = g.h(a) * drag_gradient(2 * a + side)[at];
+    if (d == 0.0) return;
+    // Lower side: ghost −1−m lies m + 1 cells below cell 0; upper: ghost n + m lies
+    // m + 1 above cell n − 1 (as the grid's extrapolation counts them).
+    const int n = g.n(a);
+    for (int m = 0; m < StaggeredGrid::ghosts + side; ++m) {
+      c[a] = side == 0 ? -1 - m : n + m;
+      p[g.at(c[0], c[1], c[2])] += side == 0 ? -(m + 1) * d : (m + 1) * d;
+    }
+  });
 }
 
 void GasField::set_time(double t) {

@@ -49,7 +49,7 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
   pressure_ = std::make_unique<PressureSolver>(g, spec_.pressure);
   g.fill_scalar_ghosts(gas_.eps_g);
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
-  g.fill_pressure_ghosts(gas_.p);
+  gas_.fill_pressure_ghosts();
   gas_.refresh();
 }
 
@@ -369,15 +369,49 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
 void GasSolver::step(double dt, const std::vector<double>& eps_new) {
   const StaggeredGrid& g = gas_.grid();
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
-  g.fill_pressure_ghosts(gas_.p);
+  gas_.fill_pressure_ghosts();
   predictor(dt);
   project(dt, eps_new);
   gas_.eps_g = eps_new;
   g.fill_scalar_ghosts(gas_.eps_g);
-  g.fill_pressure_ghosts(gas_.p);
+  set_drag_gradients(gas_.eps_g);
+  gas_.fill_pressure_ghosts();
   time_ += dt;
   gas_.set_time(time_);
   gas_.refresh();
+}
+
+void GasSolver::set_drag_gradients(const std::vector<double>& eps) {
+  const StaggeredGrid& g = gas_.grid();
+  const std::vector<double>* force[3] = {&force_u, &force_v, &force_w};
+  const std::vector<double>* beta[3] = {&drag_u, &drag_v, &drag_w};
+  const std::vector<double>* target[3] = {&drag_target_u, &drag_target_v, &drag_target_w};
+  const std::vector<double>* vel[3] = {&gas_.u, &gas_.v, &gas_.w};
+  // The drag on the gas per unit volume held by face f [N/m^3], as the cells handed it
+  // over (half of each neighbouring cell's, over a cell's volume).
+  auto drag = [&](int a, std::size_t f) {
+    double d = (*force[a])[f];
+    if (!beta[a]->empty()) d += (*target[a])[f] - (*beta[a])[f] * (*vel[a])[f];
+    return d;
+  };
+  gas_.for_each_fixed_face_cell([&](int a, int side, int c[3], std::size_t at) {
+    // The boundary face b, the cell next to it and the first interior face f1.
+    const int n = g.n(a), along = c[a];
+    const std::size_t cell = g.at(c[0], c[1], c[2]);
+    c[a] = side == 0 ? 0 : n;
+    const std::size_t b = g.at(c[0], c[1], c[2]);
+    const double eps_b = eps.empty() ? 1.0 : eps[cell];
+    // The boundary face's control volume is the half cell inside: twice its share.
+    double d = 2.0 * drag(a, b) / eps_b;
+    if (n > 1) {
+      c[a] = side == 0 ? 1 : n - 1;
+      const std::size_t f1 = g.at(c[0], c[1], c[2]);
+      const double eps_1 = eps.empty() ? 1.0 : 0.5 * (eps[f1 - g.stride(a)] + eps[f1]);
+      d -= drag(a, f1) / eps_1;
+    }
+    c[a] = along;
+    gas_.drag_gradient(2 * a + side)[at] = d;
+  });
 }
 
 }  // namespace cdm::fluid

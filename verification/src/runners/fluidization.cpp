@@ -49,7 +49,7 @@ SettledBed settled_bed(const ParticleStore& p, double vol, double area, double f
 /// change, and its fluctuation; the same drop between cell centres and the gas's force on
 /// the bed per area less its buoyancy; and every 10th gas step, the history.
 struct Segments {
-  std::vector<double> U, dP, dP_corr, dP_sd, dP_centre, force, hist_t, hist_u, hist_dp, hist_mv;
+  std::vector<double> U, dP, dP_corr, dP_sd, dP_centre, force, face_force, wall_force, hist_t, hist_u, hist_dp, hist_mv;
 };
 
 /// What the comparison found besides its measurements: the measured U_mf and the oracle's
@@ -98,6 +98,13 @@ Fluidised compare(const Segments& seg, const SettledBed& bed, double weight, con
   for (std::size_t k = 0; k < U.size(); ++k)
     if (kFactors[k] < 1.0) dev_force = std::max(dev_force, rel_pct(dP[k], seg.force[k]));
   r.measurements.push_back({"packed_gas_force", "max_rel_pct_vs_dP", dev_force});
+  // The bed's momentum balance on every inflow: what the gas carries (the pressure drop,
+  // less the momentum the bed gained) and what the walls carry (their measured contact
+  // force) against the buoyant weight.
+  double dev_balance = 0.0;
+  for (std::size_t k = 0; k < U.size(); ++k)
+    dev_balance = std::max(dev_balance, rel_pct(weight, seg.dP_corr[k] + seg.wall_force[k]));
+  r.measurements.push_back({"bed_momentum_balance", "max_rel_pct_vs_weight", dev_balance});
   // Packed branch: least-squares dP = a U + b U^2 through the packed segments, met with
   // the measured plateau.
   double s11 = 0, s12 = 0, s22 = 0, r1 = 0, r2 = 0;
@@ -142,19 +149,49 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
       for (int i = 0; i < g.n(0); ++i) s += gas.p[g.at(i, j, k)];
     return s / (g.n(0) * g.n(2));
   };
-  // Frictional pressure drop from the inlet face (pressure extrapolated linearly from the
-  // first two cell centres, as the solver's pressure ghosts are: the pressure the particles
-  // on the distributor feel) to the top cell centre, less the gas's own hydrostatic head
+  // Frictional pressure drop from the inlet face (the mean of the first cell centre and
+  // the solver's pressure ghost below it: the pressure the particles on the distributor
+  // feel) to the top cell centre, less the gas's own hydrostatic head
   // over that height; the same from the first cell centre (the bed less its lowest half
   // cell); the gas's force on the bed per area, less its buoyancy.
   const int j_hi = g.n(1) - 1;
   const double dy = (j_hi + 0.5) * g.h(1);
   auto frictional = [&] {
-    const double p_in = 1.5 * layer_p(0) - 0.5 * layer_p(1);
+    const double p_in = 0.5 * (layer_p(-1) + layer_p(0));
     return p_in - layer_p(j_hi) - rho_g * grav * dy;
   };
   auto frictional_centre = [&] { return layer_p(0) - layer_p(j_hi) - rho_g * grav * (dy - 0.5 * g.h(1)); };
-  auto bed_force = [&] { return (gas_force_y(p, gas) - vol * rho_g * grav) / area; };
+  auto bed_force = [&] { return (gas_force_y(p, gas, sim.deposition()) - vol * rho_g * grav) / area; };
+  // The walls' contact force on the bed along y per area: the distributor's and the
+  // lid's normal forces (their friction, if any, acts along them, not along y).
+  ContactModule& contacts = *sim.contact();
+  contacts.set_recording(true);
+  auto walls_force = [&] {
+    const std::vector<double>& fn = contacts.wall_normal_force();
+    const std::vector<Wall>& walls = contacts.walls();
+    double f = 0.0;
+    for (std::size_t i = 0; i < fn.size(); ++i)
+      if (fn[i] > 0.0) f += fn[i] * walls[i % walls.size()].normal.y;
+    return f / area;
+  };
+  // The same with the pressure-gradient part as the gas's faces hold it: the solids
+  // fraction 1 − ε_f of each y-face (as the gas equations average it; a boundary face
+  // takes its cell's) times its gradient over its volume (a boundary face's half cell).
+  // The particles feel the gradient interpolated to their centres instead; the two sums
+  // differ by how the interpolation and the deposition kernels see the bed.
+  auto bed_force_on_faces = [&] {
+    double f = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) f += p.dfy[i];
+    const int ny = g.n(1);
+    for (int k = 0; k < g.n(2); ++k)
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i < g.n(0); ++i) {
+          const double below = gas.eps_g[g.at(i, std::max(j - 1, 0), k)], above = gas.eps_g[g.at(i, std::min(j, ny - 1), k)];
+          const double share = j == 0 || j == ny ? 0.5 : 1.0;
+          f -= share * g.cell_volume() * (1.0 - 0.5 * (below + above)) * gas.gpy[g.at(i, j, k)];
+        }
+    return (f - vol * rho_g * grav) / area;
+  };
   const Stopwatch clock;
   auto advance = [&](double until) {
     while (sim.time() < until - 0.5 * sim.dt()) sim.step();
@@ -172,10 +209,13 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     const double u = f * mf.U;
     gas.set_inlet_velocity(2, u);
     const double start = sim.time(), end = start + hold(f);
-    double s = 0.0, s2 = 0.0, s_centre = 0.0, s_force = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0;
+    double s = 0.0, s2 = 0.0, s_centre = 0.0, s_force = 0.0, s_faces = 0.0, s_walls = 0.0, t_a = 0.0, t_b = 0.0, mv_a = 0.0;
     int n = 0;
+    std::uint64_t n_walls = 0;
     while (sim.time() < end - 0.5 * sim.dt()) {
       sim.step();
+      // The contacts change within a gas step: the walls' force is averaged every step.
+      if (sim.time() >= start + t_tr) { s_walls += walls_force(); ++n_walls; }
       if (sim.steps() % sim.substeps() != 0) continue;  // once per gas step
       const double q = frictional();
       if (sim.steps() % (10 * sim.substeps()) == 0) {
@@ -187,6 +227,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
       s += q; s2 += q * q; ++n;
       s_centre += frictional_centre();
       s_force += bed_force();
+      s_faces += bed_force_on_faces();
       t_b = sim.time();
     }
     const double mv_b = momentum_y(p);
@@ -202,6 +243,8 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     seg.dP_sd.push_back(std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n))));
     seg.dP_centre.push_back(s_centre / n);
     seg.force.push_back(s_force / n);
+    seg.face_force.push_back(s_faces / n);
+    seg.wall_force.push_back(s_walls / static_cast<double>(std::max<std::uint64_t>(n_walls, 1)));
   }
   RunOutput r = run_output(sim, clock.seconds());
   if (rc.timing_only) return r;
@@ -212,6 +255,7 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
     TableWriter w(rc.series_path,
                   {"U[m/s]", "dP_frictional[Pa]", "dP_momentum_corrected[Pa]", "dP_std_dev[Pa]",
                    "dP_from_cell_centre[Pa]", "gas_force_on_bed_per_area[Pa]",
+                   "gas_force_on_bed_faces_per_area[Pa]", "wall_force_on_bed_per_area[Pa]",
                    "buoyant_weight_per_area[Pa]", "U_mf_oracle[m/s]", "dP_ergun_at_eps_bed[Pa]",
                    "dP_ergun_at_eps_bulk[Pa]"},
                   {"fluidisation " + v.name + ", " + rc.integrator + ": settled bed height " + std::to_string(bed.H) +
@@ -220,7 +264,8 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
                    "dP averaged over each inflow after the first " + std::to_string(t_tr) +
                        " s; std_dev = its fluctuation (not an error bar of the mean)"});
     for (std::size_t k = 0; k < seg.U.size(); ++k)
-      w.row({seg.U[k], seg.dP[k], seg.dP_corr[k], seg.dP_sd[k], seg.dP_centre[k], seg.force[k], weight, mf.U,
+      w.row({seg.U[k], seg.dP[k], seg.dP_corr[k], seg.dP_sd[k], seg.dP_centre[k], seg.force[k], seg.face_force[k],
+             seg.wall_force[k], weight, mf.U,
              oracles::ergun_pressure_gradient(bp, seg.U[k]) * bed.H, oracles::ergun_pressure_gradient(bulk, seg.U[k]) * bed.H});
   }
   TableWriter h(series_beside(rc.series_path, "_history"),

@@ -116,10 +116,10 @@ double solids_volume(const ParticleStore& p) {
   return vol;
 }
 
-double gas_force_y(const ParticleStore& p, const fluid::GasField& gas) {
+double gas_force_y(const ParticleStore& p, const fluid::GasField& gas, const coupling::Deposition* kernel) {
   double f = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
-    f += p.dfy[i] - sphere_volume(p.radius[i]) * gas.pressure_gradient_at(p.position(i)).y;
+    f += p.dfy[i] - sphere_volume(p.radius[i]) * coupling::particle_pressure_gradient(gas, kernel, p.position(i)).y;
   return f;
 }
 

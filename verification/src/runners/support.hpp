@@ -82,8 +82,10 @@ double solids_volume(const ParticleStore& p);
 /// The particles' momentum along y, Σ m v_y [kg m/s].
 double momentum_y(const ParticleStore& p);
 /// The gas's force on the particles along y [N]: the drag the solver last gave them
-/// (two-way coupling, explicit update: dfy) and the pressure-gradient force −V_p ∂p/∂y.
-double gas_force_y(const ParticleStore& p, const fluid::GasField& gas);
+/// (two-way coupling, explicit update: dfy) and the pressure-gradient force −V_p ∂p/∂y,
+/// with ∂p/∂y as the particles take it (@p kernel: the two-way deposition,
+/// coupling::particle_pressure_gradient).
+double gas_force_y(const ParticleStore& p, const fluid::GasField& gas, const coupling::Deposition* kernel);
 
 /// Sums over the gas's y faces of the face gas fraction times v (@c flux) and of the face
 /// gas fraction (@c eps); the face fraction is the mean of the two cells beside the face.

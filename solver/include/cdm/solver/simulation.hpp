@@ -73,10 +73,14 @@ class Simulation : private integrators::StepHost {
   /// Particle steps per gas step (1 without a solved gas).
   std::uint64_t substeps() const { return substeps_; }
   /// Momentum exchanged through drag over the last gas step [N s]: what the particles
-  /// received and what the gas received (on the unknown faces of the grid).
+  /// received and what the gas received (on the faces of the grid, coupling::CouplingBalance).
   using CouplingBalance = coupling::CouplingBalance;
   const CouplingBalance& coupling_balance() const;
   const coupling::DragModule* drag() const { return drag_; }
+  /// The kernel that deposits the particles on the gas cells (nullptr without two-way
+  /// coupling): what the particles' pressure force is weighted with
+  /// (coupling::particle_pressure_gradient).
+  const coupling::Deposition* deposition() const { return exchange_ ? exchange_->deposition() : nullptr; }
   /// The insertions and outlets (nullptr when the scene has neither).
   const Population* population() const { return population_.get(); }
 

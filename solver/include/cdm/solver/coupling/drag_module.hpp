@@ -31,6 +31,16 @@ namespace cdm::coupling {
 
 class PressureGradientModule;
 
+/// ∇p [Pa/m] as the particle at @p x feels it, the gas's imposed mean gradient included.
+/// With two-way coupling (@p kernel, the deposition that gives ε_g): the cell-centred
+/// gradient (GasField::cell_gpx, …) averaged with the particle's own deposition weights,
+/// the adjoint of ε_g's deposition. The gas feels −ε_f ∂p_f on each face, ε_f the mean of
+/// its two cells, so the solids' share is Σ_f (1 − ε_f) V ∂p_f = Σ_c V (1 − ε_c) ∂p_c =
+/// Σ_p V_p Σ_c w_pc ∂p_c: the particles take exactly the pressure force the gas's faces
+/// leave to them (a fixed boundary face counts its half cell). Without a kernel: the
+/// gradient interpolated from the faces (GasField::pressure_gradient_at).
+Vec3 particle_pressure_gradient(const fluid::GasField& gas, const Deposition* kernel, Vec3 x);
+
 class DragModule final : public ForceModule {
  public:
   /// @p fixed_void_fraction in (0, 1]: ε_g used in the law; 0 takes ε_g from the grid,
@@ -103,7 +113,9 @@ class DragModule final : public ForceModule {
 
 class PressureGradientModule final : public ForceModule {
  public:
-  explicit PressureGradientModule(const fluid::GasField& gas) : gas_(&gas) {}
+  /// @p kernel: the two-way deposition (particle_pressure_gradient), or nullptr.
+  explicit PressureGradientModule(const fluid::GasField& gas, const Deposition* kernel = nullptr)
+      : gas_(&gas), kernel_(kernel) {}
   std::string name() const override { return "pressure_gradient"; }
   void add_forces(ParticleStore& p, double dt) override;
   /// Evaluate ∇P at the particles only when @p clock is due; apply that force in between.
@@ -125,6 +137,7 @@ class PressureGradientModule final : public ForceModule {
   static Vec3 force(const ParticleStore& p, std::size_t i, Vec3 grad_p);
 
   const fluid::GasField* gas_;
+  const Deposition* kernel_;
   RankSplit* ranks_ = nullptr;  // share_among
   const GasStepClock* clock_ = nullptr;
   std::vector<double> fx_, fy_, fz_;  // V_p ∇P of the last evaluation (per gas step)

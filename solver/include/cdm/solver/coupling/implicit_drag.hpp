@@ -10,11 +10,11 @@
 /// explicitly: it feels −β(u^{n+1} − V_s), β = Σ_i w K_i / V the particles' drag
 /// coefficients deposited with the coupling kernel and β V_s = Σ_i w K_i v_i / V their
 /// momentum-weighted velocities at the end of the particle sub-steps, both handed from the
-/// cells to the faces as the force is (face_shares); the gas step is then stable at any
+/// cells to the faces as the force is (half to each face); the gas step is then stable at any
 /// Δt β/(ε ρ) (MFIX's partial elimination, CFDEM's semi-implicit K_sl split).
 ///
 /// The momentum this gives the gas, G_c = −K_c Δt (ū_c^{n+1} − V̄_c) per cell (K_c = Σ w K,
-/// ū_c the share-weighted mean of the cell's new face velocities, V̄_c = Σ w K v / K_c),
+/// ū_c the mean of the cell's two new face velocities, V̄_c = Σ w K v / K_c),
 /// differs from −J_c. The difference goes to the particles at the end of the gas step:
 /// particle i receives Σ_c (w_ic K_i/K_c)(−G_c − J_c), so that what the particles receive
 /// is what the gas gives to round-off every gas step (each particle keeps its own drag

@@ -22,18 +22,13 @@ class RankSplit;
 namespace cdm::coupling {
 
 /// Momentum exchanged through drag over a gas step [N s]: what the particles received
-/// and what the gas received (on the cells, then on the unknown faces of the grid).
+/// and what the gas received, on the cells, then on the faces of the grid (each cell
+/// hands half of its value along a component to each of its two faces; the share of a
+/// face whose velocity is fixed, a wall or an inlet, is taken there, not by the gas
+/// equations: GasField::drag_gradient).
 struct CouplingBalance {
   Vec3 particles, gas_cells, gas_faces;
 };
-
-/// The shares of a cell's value along component @p c that go to its lower face (index
-/// @p i) and its upper face (i + 1): half each; all to the other face where one has a
-/// fixed velocity (a wall or an inlet); none where both have (the walls take it).
-struct FaceShares {
-  double lo, hi;
-};
-FaceShares face_shares(const fluid::StaggeredGrid& g, int c, int i);
 
 /// Built for every solved gas; with @c two_way false it holds nothing and gives nothing
 /// (the gas keeps its own ε_g).

@@ -9,6 +9,7 @@
 /// result. Every prescribed field here is separable in time, u(x, t) = shape(x) c(t):
 /// the shape is sampled once and the time factor c(t) applied on interpolation, which
 /// is exactly the grid sample of u(·, t) at each step (interpolation is linear).
+#include <array>
 #include <memory>
 #include <stdexcept>
 #include <optional>
@@ -86,6 +87,17 @@ class GasField {
     u = scale_ * velocity_interp_.sample(s);
     grad_p = gradient_interp_.sample(s) + mean_pressure_gradient;
   }
+  /// Keep, at every refresh(), ∇p at the cell centres: along each axis the mean of the
+  /// cell's two face gradients (cell_gpx/y/z; a solved gas). Two-way coupling reads them:
+  /// weighted by a particle's deposition weights they give the pressure force whose sum
+  /// over the particles is the one the gas's faces leave to the solids
+  /// (coupling::particle_pressure_gradient).
+  void enable_cell_pressure_gradient() {
+    with_cell_gradient_ = true;
+    refresh();
+  }
+  /// ∂p/∂x, ∂p/∂y, ∂p/∂z at the cell centres [Pa/m] (after enable_cell_pressure_gradient()).
+  std::vector<double> cell_gpx, cell_gpy, cell_gpz;
   /// An imposed mean ∇P̄ [Pa/m] added to the grid's gradient (solved periodic gas).
   Vec3 mean_pressure_gradient;
 
@@ -124,6 +136,48 @@ class GasField {
   /// after changing u, v, w or p.
   void refresh();
 
+  /// Fill p's ghost layers (solved gas): the grid's rule (StaggeredGrid::
+  /// fill_pressure_ghosts), and on each face whose velocity is fixed the drag gradient
+  /// below added to the extrapolated one.
+  void fill_pressure_ghosts();
+  /// On a face whose gas velocity is fixed (a wall or a velocity inlet; @p face 0 x−,
+  /// 1 x+, …, 5 z+), per boundary cell (boundary_index()): what the drag on that face adds
+  /// to the pressure gradient extrapolated from the first interior face [Pa/m]. The gas
+  /// equations do not solve a fixed face, but the particles next to it feel its gradient:
+  /// the face's own steady momentum balance sets it, ε ∂p/∂n = ε ρ_g g_n + f, so the
+  /// ghost carries f_b/ε_b − f_1/ε_1, the boundary face's drag per unit volume (its half
+  /// cell's) less the first interior face's, over their gas fractions; zero without drag,
+  /// where the ghost extrapolates linearly. GasSolver::step sets it. Empty on periodic
+  /// and outlet faces.
+  std::vector<double>& drag_gradient(int face) { return drag_gradient_[static_cast<std::size_t>(face)]; }
+  const std::vector<double>& drag_gradient(int face) const { return drag_gradient_[static_cast<std::size_t>(face)]; }
+  /// Calls f(axis, side, c, index) for every cell next to a face with a drag_gradient():
+  /// the face normal to @p axis on its lower (side 0) or upper (1) end, c the cell's
+  /// (i, j, k), index its place in drag_gradient(2 axis + side).
+  template <class F>
+  void for_each_fixed_face_cell(F&& f) const {
+    for (int a = 0; a < grid_.dims(); ++a)
+      for (int side = 0; side < 2; ++side) {
+        if (drag_gradient(2 * a + side).empty()) continue;
+        const int o1 = a == 0 ? 1 : 0, o2 = a == 2 ? 1 : 2;
+        for (int q = 0; q < grid_.n(o2); ++q)
+          for (int r = 0; r < grid_.n(o1); ++r) {
+            int c[3];
+            c[o1] = r;
+            c[o2] = q;
+            c[a] = side == 0 ? 0 : grid_.n(a) - 1;
+            f(a, side, c, boundary_index(a, c[0], c[1], c[2]));
+          }
+      }
+  }
+  /// Index into drag_gradient() of the boundary cell (i, j, k) of a face normal to @p axis:
+  /// the other two indices, the lower axis fastest.
+  std::size_t boundary_index(int axis, int i, int j, int k) const {
+    const int t[3] = {i, j, k};
+    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2;
+    return static_cast<std::size_t>(t[o1]) + static_cast<std::size_t>(grid_.n(o1)) * static_cast<std::size_t>(t[o2]);
+  }
+
  private:
   void sample_prescribed();
 
@@ -132,7 +186,9 @@ class GasField {
   std::optional<PrescribedField> prescribed_;
   VectorInterpolator velocity_interp_, gradient_interp_, flux_interp_;
   std::vector<double> flux_u_, flux_v_, flux_w_;  // ε_f u on the faces (solved gas with ε_g)
+  std::array<std::vector<double>, 6> drag_gradient_;
   bool with_flux_ = false;                         // see enable_superficial_velocity()
+  bool with_cell_gradient_ = false;                // see enable_cell_pressure_gradient()
   double scale_ = 1.0;
   double time_ = 0.0;
   bool analytic_ = false;  // interpolation "analytic": the closed form at the particle

@@ -35,7 +35,10 @@
 /// velocity 0, ∂φ/∂n = 0); velocity inlet (normal velocity given, ∂φ/∂n = 0); pressure
 /// outlet (p given on the boundary face, zero normal gradient of velocity; the outlet
 /// face velocity is solved for). Without an outlet the pressure is defined up to a
-/// constant: its mean is held at zero.
+/// constant: its mean is held at zero. A face whose velocity is fixed (wall or inlet) is
+/// not solved for; the particles next to it feel the gradient its own steady momentum
+/// balance gives (GasField::drag_gradient): the share of the drag reaction a cell hands
+/// to such a face stays there, taken by the wall or the inlet, not by the gas.
 #include <array>
 #include <functional>
 #include <memory>
@@ -116,6 +119,9 @@ class GasSolver {
  private:
   void predictor(double dt);
   void project(double dt, const std::vector<double>& eps_new);
+  /// The field's drag_gradient() on every face whose velocity is fixed, from the drag
+  /// of the step just taken (force_*, and β, β V_s with the new velocities) and @p eps.
+  void set_drag_gradients(const std::vector<double>& eps);
   bool unknown_face(int axis, int index) const;
   /// unknown_face(axis, i) for every face index i in [0, n(axis)].
   std::vector<char> unknown_faces(int axis) const;
