@@ -43,9 +43,8 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   }
   if (spec_.drag) {
     if (spec_.drag_update != coupling::DragUpdate::explicit_force) particles_.enable_drag_relaxation();
-    const coupling::Deposition* deposition = exchange_ ? exchange_->deposition() : nullptr;
     auto d = std::make_unique<coupling::DragModule>(*gas_, *spec_.drag, spec_.drag_update, spec_.drag_void_fraction,
-                                                    spec_.coupling_method, deposition, spec_.two_way,
+                                                    spec_.coupling_method, deposition(), spec_.two_way,
                                                     spec_.gas_velocity);
     if (spec_.gas_velocity == coupling::SlipVelocity::superficial) gas_->enable_superficial_velocity();
     if (lagged()) d->evaluate_per_gas_step(gas_clock_);
@@ -53,9 +52,8 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
     modules_.push_back(std::move(d));
   }
   if (spec_.pressure_gradient) {
-    const coupling::Deposition* deposition = exchange_ ? exchange_->deposition() : nullptr;
-    if (deposition) gas_->enable_cell_pressure_gradient();
-    auto m = std::make_unique<coupling::PressureGradientModule>(*gas_, deposition);
+    if (deposition()) gas_->enable_cell_pressure_gradient();
+    auto m = std::make_unique<coupling::PressureGradientModule>(*gas_, deposition());
     if (lagged()) m->evaluate_per_gas_step(gas_clock_);
     // Once per gas step with the explicit drag, one evaluation and one pass per step for both.
     if (lagged() && drag_ && spec_.drag_update == coupling::DragUpdate::explicit_force &&
@@ -357,8 +355,7 @@ void Simulation::save_state(OutArchive& a) const {
   // the current gas step.
   a.put(static_cast<std::uint8_t>(solver_ ? 1 : 0));
   if (solver_) {
-    a.put(gas_->u); a.put(gas_->v); a.put(gas_->w); a.put(gas_->p); a.put(gas_->eps_g);
-    for (int f = 0; f < 6; ++f) a.put(gas_->drag_gradient(f));
+    gas_->save_state(a);
     a.put(solver_->time());
     a.put(substep_);
     if (lagged()) a.put(static_cast<std::uint8_t>(gas_clock_.due));
@@ -471,9 +468,7 @@ void Simulation::load_state(InArchive& a) {
   a.get(has_gas);
   if ((has_gas != 0) != static_cast<bool>(solver_)) throw ArchiveError("its gas differs from the scene's");
   if (solver_) {
-    const std::size_t cells = gas_->grid().padded_size();
-    for (auto* v : {&gas_->u, &gas_->v, &gas_->w, &gas_->p, &gas_->eps_g}) arr(*v, cells);
-    for (int f = 0; f < 6; ++f) arr(gas_->drag_gradient(f), gas_->drag_gradient(f).size());
+    gas_->load_state(a);
     double gt = 0.0;
     a.get(gt);
     a.get(substep_);

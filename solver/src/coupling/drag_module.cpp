@@ -15,16 +15,28 @@ void add_explicit(ParticleStore& p, std::size_t i, double k, Vec3 slip, bool two
   p.fx[i] += k * slip.x; p.fy[i] += k * slip.y; p.fz[i] += k * slip.z;
   if (two_way) { p.dfx[i] = k * slip.x; p.dfy[i] = k * slip.y; p.dfz[i] = k * slip.z; }
 }
-}  // namespace
 
-Vec3 particle_pressure_gradient(const fluid::GasField& gas, const Deposition* kernel, Vec3 x) {
-  if (!kernel) return gas.pressure_gradient_at(x);
+/// The cell-centred ∇p weighted by the deposition weights at @p x, plus the imposed mean
+/// gradient (particle_pressure_gradient); with @p eps, also Σ w ε_g there, summed in the
+/// order Deposition::average sums it, in the same pass over the weights.
+Vec3 deposited_pressure_gradient(const fluid::GasField& gas, const Deposition& kernel, Vec3 x, double* eps = nullptr) {
+  const double* const E = gas.eps_g.data();
   const double* const gx = gas.cell_gpx.data();
   const double* const gy = gas.cell_gpy.data();
   const double* const gz = gas.cell_gpz.data();
   Vec3 g;
-  kernel->for_each_weight(x, [&](std::size_t c, double w) { g.x += w * gx[c]; g.y += w * gy[c]; g.z += w * gz[c]; });
+  double e = 0.0;
+  kernel.for_each_weight(x, [&](std::size_t c, double w) {
+    if (eps) e += w * E[c];
+    g.x += w * gx[c]; g.y += w * gy[c]; g.z += w * gz[c];
+  });
+  if (eps) *eps = e;
   return g + gas.mean_pressure_gradient;
+}
+}  // namespace
+
+Vec3 particle_pressure_gradient(const fluid::GasField& gas, const Deposition* kernel, Vec3 x) {
+  return kernel ? deposited_pressure_gradient(gas, *kernel, x) : gas.pressure_gradient_at(x);
 }
 
 std::string DragModule::name() const { return std::string("drag_") + to_string(law_) + "_" + to_string(update_); }
@@ -78,21 +90,12 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
   // Two-way with the pressure gradient taken: ε_g and ∇p weighted by the particle's
   // deposition weights, in one pass over them (each sum in the order of its own function).
   const bool fused = gp && kernel_ && eps_fixed_ <= 0.0;
-  const double* const E = gas.eps_g.data();
-  const double* const G[3] = {gas.cell_gpx.data(), gas.cell_gpy.data(), gas.cell_gpz.data()};
   const double rate = max_own(ranks_, n, [&](std::size_t i) {
     const Vec3 x = p.position(i);
     double eps = 0.0;
     Vec3 cell_grad;
-    if (fused) {
-      kernel_->for_each_weight(x, [&](std::size_t c, double w) {
-        eps += w * E[c];
-        cell_grad.x += w * G[0][c]; cell_grad.y += w * G[1][c]; cell_grad.z += w * G[2][c];
-      });
-      cell_grad += gas.mean_pressure_gradient;
-    } else {
-      eps = void_fraction_at(x);
-    }
+    if (fused) cell_grad = deposited_pressure_gradient(gas, *kernel_, x, &eps);
+    else eps = void_fraction_at(x);
     // The flux ε u is continuous where ε jumps (at a bed's surface or its distributor),
     // the interstitial velocity is not: interpolating the flux and dividing by the
     // particle's own ε gives a particle inside a packed layer U/ε, not a blend with the

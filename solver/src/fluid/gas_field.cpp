@@ -151,6 +151,20 @@ void GasField::fill_pressure_ghosts() {
   });
 }
 
+void GasField::save_state(OutArchive& a) const {
+  a.put(u); a.put(v); a.put(w); a.put(p); a.put(eps_g);
+  for (const auto& d : drag_gradient_) a.put(d);
+}
+
+void GasField::load_state(InArchive& a) {
+  auto arr = [&](std::vector<double>& x, std::size_t want) {
+    a.get(x, want);
+    if (x.size() != want) throw ArchiveError("a gas array has the wrong length");
+  };
+  for (auto* x : {&u, &v, &w, &p, &eps_g}) arr(*x, grid_.padded_size());
+  for (auto& d : drag_gradient_) arr(d, d.size());
+}
+
 void GasField::set_time(double t) {
   time_ = t;
   scale_ = prescribed_ ? prescribed_->time_factor(t) : 1.0;

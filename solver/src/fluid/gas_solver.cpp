@@ -396,7 +396,7 @@ void GasSolver::set_drag_gradients(const std::vector<double>& eps) {
   };
   gas_.for_each_fixed_face_cell([&](int a, int side, int c[3], std::size_t at) {
     // The boundary face b, the cell next to it and the first interior face f1.
-    const int n = g.n(a), along = c[a];
+    const int n = g.n(a);
     const std::size_t cell = g.at(c[0], c[1], c[2]);
     c[a] = side == 0 ? 0 : n;
     const std::size_t b = g.at(c[0], c[1], c[2]);
@@ -409,7 +409,6 @@ void GasSolver::set_drag_gradients(const std::vector<double>& eps) {
       const double eps_1 = eps.empty() ? 1.0 : 0.5 * (eps[f1 - g.stride(a)] + eps[f1]);
       d -= drag(a, f1) / eps_1;
     }
-    c[a] = along;
     gas_.drag_gradient(2 * a + side)[at] = d;
   });
 }

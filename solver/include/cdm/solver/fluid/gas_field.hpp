@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/fluid/interpolation.hpp"
 #include "cdm/solver/fluid/prescribed_field.hpp"
 #include "cdm/solver/fluid/staggered_grid.hpp"
@@ -135,6 +136,11 @@ class GasField {
   /// Recompute the face pressure gradient from p and refresh both interpolators; call
   /// after changing u, v, w or p.
   void refresh();
+
+  /// The solved gas's state in a checkpoint: u, v, w, p, ε_g and the drag gradients.
+  /// load_state throws ArchiveError if an array has the wrong length; call refresh() after.
+  void save_state(OutArchive& a) const;
+  void load_state(InArchive& a);
 
   /// Fill p's ghost layers (solved gas): the grid's rule (StaggeredGrid::
   /// fill_pressure_ghosts), and on each face whose velocity is fixed the drag gradient
