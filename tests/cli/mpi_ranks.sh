@@ -79,10 +79,10 @@ done
 # builds fall on steps that follow a gather: the chute on 2 processes.
 shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
 
-# 200,000 particles: their whole state (about 40 values each, with the wall history) is
-# gathered in rounds of at most 2^22 values (RankSplit::share_particles), two here.
-shared "settle 2e5 gathered in rounds" 2 "$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[100,80,25]' \
-  --set 'walls[2].point=[0.11,0.0,0.0]' --set 'walls[4].point=[0.0,0.088,0.0]' --set output.particles=false \
+# 20,000 particles: their whole state (about 40 values each, with the wall history) is
+# gathered in rounds of at most 2^18 values (RankSplit::share_particles), four here.
+shared "settle 2e4 gathered in rounds" 2 "$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[40,20,25]' \
+  --set 'walls[2].point=[0.044,0.0,0.0]' --set 'walls[4].point=[0.0,0.022,0.0]' --set output.particles=false \
   --set integrator.end_time=1.0 --max-steps 40
 
 "${launch[@]}" -np 2 "$cdm" run "${settle[@]}" -q -j 2 -o "$work/settle-2x2" > "$work/settle-2x2.out" 2>&1 ||

@@ -337,11 +337,11 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
   // In rounds of at most `batch` particles from each rank, so that the buffers stay near
-  // 2^22 values (32 MiB) whatever the state's size (a million particles' whole state is
-  // about 400 MB).
+  // 2^18 values (2 MiB) whatever the state's size (a million particles' whole state is
+  // about 400 MB): kept between gathers, they add that much to every rank's memory.
   std::size_t most = 0;
   for (const auto& own : rank_particles_) most = std::max(most, own.size());
-  const std::size_t batch = std::max<std::size_t>(1, (std::size_t{1} << 22) / std::max<std::size_t>(1, per * size));
+  const std::size_t batch = std::max<std::size_t>(1, (std::size_t{1} << 18) / std::max<std::size_t>(1, per * size));
   std::vector<int> counts(size), displs(size);
   for (std::size_t b0 = 0; b0 < most; b0 += batch) {
     auto part = [&](const std::vector<std::uint32_t>& own) {
