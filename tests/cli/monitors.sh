@@ -92,4 +92,54 @@ printf '\n[[monitors]]\nname = "p"\ntype = "pressure"\npoint = [0, 0, 0]\n' |
 "$cdm" run "$work/nogas.toml" -o "$work/bad" --set output.log_interval=0.1 > /dev/null 2> "$work/err"; rc=$?
 [ "$rc" -eq 2 ] && grep -qF 'monitors[0].type' "$work/err" && grep -qF 'modules.gas = "solved"' "$work/err" ||
   fail "pressure monitor without a gas: rc $rc, $(cat "$work/err")"
+
+# A wall's force: a ball dropped onto a floor comes to rest on it, the floor then carries
+# its weight (m g = 2.6 g/cm^3 * 4/3 pi (10 cm)^3 * 9.8 m/s^2) and the ceiling nothing;
+# without `wall`, every wall's force.
+printf '\n[[walls]]\nname = "ceiling"\npoint = [0.0, 100.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nmaterial = "floor"\n' |
+  cat "$src/verification/cases/free_fall_bounces/scene.toml" - > "$work/ball.toml"
+cat >> "$work/ball.toml" <<'TOML'
+
+[[monitors]]
+name = "floor"
+type = "wall_force"
+wall = "floor"
+axis = "y"
+
+[[monitors]]
+name = "ceiling"
+type = "wall_force"
+wall = "ceiling"
+axis = "y"
+
+[[monitors]]
+name = "walls"
+type = "wall_force"
+axis = "y"
+TOML
+ball=(--set integrator.end_time=3.0 --set 'contacts[0].en=0.3' --set 'integrator.scheme="velocity_verlet"'
+      --set output.interval=0.5 --set output.log_interval=0.25)
+"$cdm" run "$work/ball.toml" -o "$work/ball" -q "${ball[@]}" > "$work/ball.log" 2>&1 || fail "ball: $(tail -3 "$work/ball.log")"
+/usr/bin/python3 - "$work/ball" <<'PY' || fail "wall_force values"
+import math, sys
+d = sys.argv[1]
+def rows(name):
+    return [list(map(float, l.split())) for l in open(f"{d}/monitor_{name}.dat") if not l.startswith("#")]
+floor, ceiling, walls = rows("floor"), rows("ceiling"), rows("walls")
+weight = 2.6e3 * 4.0 / 3.0 * math.pi * 0.1**3 * 9.8
+assert len(floor) == 13, len(floor)
+assert floor[0][1] == 0.0, floor[0]            # in the air at t = 0
+assert abs(floor[-1][1] / weight - 1) < 1e-12, (floor[-1], weight)
+assert all(r[1] == 0.0 for r in ceiling), ceiling
+assert all(a[1] == b[1] for a, b in zip(floor, walls)), (floor, walls)
+PY
+grep -q '^# cdm monitor floor (wall_force): force along y on the particles from the wall floor' "$work/ball/monitor_floor.dat" ||
+  fail "wall_force: the table does not say what it measures"
+"$cdm" run "$work/ball.toml" -o "$work/bad" "${ball[@]}" --set 'monitors[1].wall="roof"' > /dev/null 2> "$work/err"; rc=$?
+[ "$rc" -eq 2 ] && grep -qF 'monitors[1].wall' "$work/err" && [ ! -e "$work/bad" ] || fail "unknown wall: rc $rc, $(cat "$work/err")"
+printf '\n[[monitors]]\nname = "w"\ntype = "wall_force"\naxis = "y"\n' |
+  cat "$src/verification/cases/terminal_velocity/scene.toml" - > "$work/nowall.toml"
+"$cdm" run "$work/nowall.toml" -o "$work/bad" --set 'output={interval=0.1,log_interval=0.1}' > /dev/null 2> "$work/err"; rc=$?
+[ "$rc" -eq 2 ] && grep -qF 'monitors[0].type' "$work/err" && grep -qF '[[walls]]' "$work/err" ||
+  fail "wall_force without walls: rc $rc, $(cat "$work/err")"
 echo "monitors: all checks passed"

@@ -45,6 +45,7 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
     const std::size_t nw = list_.walls().size();
     if (u.walls_listed) fn_wall_.assign(p.size() * nw, -1.0);
     else fn_wall_.resize(p.size() * nw);
+    fv_wall_.resize(3 * p.size() * nw);
   }
   // One compiled kernel per (friction, laws present, recording): no per-pair dispatch
   // unless both laws are present, and nothing recorded unless a module reads it.
@@ -387,8 +388,12 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     contact::TangentialSlot slot;
     if constexpr (Friction) slot = {WHIST + ii * nw + w, WTOUCH + ii * nw + w};
     const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
-    if constexpr (record) fn_wall_[ii * nw + w] = cf.normal_magnitude;
     const Vec3 f = cf.total, ft = cf.tangential;
+    if constexpr (record) {
+      fn_wall_[ii * nw + w] = cf.normal_magnitude;
+      double* const fv = &fv_wall_[3 * (ii * nw + w)];
+      fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
+    }
     p.add_force(i, f);
     if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
     const OverlapRecord rec{overlap / p.radius[i], i, -1 - static_cast<long>(w)};

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "cdm/solver/io/layers.hpp"
+#include "cdm/solver/io/output_fields.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -54,6 +55,7 @@ std::vector<std::string> monitor_columns(const MonitorSpec& m) {
     case MonitorKind::pressure_drop: return {"t[s]", "pressure_drop[Pa]"};
     case MonitorKind::bed_height: return {"t[s]", "bed_height[m]"};
     case MonitorKind::mass_flow: return {"t[s]", "mass_flow[kg/s]"};
+    case MonitorKind::wall_force: return {"t[s]", std::string("force_") + "xyz"[m.axis] + "[N]"};
   }
   return {};
 }
@@ -81,6 +83,10 @@ std::string monitor_comment(const MonitorSpec& m) {
     case MonitorKind::mass_flow:
       return what + "solids mass flux through " + axis + " = " + num(m.position) + " m, sum of m v_" + axis +
              " over the particles within " + num(0.5 * m.bin) + " m of the plane, over " + num(m.bin) + " m";
+    case MonitorKind::wall_force:
+      return what + "force along " + axis + " on the particles from " +
+             (m.wall < 0 ? std::string("every wall") : "the wall " + m.wall_name) +
+             " (normal and tangential), evaluated at the sampled state";
   }
   return what;
 }
@@ -98,6 +104,13 @@ double monitor_value(const MonitorSpec& m, const Simulation& sim) {
     case MonitorKind::pressure_drop: return plane_pressure(sim, m.axis, m.from) - plane_pressure(sim, m.axis, m.to);
     case MonitorKind::bed_height: return bed_height(m, sim);
     case MonitorKind::mass_flow: return mass_flow(m, sim);
+    case MonitorKind::wall_force: {
+      const std::vector<double> f = wall_forces(sim);
+      double sum = 0.0;
+      for (std::size_t w = 0; 3 * w < f.size(); ++w)
+        if (m.wall < 0 || static_cast<std::size_t>(m.wall) == w) sum += f[3 * w + static_cast<std::size_t>(m.axis)];
+      return sum;
+    }
   }
   return 0.0;
 }

@@ -56,6 +56,27 @@ ContactNetwork contact_network(const Simulation& sim) {
   return net;
 }
 
+std::vector<double> wall_forces(const Simulation& sim) {
+  if (!sim.contact()) return {};
+  ParticleStore p = sim.particles();
+  ContactModule probe = probe_of(sim);
+  probe.set_recording(true);
+  p.clear_forces();
+  probe.add_forces(p, 0.0);
+  const std::size_t nw = probe.walls().size();
+  const std::vector<double>& fn = probe.wall_normal_force();
+  const std::vector<double>& fv = probe.wall_force();
+  std::vector<double> f(3 * nw, 0.0);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const std::size_t s = p.slot_of(k);
+    for (std::size_t w = 0; w < nw; ++w) {
+      if (fn[s * nw + w] < 0.0) continue;
+      for (std::size_t a = 0; a < 3; ++a) f[3 * w + a] += fv[3 * (s * nw + w) + a];
+    }
+  }
+  return f;
+}
+
 std::vector<double> solids_velocity(const Simulation& sim) {
   const fluid::StaggeredGrid& g = sim.gas()->grid();
   const ParticleStore& p = sim.particles();

@@ -41,6 +41,8 @@ void read_monitors(const Reader& rd, SceneSpec& spec) {
                           m.kind == MonitorKind::pressure_drop;
     if (pressure && spec.gas != GasModel::solved)
       rd.fail_value(path + ".type", *t.get("type"), "a monitor the scene can feed: a pressure needs modules.gas = \"solved\"");
+    if (m.kind == MonitorKind::wall_force && (!spec.normal_contact || spec.walls.empty()))
+      rd.fail_value(path + ".type", *t.get("type"), "a monitor the scene can feed: wall_force needs modules.normal_contact and [[walls]]");
     if (m.kind == MonitorKind::bed_height && spec.gas == GasModel::none)
       rd.fail_value(path + ".type", *t.get("type"), "a monitor the scene can feed: bed_height measures within the gas domain, and the scene has no [gas]");
     auto allow = [&](std::initializer_list<const char*> keys) {
@@ -109,6 +111,16 @@ void read_monitors(const Reader& rd, SceneSpec& spec) {
         if (!t.get("bin")) rd.fail_missing(path + ".bin", "the slab thickness around the plane (> 0), e.g. a few particle diameters");
         m.position = *rd.number(t, "position", path, Dim::length);
         m.bin = rd.positive(t, "bin", path, Dim::length, true);
+        break;
+      case MonitorKind::wall_force:
+        allow({"axis", "wall"});
+        if (const toml::node* n = t.get("wall")) {
+          const std::string w = rd.string(t, "wall", path).value_or("");
+          for (std::size_t k = 0; k < spec.walls.size(); ++k)
+            if (spec.walls[k].name == w) m.wall = static_cast<int>(k);
+          m.wall_name = w;
+          if (m.wall < 0) rd.fail_value(path + ".wall", *n, "the name of one of the scene's [[walls]]");
+        }
         break;
     }
     spec.monitors.push_back(m);

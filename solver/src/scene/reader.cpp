@@ -49,7 +49,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"lattices[].size", {"distribution", "basis", "radii", "fractions", "mean", "std", "median", "sigma", "min", "max"}},
       {"integrator", {"scheme", "dt", "dt_divisor", "impact_velocity", "rayleigh_fraction", "end_time"}},
       {"output", {"interval", "particles", "vtk", "vtk_format", "contacts", "checkpoint_interval", "log_interval"}},
-      {"monitors[]", {"name", "type", "point", "axis", "position", "from", "to", "threshold", "bin"}},
+      {"monitors[]", {"name", "type", "point", "axis", "position", "from", "to", "threshold", "bin", "wall"}},
       {"checks", {"allow_initial_overlap", "max_overlap_fraction"}},
   };
   return s;

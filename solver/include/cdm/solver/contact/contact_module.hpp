@@ -115,6 +115,9 @@ class ContactModule final : public ForceModule {
   void set_recording(bool on) { record_ = on; }
   /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
   const std::vector<double>& wall_normal_force() const { return fn_wall_; }
+  /// The force on particle i from wall w [N], 3 values per particle and wall
+  /// (3 (i * walls + w) + axis), valid where wall_normal_force() is not -1 (recording on).
+  const std::vector<double>& wall_force() const { return fv_wall_; }
   /// |F_n| [N] per mesh contact of the current evaluation, in meshes()->contacts() order
   /// (recording on).
   const std::vector<double>& mesh_normal_force() const { return fn_mesh_; }
@@ -161,6 +164,7 @@ class ContactModule final : public ForceModule {
   std::vector<double> eta_n_common_;
   bool damping_stale_ = true;
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
+  std::vector<double> fv_wall_;               // record_: the wall's force on the particle [N]
   std::vector<double> fn_mesh_;               // record_: |F_n| [N] per mesh contact
   std::vector<double> fv_pair_;               // record_: total and tangential force per pair
   StepVelocities step_;                       // see set_step_velocities

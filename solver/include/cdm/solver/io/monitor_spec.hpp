@@ -9,12 +9,13 @@
 
 namespace cdm {
 
-enum class MonitorKind { pressure, plane_pressure, pressure_drop, bed_height, mass_flow };
-inline constexpr Keywords<MonitorKind, 5> monitor_keywords{{{"pressure", MonitorKind::pressure},
+enum class MonitorKind { pressure, plane_pressure, pressure_drop, bed_height, mass_flow, wall_force };
+inline constexpr Keywords<MonitorKind, 6> monitor_keywords{{{"pressure", MonitorKind::pressure},
                                                             {"plane_pressure", MonitorKind::plane_pressure},
                                                             {"pressure_drop", MonitorKind::pressure_drop},
                                                             {"bed_height", MonitorKind::bed_height},
-                                                            {"mass_flow", MonitorKind::mass_flow}}};
+                                                            {"mass_flow", MonitorKind::mass_flow},
+                                                            {"wall_force", MonitorKind::wall_force}}};
 inline const char* to_string(MonitorKind k) { return keyword_of(monitor_keywords, k); }
 
 struct MonitorSpec {
@@ -26,6 +27,8 @@ struct MonitorSpec {
   double from = 0.0, to = 0.0;  ///< pressure_drop: the two planes [m]; the value is p(from) − p(to)
   double threshold = 0.0;  ///< bed_height: the solids fraction that counts as bed [-]
   double bin = 0.0;        ///< bed_height, mass_flow: the layer thickness [m]
+  int wall = -1;           ///< wall_force: the wall (index into the scene's walls), -1 every wall
+  std::string wall_name;   ///< wall_force: that wall's name (empty for every wall)
 };
 
 }  // namespace cdm

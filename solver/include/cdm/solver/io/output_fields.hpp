@@ -30,6 +30,11 @@ struct ContactNetwork {
 };
 ContactNetwork contact_network(const Simulation& sim);
 
+/// The force each of the scene's [[walls]] exerts on the particles [N], x y z per wall in
+/// scene order, evaluated like contact_forces() and summed over the particles in identity
+/// order (the same on any number of threads and processes); empty without contacts.
+std::vector<double> wall_forces(const Simulation& sim);
+
 /// The solids velocity [m/s] in each gas cell: the volume-weighted mean velocity of the
 /// particles whose centres lie in the cell, x y z per cell with x fastest, then y, then
 /// z (VTK's order); zero in cells without particles.
