@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Under mpirun the particles' work is shared among the processes (rank_split.hpp), with
-# results bit-identical to one process: the particle tables, run logs, VTK files (with the
+# results bit-identical to one process: the particle tables, run logs, wall-force monitors, VTK files (with the
 # contact network) and final checkpoints of a settling bed (walls, friction; 5000
 # particles, so that 2 threads per process split the slabs too) and of a periodic chute
 # (a fixed base; slabs along the one axis that is not periodic) and of the fluidisation
@@ -15,7 +15,7 @@
 # whole on each process but for its gas step, says so, and gives one process's results. The gas
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
-# bed of 2e5 particles, whose state is gathered in rounds, is compared on 2. A run on 2
+# bed of 2e4 particles, whose state is gathered in rounds, is compared on 2. A run on 2
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table.
 set -u
 cdm="$1" src="$2" work="$3"
@@ -50,7 +50,8 @@ shared() {
 
 settle=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]' --set integrator.end_time=0.03
         --set output.interval=0.01 --set output.log_interval=0.005 --set output.vtk=true --set output.contacts=true
-        --set output.checkpoint_interval=0.015)
+        --set output.checkpoint_interval=0.015
+        --set 'monitors=[{name="walls",type="wall_force",axis="z"},{name="side",type="wall_force",axis="x",wall="x-"}]')
 chute=("$src/bench/scenes/chute32k.toml" --set 'periodic.x=[0.0,0.022]' --set 'periodic.y=[0.0,0.011]'
        --set 'lattices[0].count=[20,10,1]' --set 'lattices[1].count=[20,10,20]' --set integrator.end_time=0.02
        --set output.interval=0.005 --set output.particles=true --set output.log_interval=0.005)
