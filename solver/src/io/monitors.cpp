@@ -93,7 +93,7 @@ std::string monitor_comment(const MonitorSpec& m) {
 
 }  // namespace
 
-double monitor_value(const MonitorSpec& m, const Simulation& sim) {
+double monitor_value(const MonitorSpec& m, const Simulation& sim, const std::vector<double>* walls) {
   switch (m.kind) {
     case MonitorKind::pressure: {
       const fluid::StaggeredGrid& g = sim.gas()->grid();
@@ -105,7 +105,7 @@ double monitor_value(const MonitorSpec& m, const Simulation& sim) {
     case MonitorKind::bed_height: return bed_height(m, sim);
     case MonitorKind::mass_flow: return mass_flow(m, sim);
     case MonitorKind::wall_force: {
-      const std::vector<double> f = wall_forces(sim);
+      const std::vector<double> f = walls ? *walls : wall_forces(sim);
       double sum = 0.0;
       for (std::size_t w = 0; 3 * w < f.size(); ++w)
         if (m.wall < 0 || static_cast<std::size_t>(m.wall) == w) sum += f[3 * w + static_cast<std::size_t>(m.axis)];
@@ -134,7 +134,15 @@ MonitorObserver::MonitorObserver(const std::string& out_dir, const Simulation& s
 void MonitorObserver::operator()(const Simulation& sim) {
   if (tables_.empty() || !schedule_.due(sim)) return;
   const auto& ms = sim.spec().monitors;
-  for (std::size_t k = 0; k < ms.size(); ++k) tables_[k]->row({sim.time(), monitor_value(ms[k], sim)});
+  std::vector<double> walls;  // evaluated once per sample, for every wall_force monitor
+  bool walls_known = false;
+  for (std::size_t k = 0; k < ms.size(); ++k) {
+    if (ms[k].kind == MonitorKind::wall_force && !walls_known) {
+      walls = wall_forces(sim);
+      walls_known = true;
+    }
+    tables_[k]->row({sim.time(), monitor_value(ms[k], sim, walls_known ? &walls : nullptr)});
+  }
 }
 
 std::vector<std::uint64_t> MonitorObserver::sync() {

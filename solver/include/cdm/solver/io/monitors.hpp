@@ -12,7 +12,9 @@
 ///    face; 0 when none does;
 ///  - mass_flow: the solids mass flux through a plane, Σ m v_axis / bin over the particles
 ///    whose centres lie within bin/2 of it [kg/s] (the standard slab estimate; positive
-///    along +axis).
+///    along +axis);
+///  - wall_force: the force along the axis that one wall, or every wall, exerts on the
+///    particles (wall_forces(), output_fields.hpp) [N].
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,8 +26,10 @@ namespace cdm {
 
 class Simulation;
 
-/// The value of monitor @p m for the state of @p sim.
-double monitor_value(const MonitorSpec& m, const Simulation& sim);
+/// The value of monitor @p m for the state of @p sim. A wall_force monitor reads
+/// @p walls, wall_forces(sim) of the same state, where given (one evaluation of the
+/// contacts for all of a sample's wall monitors), else evaluates it.
+double monitor_value(const MonitorSpec& m, const Simulation& sim, const std::vector<double>* walls = nullptr);
 
 /// The file name of monitor @p m's table.
 std::string monitor_file(const MonitorSpec& m);
