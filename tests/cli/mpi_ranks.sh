@@ -15,7 +15,8 @@
 # whole on each process but for its gas step, says so, and gives one process's results. The gas
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
-# bed of 2e4 particles, whose state is gathered in rounds, is compared on 2. A run on 2
+# bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
+# gathered in rounds of a few particles and pairs. A run on 2
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table.
 set -u
 cdm="$1" src="$2" work="$3"
@@ -79,6 +80,14 @@ done
 # Logged every 1e-5 s (about every 6 steps; each line gathers the state), so that list
 # builds fall on steps that follow a gather: the chute on 2 processes.
 shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
+
+# Gathered in rounds of 600 values (CDM_MPI_ROUND_VALUES): the flowing chute's state in
+# rounds of a few particles, and at each build the history of its pairs in contact in
+# rounds of 100 pairs per process.
+small_rounds=("${launch[@]}")
+launch+=(-x CDM_MPI_ROUND_VALUES=600)
+shared "chute gathered in small rounds" 2 "${chute[@]}"
+launch=("${small_rounds[@]}")
 
 # 20,000 particles: their whole state (about 40 values each, with the wall history) is
 # gathered in rounds of at most 2^18 values (RankSplit::share_particles), four here.

@@ -87,6 +87,10 @@ void abort_world(int rc) {
   if (size > 1) MPI_Abort(MPI_COMM_WORLD, rc);
 }
 
+void mpi_check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+
 #else
 
 bool built_with_mpi() { return false; }
@@ -108,6 +112,8 @@ WorldPlace mpi_world() {
 }
 
 void abort_world(int) {}
+
+void mpi_check(int, const char*) {}
 
 #endif
 

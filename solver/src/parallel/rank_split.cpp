@@ -1,6 +1,7 @@
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 #include <type_traits>
 
@@ -158,10 +159,6 @@ struct Leg {
   int rank;
 };
 
-void check(int rc, const char* what) {
-  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
-}
-
 /// Sends each of @p sends and receives each of @p recvs, the values of @p arrays at the
 /// legs' slots, particle by particle.
 void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector<Leg>& sends,
@@ -177,9 +174,9 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     in[m].resize(recvs[m].idx->size() * k);
     req.emplace_back();
-    check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, tag, MPI_COMM_WORLD,
-                    &req.back()),
-          "MPI_Irecv");
+    mpi_check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, tag, MPI_COMM_WORLD,
+                        &req.back()),
+              "MPI_Irecv");
   }
   for (std::size_t m = 0; m < sends.size(); ++m) {
     std::vector<double>& b = out[m];
@@ -191,11 +188,11 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
       at += rows.count;
     }
     req.emplace_back();
-    check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, tag, MPI_COMM_WORLD,
-                    &req.back()),
-          "MPI_Isend");
+    mpi_check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, tag, MPI_COMM_WORLD,
+                        &req.back()),
+              "MPI_Isend");
   }
-  check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+  mpi_check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     std::size_t at = 0;
     for (std::uint32_t i : *recvs[m].idx) {
@@ -276,40 +273,45 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
       counts[r] = static_cast<int>(first_pair(r + 1) - first_pair(r));
       displs[r] = static_cast<int>(first_pair(r));
     }
-    check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_UINT8_T, pt, counts.data(), displs.data(), MPI_UINT8_T,
-                         MPI_COMM_WORLD),
-          "MPI_Allgatherv");
+    mpi_check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_UINT8_T, pt, counts.data(), displs.data(), MPI_UINT8_T,
+                             MPI_COMM_WORLD),
+              "MPI_Allgatherv");
     if (!for_build) {  // every pair's history: each rank's run of the list, gathered in place
       static_assert(sizeof(Vec3) == 3 * sizeof(double));
       for (std::size_t r = 0; r < size; ++r) {
         counts[r] = static_cast<int>(3 * (first_pair(r + 1) - first_pair(r)));
         displs[r] = static_cast<int>(3 * first_pair(r));
       }
-      check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, reinterpret_cast<double*>(ph), counts.data(), displs.data(),
-                           MPI_DOUBLE, MPI_COMM_WORLD),
-            "MPI_Allgatherv");
-    } else {  // a build: the history of the pairs in contact
-      std::size_t total = 0;
-      for (std::size_t r = 0; r < size; ++r) {
-        std::size_t c = 0;
-        for (std::size_t k = first_pair(r); k < first_pair(r + 1); ++k) c += pt[k] != 0 ? 3 : 0;
-        counts[r] = static_cast<int>(c);
-        displs[r] = static_cast<int>(total);
-        total += c;
-      }
-      send_.clear();
-      for (std::size_t k = first_pair(static_cast<std::size_t>(rank_)); k < first_pair(static_cast<std::size_t>(rank_) + 1); ++k)
-        if (pt[k] != 0) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
-      recv_.resize(total);
-      check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                           displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-            "MPI_Allgatherv");
-      std::size_t at = 0;
-      for (std::size_t k = 0; k < list.size(); ++k)
-        if (pt[k] != 0) {
-          ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]};
-          at += 3;
+      mpi_check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, reinterpret_cast<double*>(ph), counts.data(), displs.data(),
+                               MPI_DOUBLE, MPI_COMM_WORLD),
+                "MPI_Allgatherv");
+    } else {  // a build: the history of the pairs in contact (the flags say which), in
+              // rounds of at most `batch` pairs of each rank's run
+      const std::size_t batch = std::max<std::size_t>(1, round_values() / (3 * size));
+      std::size_t most = 0;
+      for (std::size_t r = 0; r < size; ++r) most = std::max(most, first_pair(r + 1) - first_pair(r));
+      for (std::size_t b0 = 0; b0 < most; b0 += batch) {
+        auto begin = [&](std::size_t r) { return std::min(first_pair(r) + b0, first_pair(r + 1)); };
+        auto end = [&](std::size_t r) { return std::min(first_pair(r) + b0 + batch, first_pair(r + 1)); };
+        std::size_t total = 0;
+        for (std::size_t r = 0; r < size; ++r) {
+          displs[r] = static_cast<int>(total);
+          for (std::size_t k = begin(r); k < end(r); ++k) total += pt[k] != 0 ? 3 : 0;
+          counts[r] = static_cast<int>(total) - displs[r];
         }
+        send_.clear();
+        const auto me = static_cast<std::size_t>(rank_);
+        for (std::size_t k = begin(me); k < end(me); ++k)
+          if (pt[k] != 0) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
+        recv_.resize(total);
+        mpi_check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                                 displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+                  "MPI_Allgatherv");
+        std::size_t at = 0;
+        for (std::size_t r = 0; r < size; ++r)
+          for (std::size_t k = begin(r); k < end(r); ++k)
+            if (pt[k] != 0) { ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]}; at += 3; }
+      }
     }
   }
   stale_ = moving_ = positions_only;
@@ -332,16 +334,25 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
   exchange(dynamic_arrays(p, true), sends, recvs, 17, legs_, wall_rows(list, p.size()));
 }
 
+std::size_t RankSplit::round_values() {
+  static const std::size_t n = [] {
+    const char* v = std::getenv("CDM_MPI_ROUND_VALUES");
+    const long k = v ? std::atol(v) : 0;
+    return k > 0 ? static_cast<std::size_t>(k) : kRoundValues;
+  }();
+  return n;
+}
+
 void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows) {
   const std::size_t per = arrays.size() + rows.count;
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
   // In rounds of at most `batch` particles from each rank, so that the buffers stay near
-  // 2^18 values (2 MiB) whatever the state's size (a million particles' whole state is
-  // about 400 MB): kept between gathers, they add that much to every rank's memory.
+  // round_values() whatever the state's size (a million particles' whole state is about
+  // 400 MB).
   std::size_t most = 0;
   for (const auto& own : rank_particles_) most = std::max(most, own.size());
-  const std::size_t batch = std::max<std::size_t>(1, (std::size_t{1} << 18) / std::max<std::size_t>(1, per * size));
+  const std::size_t batch = std::max<std::size_t>(1, round_values() / std::max<std::size_t>(1, per * size));
   std::vector<int> counts(size), displs(size);
   for (std::size_t b0 = 0; b0 < most; b0 += batch) {
     auto part = [&](const std::vector<std::uint32_t>& own) {
@@ -364,9 +375,9 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
       total += (k1 - k0) * per;
     }
     recv_.resize(total);
-    check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                         displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-          "MPI_Allgatherv");
+    mpi_check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                             displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+              "MPI_Allgatherv");
     at = 0;
     for (const auto& own : rank_particles_) {
       const auto [k0, k1] = part(own);
@@ -393,16 +404,16 @@ void RankSplit::share_mesh_contacts() {
   const auto size = static_cast<std::size_t>(size_);
   const int bytes = static_cast<int>(list.size() * sizeof(Contact));
   std::vector<int> counts(size), displs(size);
-  check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  mpi_check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
     displs[r] = static_cast<int>(total);
     total += static_cast<std::size_t>(counts[r]);
   }
   mesh_recv_.resize(total / sizeof(Contact));
-  check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
-                       MPI_COMM_WORLD),
-        "MPI_Allgatherv");
+  mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
+                           MPI_COMM_WORLD),
+            "MPI_Allgatherv");
   std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(),
                    [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
   list.swap(mesh_recv_);
@@ -411,67 +422,6 @@ void RankSplit::share_mesh_contacts() {
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
   if (!stale_) return;  // every rank holds the same state already
   share_particles(arrays, {});
-}
-
-std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
-  const auto r = static_cast<std::size_t>(rank_), p = static_cast<std::size_t>(size_);
-  return {n * r / p, n * (r + 1) / p};
-}
-
-void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>& chunks) {
-  std::vector<std::uint32_t> mine;
-  for (const auto& c : chunks)
-    for (const ContactPair& cp : c) mine.insert(mine.end(), {cp.i, cp.j});
-  const auto size = static_cast<std::size_t>(size_);
-  std::vector<int> counts(size), displs(size);
-  const int count = static_cast<int>(mine.size());
-  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < size; ++r) {
-    displs[r] = static_cast<int>(total);
-    total += static_cast<std::size_t>(counts[r]);
-  }
-  std::vector<std::uint32_t> all(total);
-  check(MPI_Allgatherv(mine.data(), count, MPI_UINT32_T, all.data(), counts.data(), displs.data(), MPI_UINT32_T,
-                       MPI_COMM_WORLD),
-        "MPI_Allgatherv");
-  // One chunk of every row's pairs, in row order (the overlap is not needed by the build).
-  chunks.assign(1, {});
-  chunks[0].reserve(total / 2);
-  for (std::size_t k = 0; k + 1 < total; k += 2) chunks[0].push_back({all[k], all[k + 1], 0.0});
-}
-
-double RankSplit::max(double x) const {
-  double out = x;
-  check(MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
-  return out;
-}
-
-void RankSplit::add_up(ExactSums& s) const {
-  check(MPI_Allreduce(MPI_IN_PLACE, s.data(), static_cast<int>(s.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
-        "MPI_Allreduce");
-}
-
-bool RankSplit::any(bool flag) const {
-  int in = flag ? 1 : 0, out = 0;
-  check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
-  return out != 0;
-}
-
-void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const {
-  const double mine[4] = {worst.ratio, static_cast<double>(worst.particle), static_cast<double>(worst.partner),
-                          static_cast<double>(active)};
-  std::vector<double> all(4 * static_cast<std::size_t>(size_));
-  check(MPI_Allgather(mine, 4, MPI_DOUBLE, all.data(), 4, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
-  OverlapRecord w;
-  std::size_t sum = 0;
-  for (std::size_t r = 0; r < static_cast<std::size_t>(size_); ++r) {
-    const OverlapRecord rec{all[4 * r], static_cast<std::uint32_t>(all[4 * r + 1]), static_cast<long>(all[4 * r + 2])};
-    if (contact::worse_overlap(rec, w)) w = rec;
-    sum += static_cast<std::size_t>(all[4 * r + 3]);
-  }
-  worst = w;
-  active = sum;
 }
 
 #else  // a build without MPI has one rank: create() gives none, so nothing below runs
@@ -483,12 +433,6 @@ void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error(
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<int>&) { throw std::logic_error("RankSplit without MPI"); }
-double RankSplit::max(double x) const { return x; }
-std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { return {0, n}; }
-void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>&) {}
-bool RankSplit::any(bool flag) const { return flag; }
-void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
-void RankSplit::add_up(ExactSums&) const {}
 
 #endif
 

@@ -36,4 +36,8 @@ WorldPlace mpi_world();
 /// when there is only one (or no MPI).
 void abort_world(int rc);
 
+/// Throws std::runtime_error naming @p what where an MPI call's result @p rc is not
+/// MPI_SUCCESS (with MPI; without, never called).
+void mpi_check(int rc, const char* what);
+
 }  // namespace cdm

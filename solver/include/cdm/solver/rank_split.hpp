@@ -228,6 +228,12 @@ class RankSplit final : public SearchShare {
   /// Every rank gets each rank's particles' values of @p arrays and, after them, their
   /// @p rows.
   void share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows);
+  // The buffers of a gather's rounds: at most round_values() values each, kept between
+  // gathers, so that they add that much to every rank's memory whatever its size:
+  // kRoundValues (2 MiB), or the environment's CDM_MPI_ROUND_VALUES (a positive integer,
+  // for tests: a small scene gathered in many rounds; the results do not depend on it).
+  static constexpr std::size_t kRoundValues = std::size_t{1} << 18;
+  static std::size_t round_values();
   std::vector<double> send_, recv_;
   std::vector<MeshContacts::Contact> mesh_recv_;  // share_mesh_contacts
   /// The rows of @p list's wall history, where it keeps one for @p n particles.
