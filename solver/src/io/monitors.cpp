@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "cdm/solver/io/layers.hpp"
 #include "cdm/solver/io/output_fields.hpp"
@@ -60,7 +61,8 @@ std::vector<std::string> monitor_columns(const MonitorSpec& m) {
   return {};
 }
 
-std::string monitor_comment(const MonitorSpec& m) {
+/// The table's # line; @p spec names the walls.
+std::string monitor_comment(const MonitorSpec& m, const SceneSpec& spec) {
   const std::string axis(1, "xyz"[m.axis]);
   auto num = [](double v) {  // the shortest text that reads back as v
     char b[32];
@@ -85,7 +87,7 @@ std::string monitor_comment(const MonitorSpec& m) {
              " over the particles within " + num(0.5 * m.bin) + " m of the plane, over " + num(m.bin) + " m";
     case MonitorKind::wall_force:
       return what + "force along " + axis + " on the particles from " +
-             (m.wall < 0 ? std::string("every wall") : "the wall " + m.wall_name) +
+             (m.wall < 0 ? std::string("every wall") : "the wall " + spec.walls[static_cast<std::size_t>(m.wall)].name) +
              " (normal and tangential), evaluated at the sampled state";
   }
   return what;
@@ -105,7 +107,8 @@ double monitor_value(const MonitorSpec& m, const Simulation& sim, const std::vec
     case MonitorKind::bed_height: return bed_height(m, sim);
     case MonitorKind::mass_flow: return mass_flow(m, sim);
     case MonitorKind::wall_force: {
-      const std::vector<double> f = walls ? *walls : wall_forces(sim);
+      std::vector<double> own;
+      const std::vector<double>& f = walls ? *walls : (own = wall_forces(sim));
       double sum = 0.0;
       for (std::size_t w = 0; 3 * w < f.size(); ++w)
         if (m.wall < 0 || static_cast<std::size_t>(m.wall) == w) sum += f[3 * w + static_cast<std::size_t>(m.axis)];
@@ -126,7 +129,7 @@ MonitorObserver::MonitorObserver(const std::string& out_dir, const Simulation& s
     const std::optional<std::uint64_t> recorded =
         k < resume_at.size() ? std::optional<std::uint64_t>(resume_at[k]) : std::nullopt;
     tables_.push_back(std::make_unique<TableWriter>(path, monitor_columns(ms[k]),
-                                                    std::vector<std::string>{monitor_comment(ms[k])},
+                                                    std::vector<std::string>{monitor_comment(ms[k], sim.spec())},
                                                     table_resume_point(path, sim, recorded)));
   }
 }
@@ -134,14 +137,10 @@ MonitorObserver::MonitorObserver(const std::string& out_dir, const Simulation& s
 void MonitorObserver::operator()(const Simulation& sim) {
   if (tables_.empty() || !schedule_.due(sim)) return;
   const auto& ms = sim.spec().monitors;
-  std::vector<double> walls;  // evaluated once per sample, for every wall_force monitor
-  bool walls_known = false;
+  std::optional<std::vector<double>> walls;  // evaluated once per sample, for every wall_force monitor
   for (std::size_t k = 0; k < ms.size(); ++k) {
-    if (ms[k].kind == MonitorKind::wall_force && !walls_known) {
-      walls = wall_forces(sim);
-      walls_known = true;
-    }
-    tables_[k]->row({sim.time(), monitor_value(ms[k], sim, walls_known ? &walls : nullptr)});
+    if (ms[k].kind == MonitorKind::wall_force && !walls) walls = wall_forces(sim);
+    tables_[k]->row({sim.time(), monitor_value(ms[k], sim, walls ? &*walls : nullptr)});
   }
 }
 

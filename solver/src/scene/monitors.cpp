@@ -118,7 +118,6 @@ void read_monitors(const Reader& rd, SceneSpec& spec) {
           const std::string w = rd.string(t, "wall", path).value_or("");
           for (std::size_t k = 0; k < spec.walls.size(); ++k)
             if (spec.walls[k].name == w) m.wall = static_cast<int>(k);
-          m.wall_name = w;
           if (m.wall < 0) rd.fail_value(path + ".wall", *n, "the name of one of the scene's [[walls]]");
         }
         break;

@@ -28,7 +28,6 @@ struct MonitorSpec {
   double threshold = 0.0;  ///< bed_height: the solids fraction that counts as bed [-]
   double bin = 0.0;        ///< bed_height, mass_flow: the layer thickness [m]
   int wall = -1;           ///< wall_force: the wall (index into the scene's walls), -1 every wall
-  std::string wall_name;   ///< wall_force: that wall's name (empty for every wall)
 };
 
 }  // namespace cdm
