@@ -368,9 +368,10 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   std::uint8_t* const WTOUCH = list_.wall_touch();
   // One particle–wall contact of overlap > 0: the centre at @p dist from the surface,
   // @p eta the unit normal towards it; a Moving wall's surface velocity @p v_wall at the
-  // contact point enters the relative velocity.
-  auto wall_contact = [&]<bool Moving>(std::uint32_t i, std::size_t w, const Wall& wall, double dist, double overlap,
-                                      Vec3 eta, Vec3 v_wall, OverlapRecord& my_worst) __attribute__((always_inline)) {
+  // contact point enters the relative velocity. Its history is the list's entry @p q.
+  auto wall_contact = [&]<bool Moving>(std::uint32_t i, std::size_t w, std::size_t q, const Wall& wall, double dist,
+                                      double overlap, Vec3 eta, Vec3 v_wall, OverlapRecord& my_worst)
+                                      __attribute__((always_inline)) {
     const std::size_t ii = i;
     const double Li = dist;  // centre to contact point on the surface
     Vec3 vrel = p.velocity(i);
@@ -386,7 +387,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // Against a wall R* = R_i and m* = m_i.
     const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
     contact::TangentialSlot slot;
-    if constexpr (Friction) slot = {WHIST + ii * nw + w, WTOUCH + ii * nw + w};
+    if constexpr (Friction) slot = {WHIST + q, WTOUCH + q};
     const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
     const Vec3 f = cf.total, ft = cf.tangential;
     if constexpr (record) {
@@ -423,17 +424,17 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         }
         const double overlap = p.radius[i] - g.gap;
         if (overlap <= 0.0) {
-          if constexpr (Friction) WTOUCH[ii * nw + w] = 0;
+          if constexpr (Friction) WTOUCH[q] = 0;
           if constexpr (record) fn_wall_[ii * nw + w] = -1.0;
           continue;
         }
         ++my_active;
         if (still_plane) {
-          wall_contact.template operator()<false>(i, w, wall, g.gap, overlap, -wall.normal, Vec3{}, my_worst);
+          wall_contact.template operator()<false>(i, w, q, wall, g.gap, overlap, -wall.normal, Vec3{}, my_worst);
         } else if constexpr (General) {
           const Vec3 eta = -g.normal;  // from the particle towards the wall
           const Vec3 v_wall = wall.surface_velocity(p.position(i) + g.gap * eta, t_wall);
-          wall_contact.template operator()<true>(i, w, wall, g.gap, overlap, eta, v_wall, my_worst);
+          wall_contact.template operator()<true>(i, w, q, wall, g.gap, overlap, eta, v_wall, my_worst);
         }
       }
     }

@@ -44,22 +44,41 @@ VerletList::Update VerletList::update(const ParticleStore& p) {
 
 void VerletList::save_state(OutArchive& a) const {
   a.put(pi_); a.put(pj_); a.put(slab_start_); a.put(hist_); a.put(touch_);
-  a.put(wall_hist_); a.put(wall_touch_);
+  // The wall contacts only: the other entries carry nothing (a contact starts afresh).
+  const std::vector<WallContact> wc = wall_contacts();
+  std::vector<std::uint32_t> wi(wc.size()), ww(wc.size());
+  std::vector<Vec3> wh(wc.size());
+  for (std::size_t k = 0; k < wc.size(); ++k) {
+    wi[k] = wc[k].i; ww[k] = wc[k].w; wh[k] = wc[k].h;
+  }
+  a.put(wi); a.put(ww); a.put(wh);
   a.put(x0_); a.put(y0_); a.put(z0_);
 }
 
 void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
+  std::vector<std::uint32_t> wi, ww;
+  std::vector<Vec3> wh;
   a.get(pi_); a.get(pj_); a.get(slab_start_); a.get(hist_); a.get(touch_);
-  a.get(wall_hist_); a.get(wall_touch_);
+  a.get(wi); a.get(ww); a.get(wh);
   a.get(x0_); a.get(y0_); a.get(z0_);
   const std::size_t n = x0_.size();
   bool ok = pi_.size() == pj_.size() && y0_.size() == n && z0_.size() == n;
   ok = ok && (slab_start_.empty() ? pi_.empty() : slab_start_.front() == 0 && slab_start_.back() == pi_.size());
   for (std::size_t s = 1; ok && s < slab_start_.size(); ++s) ok = slab_start_[s - 1] <= slab_start_[s];
   for (std::size_t k = 0; ok && k < pi_.size(); ++k) ok = pi_[k] < pj_[k] && pj_[k] < n;
-  if (history_) ok = ok && hist_.size() == pi_.size() && touch_.size() == pi_.size() &&
-                      wall_hist_.size() == wall_touch_.size() && wall_hist_.size() == n * walls_.size();
+  if (history_) ok = ok && hist_.size() == pi_.size() && touch_.size() == pi_.size();
+  // Wall contacts: of listed particles and walls, in strictly increasing (i, w) order.
+  ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
+  for (std::size_t k = 0; ok && k < wi.size(); ++k)
+    ok = wi[k] < n && ww[k] < walls_.size() &&
+         (k == 0 || wi[k - 1] < wi[k] || (wi[k - 1] == wi[k] && ww[k - 1] < ww[k]));
   if (!ok) throw ArchiveError("the contact list is inconsistent");
+  wall_carry_.resize(wi.size());
+  for (std::size_t k = 0; k < wi.size(); ++k) wall_carry_[k] = {wi[k], ww[k], wh[k]};
+  wall_carry_pending_ = true;
+  for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
+  wall_hist_.clear();
+  wall_touch_.clear();
   built_ = built;
   builds_ = builds;
   displacement_ = -1.0;
@@ -73,9 +92,8 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
   // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
   // jump, so then every particle is listed with every wall.
   const std::size_t n = x0_.size(), nw = walls_.size();
-  wall_candidates_.clear();
+  if (!wall_carry_pending_) set_aside_wall_history(nullptr);
   wall_begin_.assign(1, 0);
-  wall_ids_.clear();
   wall_candidates_stale_ = false;
   listed_time_ = time_;
   // Likewise a surface of revolution, or a plane that turns, with any periodic axis.
@@ -86,25 +104,62 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
     for (int a = 0; a < 3; ++a)
       if (box_.on[a] && (nrm[a] != 0.0 || !fixed_plane)) filter = false;
   }
-  if (!nw) return;
-  const bool history = wall_touch_.size() == n * nw;
-  for (std::size_t i = 0; i < n; ++i) {
+  // A listed entry takes its history from the carried contact of the same particle and
+  // wall (both in (i, w) order); a contact not listed again has ended.
+  auto carry = wall_carry_.cbegin();
+  const auto carry_end = wall_carry_.cend();
+  for (std::size_t i = 0; i < n && nw; ++i) {
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = posed_[w];
       const Vec3 X{x0_[i], y0_[i], z0_[i]};
       const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
-      if (!filter || reach < p.radius[i] + skin_) {
-        wall_ids_.push_back(static_cast<std::uint32_t>(w));
-      } else {  // not listed: not in contact with that wall
-        if (history) wall_touch_[i * nw + w] = 0;
-      }
+      if (filter && !(reach < p.radius[i] + skin_)) continue;
+      wall_ids_.push_back(static_cast<std::uint32_t>(w));
+      if (!history_) continue;
+      while (carry != carry_end && (carry->i < i || (carry->i == i && carry->w < w))) ++carry;
+      const bool carried = carry != carry_end && carry->i == i && carry->w == w;
+      wall_hist_.push_back(carried ? carry->h : Vec3{});
+      wall_touch_.push_back(carried ? 1 : 0);
     }
     if (wall_ids_.size() != before) {
       wall_candidates_.push_back(static_cast<std::uint32_t>(i));
       wall_begin_.push_back(static_cast<std::uint32_t>(wall_ids_.size()));
     }
   }
+  std::vector<WallContact>().swap(wall_carry_);
+  wall_carry_pending_ = false;
+}
+
+std::vector<VerletList::WallContact> VerletList::wall_contacts() const {
+  if (wall_carry_pending_) return wall_carry_;
+  std::vector<WallContact> out;
+  if (!history_) return out;
+  for (std::size_t c = 0; c < wall_candidates_.size(); ++c)
+    for (std::uint32_t q = wall_begin_[c]; q < wall_begin_[c + 1]; ++q)
+      if (wall_touch_[q]) out.push_back({wall_candidates_[c], wall_ids_[q], wall_hist_[q]});
+  return out;
+}
+
+void VerletList::set_aside_wall_history(const std::vector<std::uint32_t>* to) {
+  wall_carry_ = wall_contacts();
+  if (to) {
+    std::erase_if(wall_carry_, [&](const WallContact& c) { return c.i >= to->size() || (*to)[c.i] == new_particle; });
+    for (WallContact& c : wall_carry_) c.i = (*to)[c.i];
+    std::sort(wall_carry_.begin(), wall_carry_.end(),
+              [](const WallContact& a, const WallContact& b) { return a.i != b.i ? a.i < b.i : a.w < b.w; });
+  }
+  wall_carry_pending_ = true;
+  for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
+  wall_hist_.clear();
+  wall_touch_.clear();
+}
+
+std::pair<std::uint32_t, std::uint32_t> VerletList::wall_entries(std::uint32_t i) const {
+  const auto c = std::lower_bound(wall_candidates_.begin(), wall_candidates_.end(), i);
+  if (c == wall_candidates_.end() || *c != i) return {0, 0};
+  const auto k = static_cast<std::size_t>(c - wall_candidates_.begin());
+  return {wall_begin_[k], wall_begin_[k + 1]};
 }
 
 bool VerletList::needs_rebuild(const ParticleStore& p) const {
@@ -230,16 +285,7 @@ void VerletList::permute(const std::vector<std::uint32_t>& from) {
     pi_[k] = i;
     pj_[k] = j;
   }
-  auto rows = [&](auto& v) {
-    const std::size_t w = walls_.size();
-    if (!w || v.size() != n * w) return;
-    auto out = v;
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t c = 0; c < w; ++c) out[i * w + c] = v[from[i] * w + c];
-    v.swap(out);
-  };
-  rows(wall_hist_);
-  rows(wall_touch_);
+  set_aside_wall_history(&to);
   std::vector<double> tmp;
   for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
   wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
@@ -281,20 +327,8 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
     hist_.resize(kept);
     touch_.resize(kept);
   }
-  // Per particle and wall: the rows of the particles left, zero for new ones.
-  const std::size_t w = walls_.size();
-  if (w && wall_hist_.size() == n_old * w) {
-    std::vector<Vec3> h(n * w);
-    std::vector<std::uint8_t> t(n * w, 0);
-    for (std::size_t i = 0; i < n; ++i)
-      if (from[i] != new_particle)
-        for (std::size_t c = 0; c < w; ++c) {
-          h[i * w + c] = wall_hist_[from[i] * w + c];
-          t[i * w + c] = wall_touch_[from[i] * w + c];
-        }
-    wall_hist_.swap(h);
-    wall_touch_.swap(t);
-  }
+  // The wall contacts of the particles left follow them; new particles have none.
+  set_aside_wall_history(&to);
   // Build positions: the particles' own (a new particle's is where it appeared); the
   // list is built again at the next update, so the new particles find their partners.
   for (auto* v : {&x0_, &y0_, &z0_}) v->resize(n);
@@ -412,10 +446,6 @@ void VerletList::rebuild(const ParticleStore& p) {
     }
     hist_.swap(hist);
     touch_.swap(touch);
-    if (wall_hist_.size() != n * walls_.size()) {
-      wall_hist_.assign(n * walls_.size(), Vec3{});
-      wall_touch_.assign(n * walls_.size(), 0);
-    }
   }
   pi_.swap(pi);
   pj_.swap(pj);

@@ -127,19 +127,26 @@ void RankSplit::permute(const std::vector<std::uint32_t>& from) {
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
   const std::size_t nw = list.walls().size();
   if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};
-  Vec3* const wh = list.wall_history();
-  std::uint8_t* const wt = list.wall_touch();
+  // Every rank lists the same candidates (from the build's positions), so a particle's
+  // row names its listed walls' entries on either side; the others travel as zeros.
+  if (!list.wall_entries_current()) throw std::logic_error("RankSplit: the wall contacts are not listed");
+  VerletList* const l = &list;
   return {4 * nw,
           [=](std::uint32_t i, double* out) {
-            for (std::size_t w = 0; w < nw; ++w, out += 4) {
-              const Vec3 h = wh[i * nw + w];
-              out[0] = h.x; out[1] = h.y; out[2] = h.z; out[3] = wt[i * nw + w];
+            std::fill(out, out + 4 * nw, 0.0);
+            const auto [q0, q1] = l->wall_entries(i);
+            for (std::uint32_t q = q0; q < q1; ++q) {
+              double* const o = out + 4 * l->wall_ids()[q];
+              const Vec3 h = l->wall_history()[q];
+              o[0] = h.x; o[1] = h.y; o[2] = h.z; o[3] = l->wall_touch()[q];
             }
           },
           [=](std::uint32_t i, const double* in) {
-            for (std::size_t w = 0; w < nw; ++w, in += 4) {
-              wh[i * nw + w] = {in[0], in[1], in[2]};
-              wt[i * nw + w] = static_cast<std::uint8_t>(in[3]);
+            const auto [q0, q1] = l->wall_entries(i);
+            for (std::uint32_t q = q0; q < q1; ++q) {
+              const double* const o = in + 4 * l->wall_ids()[q];
+              l->wall_history()[q] = {o[0], o[1], o[2]};
+              l->wall_touch()[q] = static_cast<std::uint8_t>(o[3]);
             }
           }};
 }

@@ -46,7 +46,7 @@ struct OutputMarks {
 /// 6: the mesh contacts (in the contact module's state); 7: the population section
 /// (Simulation::save_population) and outlets.dat's length; 8: the gas's drag gradients
 /// on its fixed faces (GasField::drag_gradient).
-constexpr std::uint32_t checkpoint_format_version = 8;
+constexpr std::uint32_t checkpoint_format_version = 9;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

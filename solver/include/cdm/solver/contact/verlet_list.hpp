@@ -9,8 +9,11 @@
 /// until the next build. A moving wall is listed again, from the build positions, once
 /// its surface may have moved skin/2 since it was listed (Wall::shift_bound): a particle
 /// then still comes no closer than its skin/2 of drift, the wall no closer than its own.
-/// Each listed pair (and each particle and wall) has a tangential-history slot beside
-/// it, carried across rebuilds and reorderings, so the force loop does no hashing.
+/// Each listed pair, and each listed particle–wall candidate, has a tangential-history
+/// slot beside it, carried across rebuilds, relistings and reorderings, so the force
+/// loop does no hashing. A particle has wall slots only for the walls it is listed with
+/// (those within reach at the listing), not one per particle and wall: the few particles
+/// near a wall pay for them, not the whole bed.
 ///
 /// Slabs: at each build the particles' bounding box is cut into slabs along its longest
 /// side (the first, x before y before z, of the sides within a tenth of it), at least one
@@ -51,7 +54,7 @@ class SearchShare {
 class VerletList {
  public:
   /// @p skin [m]: the list's margin; 0 rebuilds at every update. With @p with_history
-  /// each listed pair, and each particle and wall, keeps a tangential-history slot.
+  /// each listed pair, and each listed particle and wall, keeps a tangential-history slot.
   VerletList(std::vector<Wall> walls, bool with_history, double skin);
 
   /// What update() did.
@@ -147,7 +150,8 @@ class VerletList {
   const std::vector<std::uint32_t>& slab_start() const { return slab_start_; }
   std::size_t slab_count() const { return slab_start_.empty() ? 0 : slab_start_.size() - 1; }
   // Tangential history (with_history only): displacement [m] and whether in contact at
-  // the previous evaluation, per listed pair and per particle and wall (i * walls + w).
+  // the previous evaluation, per listed pair and per listed particle and wall (entry q
+  // of wall_ids()).
   Vec3* pair_history() { return hist_.data(); }
   std::uint8_t* pair_touch() { return touch_.data(); }
   Vec3* wall_history() { return wall_hist_.data(); }
@@ -157,6 +161,11 @@ class VerletList {
   const std::vector<std::uint32_t>& wall_candidates() const { return wall_candidates_; }
   const std::vector<std::uint32_t>& wall_begin() const { return wall_begin_; }
   const std::vector<std::uint32_t>& wall_ids() const { return wall_ids_; }
+  /// Particle @p i's entries [q0, q1) of wall_ids() (empty when it is not a candidate).
+  std::pair<std::uint32_t, std::uint32_t> wall_entries(std::uint32_t i) const;
+  /// Whether the wall entries are those of the current order: false from a reordering
+  /// or load_state until the next update lists the candidates again.
+  bool wall_entries_current() const { return !wall_carry_pending_; }
 
   // The thread split of the slabs (never the results).
   /// Before a threaded pass: each slab's estimated cost from its listed pairs and its
@@ -232,6 +241,18 @@ class VerletList {
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
   void rebuild(const ParticleStore& p);
   void list_wall_candidates(const ParticleStore& p);
+  /// One particle–wall contact's history, kept while the candidates are listed anew.
+  struct WallContact {
+    std::uint32_t i, w;  // particle, wall
+    Vec3 h;              // tangential displacement [m]
+  };
+  /// The wall entries in contact, in (particle, wall) order: the carried ones while
+  /// pending, else the listed ones.
+  std::vector<WallContact> wall_contacts() const;
+  /// Sets the wall entries in contact aside for the next listing, renumbered by @p to
+  /// (old slot -> new slot, or new_particle for a particle removed) unless null; the
+  /// entries are dropped until then.
+  void set_aside_wall_history(const std::vector<std::uint32_t>* to);
 
   /// Whether a moving wall may have moved skin/2 since the candidates were listed.
   bool walls_moved_away() const;
@@ -260,9 +281,11 @@ class VerletList {
   SearchShare* share_ = nullptr;  // set_search_share
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
-  std::vector<Vec3> wall_hist_;         // per particle and wall (i * walls + w)
+  std::vector<Vec3> wall_hist_;         // per entry of wall_ids_
   std::vector<std::uint8_t> wall_touch_;
   std::vector<std::uint32_t> wall_candidates_, wall_begin_, wall_ids_;
+  std::vector<WallContact> wall_carry_;  // set_aside_wall_history, in (i, w) order
+  bool wall_carry_pending_ = false;
   bool wall_candidates_stale_ = true;  // after load_state or permute: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
   double displacement_ = -1.0;          // see set_displacement; < 0: measure
