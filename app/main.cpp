@@ -158,6 +158,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     ck = cdm::read_checkpoint(restart);
     cdm::check_restart_origin(ck->origin, origin, restart);
     cdm::restore_checkpoint(*ck, sim, restart);
+    ck->release_state();  // only its output marks are read from here on
   }
   std::cout << "cdm run: " << scene << ": " << sim.particles().size() << " particles, modules:";
   for (const auto& m : sim.module_names()) std::cout << ' ' << m;

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <functional>
+#include <memory>
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/io/durable_file.hpp"
@@ -149,59 +149,109 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
   sync_directory(std::filesystem::path(path).parent_path().string());
 }
 
-CheckpointData read_checkpoint(const std::string& path) {
-  if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
-  in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::uint64_t>(in.tellg());
-  if (size > max_payload + 64) throw CheckpointError(path + ": not a usable checkpoint: larger than any checkpoint");
-  in.seekg(0);
-  std::vector<char> bytes(size);
-  in.read(bytes.data(), static_cast<std::streamsize>(size));
-  if (!in) throw CheckpointError(path + ": reading the checkpoint failed");
-  return read_checkpoint_bytes(bytes, path);
-}
+namespace {
 
-CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {
-  auto refuse = [&](const std::string& why) -> CheckpointError {
-    return CheckpointError(path + ": not a usable checkpoint: " + why);
-  };
-  constexpr std::size_t header = sizeof magic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
-  if (bytes.size() < sizeof magic || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+constexpr std::size_t header_bytes = sizeof magic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+
+/// The header's checks; its body's length and checksum, from @p head (the file's first
+/// min(header_bytes, its size) bytes) and the file's @p size.
+std::pair<std::uint64_t, std::uint64_t> check_header(const char* head, std::uint64_t size,
+                                                     const std::function<CheckpointError(const std::string&)>& refuse) {
+  if (size < sizeof magic || std::memcmp(head, magic, sizeof magic) != 0)
     throw refuse("it does not start with the cdm checkpoint marker");
-  if (bytes.size() < header) throw refuse("its header is truncated");
+  if (size < header_bytes) throw refuse("its header is truncated");
   std::uint32_t version = 0;
   std::uint64_t len = 0, sum = 0;
-  std::memcpy(&version, bytes.data() + 8, sizeof version);
-  std::memcpy(&len, bytes.data() + 12, sizeof len);
-  std::memcpy(&sum, bytes.data() + 20, sizeof sum);
+  std::memcpy(&version, head + 8, sizeof version);
+  std::memcpy(&len, head + 12, sizeof len);
+  std::memcpy(&sum, head + 20, sizeof sum);
   if (version != checkpoint_format_version)
     throw refuse("format version " + std::to_string(version) + ", this cdm reads version " +
                  std::to_string(checkpoint_format_version));
-  const std::uint64_t have = bytes.size() - header;
+  const std::uint64_t have = size - header_bytes;
   if (len != have)
     throw refuse("its header announces " + std::to_string(len) + " bytes of data and the file holds " +
                  std::to_string(have) + " (truncated or corrupted)");
-  const char* body = bytes.data() + header;
-  if (fnv1a64(body, have) != sum) throw refuse("its checksum does not match (corrupted)");
+  return {len, sum};
+}
+
+/// Reads the body's origin and output marks into @p d, then the state's length, which
+/// must be exactly what is left: @p a then stands at the state's first byte.
+void read_head(InArchive& a, CheckpointData& d) {
+  a.get(d.origin.scene_name);
+  a.get(d.origin.scene_text);
+  std::uint64_t no = 0;
+  a.get(no);
+  if (no > 100000) throw ArchiveError("too many overrides");
+  for (std::uint64_t k = 0; k < no; ++k) {
+    SceneOverride o;
+    a.get(o.path);
+    a.get(o.value);
+    d.origin.overrides.push_back(o);
+  }
+  d.outputs = get_marks(a);
+  std::uint64_t n = 0;
+  a.get(n);
+  if (n > a.remaining())
+    throw ArchiveError("an array's length (" + std::to_string(n) + ") does not fit the data that follows");
+  if (n < a.remaining()) throw ArchiveError("it has data after the state");
+}
+
+}  // namespace
+
+CheckpointData read_checkpoint(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
+  auto refuse = [&](const std::string& why) { return CheckpointError(path + ": not a usable checkpoint: " + why); };
+  // The file is read twice, the state never held whole: once for the checksum, then
+  // (restore_checkpoint) into the simulation's arrays, through the handle kept here.
+  std::shared_ptr<std::FILE> file(std::fopen(path.c_str(), "rb"), [](std::FILE* f) {
+    if (f) std::fclose(f);
+  });
+  std::FILE* const f = file.get();
+  if (!f) throw CheckpointError(path + ": cannot open the checkpoint");
+  const auto failed = [&] { return CheckpointError(path + ": reading the checkpoint failed"); };
+  if (fseeko(f, 0, SEEK_END) != 0) throw failed();
+  const off_t end = ftello(f);
+  if (end < 0 || fseeko(f, 0, SEEK_SET) != 0) throw failed();
+  const auto size = static_cast<std::uint64_t>(end);
+  if (size > max_payload + 64) throw refuse("larger than any checkpoint");
+  char head[header_bytes] = {};
+  const std::size_t got = std::fread(head, 1, static_cast<std::size_t>(std::min<std::uint64_t>(size, header_bytes)), f);
+  if (got != std::min<std::uint64_t>(size, header_bytes)) throw failed();
+  const auto [len, sum] = check_header(head, size, refuse);
+  std::vector<char> chunk(std::size_t{1} << 20);
+  std::uint64_t h = fnv1a64_basis;
+  for (std::uint64_t left = len; left > 0;) {
+    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
+    if (std::fread(chunk.data(), 1, k, f) != k) throw failed();
+    h = fnv1a64(chunk.data(), k, h);
+    left -= k;
+  }
+  if (h != sum) throw refuse("its checksum does not match (corrupted)");
+  CheckpointData d;
+  if (fseeko(f, static_cast<off_t>(header_bytes), SEEK_SET) != 0) throw failed();
+  try {
+    InArchive a(f, len);
+    read_head(a, d);
+    d.state_size = a.remaining();
+  } catch (const ArchiveError& e) {
+    throw refuse(e.what());
+  }
+  d.state_at = size - d.state_size;
+  d.file = std::move(file);
+  return d;
+}
+
+CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {
+  auto refuse = [&](const std::string& why) { return CheckpointError(path + ": not a usable checkpoint: " + why); };
+  const auto [len, sum] = check_header(bytes.data(), bytes.size(), refuse);
+  const char* body = bytes.data() + header_bytes;
+  if (fnv1a64(body, len) != sum) throw refuse("its checksum does not match (corrupted)");
   CheckpointData d;
   try {
-    InArchive a(body, have);
-    a.get(d.origin.scene_name);
-    a.get(d.origin.scene_text);
-    std::uint64_t no = 0;
-    a.get(no);
-    if (no > 100000) throw ArchiveError("too many overrides");
-    for (std::uint64_t k = 0; k < no; ++k) {
-      SceneOverride o;
-      a.get(o.path);
-      a.get(o.value);
-      d.origin.overrides.push_back(o);
-    }
-    d.outputs = get_marks(a);
-    a.get(d.state);
-    if (!a.done()) throw ArchiveError("it has data after the state");
+    InArchive a(body, len);
+    read_head(a, d);
+    d.state.assign(body + (len - a.remaining()), body + len);
   } catch (const ArchiveError& e) {
     throw refuse(e.what());
   }
@@ -246,12 +296,24 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
   try {
     // The state opens with the particle count, the step count and the time: the time
     // must be the one the run reaches after that many steps (it advances as steps * dt).
-    InArchive head(data.state.data(), data.state.size());
+    // The state's bytes, in memory or in the checkpoint's file from where they start.
+    const auto state = [&](auto&& use) {
+      if (!data.file) {
+        InArchive a(data.state.data(), data.state.size());
+        return use(a);
+      }
+      if (fseeko(data.file.get(), static_cast<off_t>(data.state_at), SEEK_SET) != 0)
+        throw ArchiveError("reading the file failed");
+      InArchive a(data.file.get(), data.state_size);
+      return use(a);
+    };
     std::uint64_t n = 0, steps = 0;
     double t = 0.0;
-    head.get(n);
-    head.get(steps);
-    head.get(t);
+    state([&](InArchive& head) {
+      head.get(n);
+      head.get(steps);
+      head.get(t);
+    });
     if (!std::isfinite(t))
       throw CheckpointError(path + ": not a usable checkpoint: its time is " + number(t) + ", not a finite number");
     const double expected = static_cast<double>(steps) * sim.dt();
@@ -259,8 +321,7 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
       throw CheckpointError(path + ": not a usable checkpoint: its time t = " + number(t) + " s is not what its " +
                             std::to_string(steps) + " steps of dt = " + number(sim.dt()) + " s give (" +
                             number(expected) + " s)");
-    InArchive a(data.state.data(), data.state.size());
-    sim.load_state(a);
+    state([&](InArchive& a) { sim.load_state(a); });
   } catch (const ArchiveError& e) {
     throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());
   }

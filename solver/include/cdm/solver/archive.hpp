@@ -4,6 +4,7 @@
 /// written in the machine's byte order (a checkpoint restarts on the machine kind
 /// that wrote it). Reading checks every length against what is left, so a truncated
 /// or corrupted archive is refused, never half-read.
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -75,36 +76,67 @@ class OutArchive {
 class InArchive {
  public:
   InArchive(const char* data, std::size_t size) : p_(data), end_(data + size) {}
+  /// The next @p size bytes of @p in, read as they are asked for (a checkpoint's state
+  /// goes from the file into the arrays it restores, never held whole in memory).
+  InArchive(std::FILE* in, std::uint64_t size) : in_(in), unread_(size) {}
+  InArchive(const InArchive&) = delete;
+  InArchive& operator=(const InArchive&) = delete;
   template <class T>
   void get(T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    need(sizeof(T));
-    std::memcpy(&v, p_, sizeof(T));
-    p_ += sizeof(T);
+    read(&v, sizeof(T));
   }
   template <class T>
   void get(std::vector<T>& v, std::uint64_t max_elements = UINT64_MAX) {
     std::uint64_t n = 0;
     get(n);
-    if (n > max_elements || n > static_cast<std::uint64_t>(end_ - p_) / sizeof(T))
+    if (n > max_elements || n > remaining() / sizeof(T))
       throw ArchiveError("an array's length (" + std::to_string(n) + ") does not fit the data that follows");
     v.resize(n);
-    if (n) std::memcpy(v.data(), p_, n * sizeof(T));  // an empty vector's data() may be null
-    p_ += n * sizeof(T);
+    if (n) read(v.data(), n * sizeof(T));  // an empty vector's data() may be null
   }
   void get(std::string& s) {
     std::vector<char> c;
     get(c);
     s.assign(c.begin(), c.end());
   }
-  bool done() const { return p_ == end_; }
+  /// The bytes not read yet.
+  std::uint64_t remaining() const { return static_cast<std::uint64_t>(end_ - p_) + unread_; }
+  bool done() const { return remaining() == 0; }
 
  private:
-  void need(std::size_t n) const {
-    if (static_cast<std::size_t>(end_ - p_) < n) throw ArchiveError("the data ends early");
+  void read(void* to, std::size_t n) {
+    if (remaining() < n) throw ArchiveError("the data ends early");
+    char* d = static_cast<char*>(to);
+    const std::size_t held = std::min<std::size_t>(n, static_cast<std::size_t>(end_ - p_));
+    if (held) std::memcpy(d, p_, held);
+    p_ += held;
+    d += held;
+    n -= held;
+    if (n == 0) return;
+    // From the file: a large read straight into place, a small one through the buffer.
+    if (n >= kBuffer) {
+      fill(d, n);
+      return;
+    }
+    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(kBuffer, unread_));
+    buffer_.resize(k);
+    fill(buffer_.data(), k);
+    p_ = buffer_.data();
+    end_ = p_ + k;
+    std::memcpy(d, p_, n);
+    p_ += n;
   }
-  const char* p_;
-  const char* end_;
+  void fill(char* d, std::size_t n) {
+    if (std::fread(d, 1, n, in_) != n) throw ArchiveError("reading the file failed");
+    unread_ -= n;
+  }
+  static constexpr std::size_t kBuffer = std::size_t{1} << 16;
+  const char* p_ = nullptr;
+  const char* end_ = nullptr;
+  std::FILE* in_ = nullptr;
+  std::uint64_t unread_ = 0;  // bytes of the file not read yet
+  std::vector<char> buffer_;
 };
 
 }  // namespace cdm

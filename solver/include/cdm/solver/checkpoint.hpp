@@ -7,6 +7,8 @@
 /// taken. Written to a temporary file, fsync'ed and renamed into place (and the
 /// directory fsync'ed), so a crash mid-write leaves the previous checkpoint intact.
 #include <cstdint>
+#include <cstdio>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -45,7 +47,8 @@ struct OutputMarks {
 
 /// 6: the mesh contacts (in the contact module's state); 7: the population section
 /// (Simulation::save_population) and outlets.dat's length; 8: the gas's drag gradients
-/// on its fixed faces (GasField::drag_gradient).
+/// on its fixed faces (GasField::drag_gradient); 9: the contact list's wall history as
+/// the wall contacts only (particle, wall, displacement), not a slot per particle and wall.
 constexpr std::uint32_t checkpoint_format_version = 9;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
@@ -55,12 +58,22 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
                       const OutputMarks& marks = {});
 
 /// Read and verify a checkpoint (magic, version, length, checksum) and return its origin,
-/// output marks and the state payload. Throws CheckpointError naming the file and what
-/// is wrong.
+/// output marks and where its state is: read_checkpoint keeps the file open and notes
+/// where in it the state lies (so that a restart never holds the state twice in memory),
+/// read_checkpoint_bytes copies the state's bytes. Throws CheckpointError naming the
+/// file and what is wrong.
 struct CheckpointData {
   RunOrigin origin;
   OutputMarks outputs;
-  std::vector<char> state;
+  std::vector<char> state;            // read_checkpoint_bytes
+  std::shared_ptr<std::FILE> file;    // read_checkpoint: the verified file, open
+  std::uint64_t state_at = 0;         // where its state starts [bytes]
+  std::uint64_t state_size = 0;       // [bytes]
+  /// Frees the state (its bytes, or the file) once it has been restored.
+  void release_state() {
+    std::vector<char>().swap(state);
+    file.reset();
+  }
 };
 CheckpointData read_checkpoint(const std::string& path);
 /// The same, from bytes already in memory (@p name is used in messages).
