@@ -119,6 +119,11 @@ rolling=("${settle[@]}" --set 'modules.rolling_resistance="constant_torque"' --s
          --set 'contacts[1].rolling_mu=0.2')
 shared "rolling resistance" 3 "${rolling[@]}"
 
+# Hertz-Mindlin friction reads both particles' step velocities and spins, a ghost's too,
+# and the pile's rolling resistance their spins: the pile on 3 processes.
+shared "Hertz-Mindlin pile" 3 "$src/tests/cli/scenes/hertz_pile.toml" --set integrator.end_time=0.004 \
+  --set output.interval=0.0005
+
 # Insertions (from 0.05 s) and an outlet (the lattice's corner leaves at once): particles
 # enter and leave the whole, gathered state alike on every process.
 fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.07 --set output.log_interval=0.002

@@ -15,6 +15,7 @@ namespace cdm {
 ContactModule::ContactModule(PairTable pairs, std::vector<Wall> walls, bool with_friction, double skin,
                              bool record_normal_forces)
     : pairs_(std::move(pairs)), friction_(with_friction), record_(record_normal_forces),
+      spins_shared_(record_normal_forces),
       list_(std::move(walls), with_friction, skin) {
   const bool lin = pairs_.uses(ContactLaw::linear_spring_dashpot), hz = pairs_.uses(ContactLaw::hertz_mindlin);
   laws_ = lin && hz ? LawsPresent::both : hz ? LawsPresent::hertz : LawsPresent::linear;
@@ -74,6 +75,16 @@ void ContactModule::dispatch(ParticleStore& p, double dt) {
 void ContactModule::set_ranks(RankSplit* r) {
   ranks_ = r;
   if (r && mesh_) r->set_meshes(&*mesh_);
+  if (r) {
+    // What the pair loops read of a ghost's step velocities (StepVelocities): Hertz–Mindlin
+    // friction both particles' velocities and spins, rolling resistance (which reads the
+    // recorded normal forces) their spins; the linear law neither.
+    const bool hertz_friction = friction_ && laws_ != LawsPresent::linear;
+    std::vector<const std::vector<double>*> read;
+    if (hertz_friction) read = {step_.vx, step_.vy, step_.vz};
+    if (hertz_friction || spins_shared_) read.insert(read.end(), {step_.wx, step_.wy, step_.wz});
+    r->set_ghost_extras(read);
+  }
   list_.set_search_share(r);
   if (!r) list_.clear_rank_slabs();
 }

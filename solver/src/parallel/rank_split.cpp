@@ -36,7 +36,9 @@ std::vector<std::vector<double>*> RankSplit::ghost_arrays(ParticleStore& p) cons
   std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz};
   if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz});
   for (auto* e : extra_)
-    if (e->size() == p.size()) a.push_back(e);
+    if (e->size() == p.size() &&
+        (!ghost_extras_set_ || std::find(ghost_extras_.begin(), ghost_extras_.end(), e) != ghost_extras_.end()))
+      a.push_back(e);
   return a;
 }
 

@@ -93,6 +93,12 @@ class RankSplit final : public SearchShare {
   /// The per-particle arrays besides the store's that the step carries (the
   /// integrator's half-step velocities), exchanged with the store's.
   void set_extra_arrays(std::vector<std::vector<double>*> extra) { extra_ = std::move(extra); }
+  /// Of those, the ones the pair loop reads of a ghost (ContactModule::set_ranks); the
+  /// ghosts carry all of them until this is called.
+  void set_ghost_extras(std::vector<const std::vector<double>*> read) {
+    ghost_extras_ = std::move(read);
+    ghost_extras_set_ = true;
+  }
   /// The per-particle arrays the force modules keep between evaluations
   /// (ForceModule::share_among), which travel with the state when it is gathered and with
   /// a particle that changes rank at assign() (not with the ghosts, whose forces their
@@ -196,12 +202,15 @@ class RankSplit final : public SearchShare {
   /// @p with_carried carried_.
   std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p, bool with_carried = false) const;
   /// What the pair loop reads of a ghost: its position, velocity, spin and the extra_
-  /// arrays (the integrator's step velocities); not its forces (its owner sums them)
-  /// nor the drag's values (its owner evaluates the drag).
+  /// arrays it reads (set_ghost_extras: the integrator's step velocities, for
+  /// Hertz–Mindlin friction and rolling resistance); not its forces (its owner sums
+  /// them) nor the drag's values (its owner evaluates the drag).
   std::vector<std::vector<double>*> ghost_arrays(ParticleStore& p) const;
 
   int rank_, size_;
   std::vector<std::vector<double>*> extra_, carried_;
+  std::vector<const std::vector<double>*> ghost_extras_;  // set_ghost_extras
+  bool ghost_extras_set_ = false;
   MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()

@@ -155,6 +155,7 @@ class ContactModule final : public ForceModule {
   PairTable pairs_;
   bool friction_;
   bool record_;
+  bool spins_shared_;  // a module reads the step spins through these contacts (rolling resistance)
   LawsPresent laws_;
   VerletList list_;
   // When every free particle has one mass m (a monodisperse bed), m* takes two values,
