@@ -14,7 +14,7 @@ namespace cdm {
 
 ContactModule::ContactModule(PairTable pairs, std::vector<Wall> walls, bool with_friction, double skin,
                              bool record_normal_forces)
-    : pairs_(std::move(pairs)), friction_(with_friction), record_(record_normal_forces),
+    : pairs_(std::move(pairs)), friction_(with_friction), record_(record_normal_forces), record_vectors_(false),
       spins_shared_(record_normal_forces),
       list_(std::move(walls), with_friction, skin) {
   const bool lin = pairs_.uses(ContactLaw::linear_spring_dashpot), hz = pairs_.uses(ContactLaw::hertz_mindlin);
@@ -40,13 +40,13 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   if (ranks_ && (u.rebuilt || !ranks_->assigned_for(list_.builds()))) ranks_->assign(list_, p);
   if (u.rebuilt || damping_stale_) tabulate_damping(p);
   if (record_) {
+    // Per listed pair and per wall entry of the list; the force vectors only for a probe.
+    const std::size_t nq = list_.wall_ids().size();
     fn_pair_.resize(list_.size());
-    fv_pair_.resize(6 * list_.size());
-    // The wall loop writes only the candidates' entries: the others are not in contact.
-    const std::size_t nw = list_.walls().size();
-    if (u.walls_listed) fn_wall_.assign(p.size() * nw, -1.0);
-    else fn_wall_.resize(p.size() * nw);
-    fv_wall_.resize(3 * p.size() * nw);
+    fv_pair_.resize(record_vectors_ ? 6 * list_.size() : 0);
+    if (u.walls_listed) fn_wall_.assign(nq, -1.0);
+    else fn_wall_.resize(nq);
+    fv_wall_.resize(record_vectors_ ? 3 * nq : 0);
   }
   // One compiled kernel per (friction, laws present, recording): no per-pair dispatch
   // unless both laws are present, and nothing recorded unless a module reads it.
@@ -201,7 +201,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     Vec3* const HIST = list_.pair_history();
     std::uint8_t* const TOUCH = list_.pair_touch();
     double* const FN = fn_pair_.data();
-    double* const FV = fv_pair_.data();
+    double* const FV = fv_pair_.empty() ? nullptr : fv_pair_.data();
     // η_n per material pair when every free particle has one mass (tabulate_damping).
     const double* const ETA_N = eta_n_common_.empty() ? nullptr : eta_n_common_.data();
     const std::size_t nmat = pairs_.size();
@@ -299,9 +299,11 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const Vec3 f = c.total, ft = c.tangential;
         if constexpr (record) {
           FN[k] = c.normal_magnitude;
-          double* const fv = FV + 6 * static_cast<std::size_t>(k);
-          fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
-          fv[3] = ft.x; fv[4] = ft.y; fv[5] = ft.z;
+          if (FV) {
+            double* const fv = FV + 6 * static_cast<std::size_t>(k);
+            fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
+            fv[3] = ft.x; fv[4] = ft.y; fv[5] = ft.z;
+          }
         }
         FX[i] += f.x; FY[i] += f.y; FZ[i] += f.z;
         FX[j] -= f.x; FY[j] -= f.y; FZ[j] -= f.z;
@@ -383,7 +385,6 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
   auto wall_contact = [&]<bool Moving>(std::uint32_t i, std::size_t w, std::size_t q, const Wall& wall, double dist,
                                       double overlap, Vec3 eta, Vec3 v_wall, OverlapRecord& my_worst)
                                       __attribute__((always_inline)) {
-    const std::size_t ii = i;
     const double Li = dist;  // centre to contact point on the surface
     Vec3 vrel = p.velocity(i);
     if constexpr (Moving) vrel -= v_wall;
@@ -402,9 +403,11 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
     const Vec3 f = cf.total, ft = cf.tangential;
     if constexpr (record) {
-      fn_wall_[ii * nw + w] = cf.normal_magnitude;
-      double* const fv = &fv_wall_[3 * (ii * nw + w)];
-      fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
+      fn_wall_[q] = cf.normal_magnitude;
+      if (!fv_wall_.empty()) {
+        double* const fv = &fv_wall_[3 * q];
+        fv[0] = f.x; fv[1] = f.y; fv[2] = f.z;
+      }
     }
     p.add_force(i, f);
     if constexpr (Friction) p.add_torque(i, Li * cross(eta, ft));
@@ -419,7 +422,6 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     for (std::size_t c = c0; c < c1; ++c) {
       const std::uint32_t i = candidates[c];
       if (own && !own[i]) continue;  // another rank's particle
-      const std::size_t ii = i;
       for (std::uint32_t q = wall_begin[c]; q < wall_begin[c + 1]; ++q) {
         const std::size_t w = wall_ids[q];
         const Wall& wall = walls[w];
@@ -436,7 +438,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         const double overlap = p.radius[i] - g.gap;
         if (overlap <= 0.0) {
           if constexpr (Friction) WTOUCH[q] = 0;
-          if constexpr (record) fn_wall_[ii * nw + w] = -1.0;
+          if constexpr (record) fn_wall_[q] = -1.0;
           continue;
         }
         ++my_active;

@@ -69,20 +69,24 @@ void RollingResistanceModule::wall_torques(ParticleStore& p, double dt, FreeSpin
   const PairTable& pairs = c_.pairs();
   const std::vector<double>& fn_wall = c_.wall_normal_force();
   const std::vector<Wall>& walls = c_.walls();
-  const std::size_t n = p.size(), nw = walls.size();
-  // Among ranks, the owner of each particle (as for the contact module's walls).
+  const VerletList& list = c_.list();
+  const std::vector<std::uint32_t>& candidates = list.wall_candidates();
+  const std::vector<std::uint32_t>& wall_begin = list.wall_begin();
+  const std::vector<std::uint32_t>& wall_ids = list.wall_ids();
+  // Among ranks, the owner of each particle (as for the contact module's walls). Each
+  // particle's walls in wall order, as the contact module visited them.
   const std::uint8_t* const own = c_.ranks() ? c_.ranks()->owned().data() : nullptr;
-  parallel_for(n, [&](std::size_t ii) {
-    if (own && !own[ii]) return;
-    const auto i = static_cast<std::uint32_t>(ii);
-    for (std::size_t w = 0; w < nw; ++w) {
-      const double fn = fn_wall[ii * nw + w];
+  parallel_for(candidates.size(), [&](std::size_t c) {
+    const std::uint32_t i = candidates[c];
+    if (own && !own[i]) return;
+    for (std::uint32_t q = wall_begin[c]; q < wall_begin[c + 1]; ++q) {
+      const double fn = fn_wall[q];
       if (fn < 0.0) continue;
-      const PairParams& pp = pairs.get(p.material[i], walls[w].material);
+      const Wall& wall = walls[wall_ids[q]];
+      const PairParams& pp = pairs.get(p.material[i], wall.material);
       if (pp.rolling_mu == 0.0) continue;
       // Against a wall: ω_rel = ω_i − the wall's spin, R* = R_i, I* = I_i; the normal
       // that of the contact just evaluated (the same positions and wall).
-      const Wall& wall = walls[w];
       const Vec3 eta = wall.shape == WallShape::plane ? -wall.normal : -wall.gap(p.position(i), p.radius[i]).normal;
       const Vec3 t = contact::rolling_torque(pp.rolling_mu, p.radius[i], fn, free_spin(i) - wall.motion.spin(), eta,
                                              1.0 / p.inv_inertia[i], dt);

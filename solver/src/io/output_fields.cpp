@@ -63,15 +63,16 @@ std::vector<double> wall_forces(const Simulation& sim) {
   probe.set_recording(true);
   p.clear_forces();
   probe.add_forces(p, 0.0);
-  const std::size_t nw = probe.walls().size();
+  const VerletList& list = probe.list();
   const std::vector<double>& fn = probe.wall_normal_force();
   const std::vector<double>& fv = probe.wall_force();
-  std::vector<double> f(3 * nw, 0.0);
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const std::size_t s = p.slot_of(k);
-    for (std::size_t w = 0; w < nw; ++w) {
-      if (fn[s * nw + w] < 0.0) continue;
-      for (std::size_t a = 0; a < 3; ++a) f[3 * w + a] += fv[3 * (s * nw + w) + a];
+  std::vector<double> f(3 * probe.walls().size(), 0.0);
+  for (std::size_t k = 0; k < p.size(); ++k) {  // in identity order: the same on any ranks
+    const auto [q0, q1] = list.wall_entries(p.slot_of(k));
+    for (std::uint32_t q = q0; q < q1; ++q) {
+      if (fn[q] < 0.0) continue;
+      const std::size_t w = list.wall_ids()[q];
+      for (std::size_t a = 0; a < 3; ++a) f[3 * w + a] += fv[3 * q + a];
     }
   }
   return f;

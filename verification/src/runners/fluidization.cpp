@@ -169,9 +169,10 @@ RunOutput fluidization(const CaseDef& /*c*/, const Variant& v, const RunConfig& 
   auto walls_force = [&] {
     const std::vector<double>& fn = contacts.wall_normal_force();
     const std::vector<Wall>& walls = contacts.walls();
+    const std::vector<std::uint32_t>& wall_of = contacts.list().wall_ids();  // per entry of fn
     double f = 0.0;
-    for (std::size_t i = 0; i < fn.size(); ++i)
-      if (fn[i] > 0.0) f += fn[i] * walls[i % walls.size()].normal.y;
+    for (std::size_t q = 0; q < fn.size(); ++q)
+      if (fn[q] > 0.0) f += fn[q] * walls[wall_of[q]].normal.y;
     return f / area;
   };
   // The same with the pressure-gradient part as the gas's faces hold it: the solids

@@ -109,14 +109,17 @@ class ContactModule final : public ForceModule {
   const std::vector<double>& pair_normal_force() const { return fn_pair_; }
   /// The force on the pair's first particle i from its second j, and its tangential part
   /// [N], per listed pair: 6 values (total x y z, tangential x y z), valid where
-  /// pair_normal_force() is not -1 (recording on).
+  /// pair_normal_force() is not -1 (set_recording on).
   const std::vector<double>& pair_force() const { return fv_pair_; }
-  /// Recording on or off (e.g. on a copy that evaluates the contacts for output).
-  void set_recording(bool on) { record_ = on; }
-  /// |F_n| [N] per particle and wall (i * walls + w), or -1 where not in contact.
+  /// Recording on or off, the force vectors (pair_force, wall_force) with it (e.g. on a
+  /// copy that evaluates the contacts for output). A module constructed with
+  /// record_normal_forces records the normal forces only.
+  void set_recording(bool on) { record_ = record_vectors_ = on; }
+  /// |F_n| [N] per wall entry of the list (entry q of list().wall_ids(): a listed
+  /// particle and wall), or -1 where not in contact.
   const std::vector<double>& wall_normal_force() const { return fn_wall_; }
-  /// The force on particle i from wall w [N], 3 values per particle and wall
-  /// (3 (i * walls + w) + axis), valid where wall_normal_force() is not -1 (recording on).
+  /// The force on the entry's particle from its wall [N], 3 values per wall entry
+  /// (3 q + axis), valid where wall_normal_force() is not -1 (set_recording on).
   const std::vector<double>& wall_force() const { return fv_wall_; }
   /// |F_n| [N] per mesh contact of the current evaluation, in meshes()->contacts() order
   /// (recording on).
@@ -155,6 +158,7 @@ class ContactModule final : public ForceModule {
   PairTable pairs_;
   bool friction_;
   bool record_;
+  bool record_vectors_;  // set_recording: the force vectors as well
   bool spins_shared_;  // a module reads the step spins through these contacts (rolling resistance)
   LawsPresent laws_;
   VerletList list_;
@@ -165,9 +169,9 @@ class ContactModule final : public ForceModule {
   std::vector<double> eta_n_common_;
   bool damping_stale_ = true;
   std::vector<double> fn_pair_, fn_wall_;     // record_: |F_n| [N] or -1
-  std::vector<double> fv_wall_;               // record_: the wall's force on the particle [N]
+  std::vector<double> fv_wall_;               // record_vectors_: the wall's force on the particle [N]
   std::vector<double> fn_mesh_;               // record_: |F_n| [N] per mesh contact
-  std::vector<double> fv_pair_;               // record_: total and tangential force per pair
+  std::vector<double> fv_pair_;               // record_vectors_: total and tangential force per pair
   StepVelocities step_;                       // see set_step_velocities
   Prefetch prefetch_ = Prefetch::automatic;
   bool prefetched_ = false;
