@@ -1,5 +1,6 @@
 #include "cdm/solver/io/output_fields.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "cdm/solver/simulation.hpp"
@@ -14,18 +15,41 @@ ContactModule probe_of(const Simulation& sim) {
   probe.set_ranks(nullptr);
   return probe;
 }
+
+/// The forces and torques (fx fy fz tx ty tz) @p probe's contacts give the run's own
+/// particles. They are evaluated on the run's store with its force and torque arrays
+/// set aside meanwhile (zeroed ones in their place) and put back before this returns or
+/// throws: a copy of the store would cost its whole size (about 150 B a particle) at
+/// every output. The observers hold the simulation const; its store is not, and only
+/// these six arrays change hands.
+std::array<std::vector<double>, 6> probe_forces(const Simulation& sim, ContactModule& probe) {
+  ParticleStore& p = const_cast<ParticleStore&>(sim.particles());
+  const std::array<std::vector<double>*, 6> run = {&p.fx, &p.fy, &p.fz, &p.tx, &p.ty, &p.tz};
+  std::array<std::vector<double>, 6> out;
+  for (std::size_t a = 0; a < 6; ++a) out[a].assign(run[a]->size(), 0.0);
+  struct SetAside {
+    const std::array<std::vector<double>*, 6>& run;
+    std::array<std::vector<double>, 6>& out;
+    SetAside(const std::array<std::vector<double>*, 6>& r, std::array<std::vector<double>, 6>& o) : run(r), out(o) { swap(); }
+    ~SetAside() { swap(); }
+    void swap() {
+      for (std::size_t a = 0; a < 6; ++a) run[a]->swap(out[a]);
+    }
+  } aside(run, out);
+  probe.add_forces(p, 0.0);
+  return out;  // after aside's destructor: the probe's arrays
+}
 }  // namespace
 
 std::vector<double> contact_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
-  ParticleStore p = sim.particles();
+  const ParticleStore& p = sim.particles();
   ContactModule probe = probe_of(sim);
-  p.clear_forces();
-  probe.add_forces(p, 0.0);
+  const std::array<std::vector<double>, 6> fc = probe_forces(sim, probe);
   std::vector<double> f(3 * p.size());
   for (std::size_t k = 0; k < p.size(); ++k) {
     const std::size_t s = p.slot_of(k);
-    f[3 * k] = p.fx[s]; f[3 * k + 1] = p.fy[s]; f[3 * k + 2] = p.fz[s];
+    f[3 * k] = fc[0][s]; f[3 * k + 1] = fc[1][s]; f[3 * k + 2] = fc[2][s];
   }
   return f;
 }
@@ -33,11 +57,10 @@ std::vector<double> contact_forces(const Simulation& sim) {
 ContactNetwork contact_network(const Simulation& sim) {
   ContactNetwork net;
   if (!sim.contact()) return net;
-  ParticleStore p = sim.particles();
+  const ParticleStore& p = sim.particles();
   ContactModule probe = probe_of(sim);
   probe.set_recording(true);
-  p.clear_forces();
-  probe.add_forces(p, 0.0);
+  probe_forces(sim, probe);
   const VerletList& list = probe.list();
   const std::vector<double>& fn = probe.pair_normal_force();
   const std::vector<double>& fv = probe.pair_force();
@@ -58,11 +81,10 @@ ContactNetwork contact_network(const Simulation& sim) {
 
 std::vector<double> wall_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
-  ParticleStore p = sim.particles();
+  const ParticleStore& p = sim.particles();
   ContactModule probe = probe_of(sim);
   probe.set_recording(true);
-  p.clear_forces();
-  probe.add_forces(p, 0.0);
+  probe_forces(sim, probe);
   const VerletList& list = probe.list();
   const std::vector<double>& fn = probe.wall_normal_force();
   const std::vector<double>& fv = probe.wall_force();

@@ -12,9 +12,10 @@ class Simulation;
 /// The total contact force [N] on each particle (particle–particle and particle–wall),
 /// x y z per particle in identity order; empty without contacts. The simulation adds
 /// contact forces into the same array as every other force, so they are evaluated
-/// afresh here, on copies of the particles and of the contact module (its lists and
-/// tangential history), at the state the outputs write: positions and velocities at
-/// time(), the tangential springs as the last step left them, not advanced (Δt = 0).
+/// afresh here, by a copy of the contact module (its lists and tangential history) on
+/// the particles with their force arrays set aside, at the state the outputs write:
+/// positions and velocities at time(), the tangential springs as the last step left
+/// them, not advanced (Δt = 0).
 /// The forces of the last step were evaluated at the same positions with velocities one
 /// kick earlier, so the two differ by the damping of that velocity change.
 std::vector<double> contact_forces(const Simulation& sim);
