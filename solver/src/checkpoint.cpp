@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <memory>
 
 #include "cdm/solver/archive.hpp"
@@ -153,25 +152,29 @@ namespace {
 
 constexpr std::size_t header_bytes = sizeof magic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
 
+/// The refusal of the checkpoint at @p path, for the reason @p why.
+CheckpointError unusable(const std::string& path, const std::string& why) {
+  return CheckpointError(path + ": not a usable checkpoint: " + why);
+}
+
 /// The header's checks; its body's length and checksum, from @p head (the file's first
 /// min(header_bytes, its size) bytes) and the file's @p size.
-std::pair<std::uint64_t, std::uint64_t> check_header(const char* head, std::uint64_t size,
-                                                     const std::function<CheckpointError(const std::string&)>& refuse) {
+std::pair<std::uint64_t, std::uint64_t> check_header(const char* head, std::uint64_t size, const std::string& path) {
   if (size < sizeof magic || std::memcmp(head, magic, sizeof magic) != 0)
-    throw refuse("it does not start with the cdm checkpoint marker");
-  if (size < header_bytes) throw refuse("its header is truncated");
+    throw unusable(path, "it does not start with the cdm checkpoint marker");
+  if (size < header_bytes) throw unusable(path, "its header is truncated");
   std::uint32_t version = 0;
   std::uint64_t len = 0, sum = 0;
   std::memcpy(&version, head + 8, sizeof version);
   std::memcpy(&len, head + 12, sizeof len);
   std::memcpy(&sum, head + 20, sizeof sum);
   if (version != checkpoint_format_version)
-    throw refuse("format version " + std::to_string(version) + ", this cdm reads version " +
-                 std::to_string(checkpoint_format_version));
+    throw unusable(path, "format version " + std::to_string(version) + ", this cdm reads version " +
+                             std::to_string(checkpoint_format_version));
   const std::uint64_t have = size - header_bytes;
   if (len != have)
-    throw refuse("its header announces " + std::to_string(len) + " bytes of data and the file holds " +
-                 std::to_string(have) + " (truncated or corrupted)");
+    throw unusable(path, "its header announces " + std::to_string(len) + " bytes of data and the file holds " +
+                             std::to_string(have) + " (truncated or corrupted)");
   return {len, sum};
 }
 
@@ -201,7 +204,6 @@ void read_head(InArchive& a, CheckpointData& d) {
 
 CheckpointData read_checkpoint(const std::string& path) {
   if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
-  auto refuse = [&](const std::string& why) { return CheckpointError(path + ": not a usable checkpoint: " + why); };
   // The file is read twice, the state never held whole: once for the checksum, then
   // (restore_checkpoint) into the simulation's arrays, through the handle kept here.
   std::shared_ptr<std::FILE> file(std::fopen(path.c_str(), "rb"), [](std::FILE* f) {
@@ -214,11 +216,11 @@ CheckpointData read_checkpoint(const std::string& path) {
   const off_t end = ftello(f);
   if (end < 0 || fseeko(f, 0, SEEK_SET) != 0) throw failed();
   const auto size = static_cast<std::uint64_t>(end);
-  if (size > max_payload + 64) throw refuse("larger than any checkpoint");
+  if (size > max_payload + 64) throw unusable(path, "larger than any checkpoint");
   char head[header_bytes] = {};
-  const std::size_t got = std::fread(head, 1, static_cast<std::size_t>(std::min<std::uint64_t>(size, header_bytes)), f);
-  if (got != std::min<std::uint64_t>(size, header_bytes)) throw failed();
-  const auto [len, sum] = check_header(head, size, refuse);
+  const auto head_size = static_cast<std::size_t>(std::min<std::uint64_t>(size, header_bytes));
+  if (std::fread(head, 1, head_size, f) != head_size) throw failed();
+  const auto [len, sum] = check_header(head, size, path);
   std::vector<char> chunk(std::size_t{1} << 20);
   std::uint64_t h = fnv1a64_basis;
   for (std::uint64_t left = len; left > 0;) {
@@ -227,7 +229,7 @@ CheckpointData read_checkpoint(const std::string& path) {
     h = fnv1a64(chunk.data(), k, h);
     left -= k;
   }
-  if (h != sum) throw refuse("its checksum does not match (corrupted)");
+  if (h != sum) throw unusable(path, "its checksum does not match (corrupted)");
   CheckpointData d;
   if (fseeko(f, static_cast<off_t>(header_bytes), SEEK_SET) != 0) throw failed();
   try {
@@ -235,7 +237,7 @@ CheckpointData read_checkpoint(const std::string& path) {
     read_head(a, d);
     d.state_size = a.remaining();
   } catch (const ArchiveError& e) {
-    throw refuse(e.what());
+    throw unusable(path, e.what());
   }
   d.state_at = size - d.state_size;
   d.file = std::move(file);
@@ -243,17 +245,16 @@ CheckpointData read_checkpoint(const std::string& path) {
 }
 
 CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {
-  auto refuse = [&](const std::string& why) { return CheckpointError(path + ": not a usable checkpoint: " + why); };
-  const auto [len, sum] = check_header(bytes.data(), bytes.size(), refuse);
+  const auto [len, sum] = check_header(bytes.data(), bytes.size(), path);
   const char* body = bytes.data() + header_bytes;
-  if (fnv1a64(body, len) != sum) throw refuse("its checksum does not match (corrupted)");
+  if (fnv1a64(body, len) != sum) throw unusable(path, "its checksum does not match (corrupted)");
   CheckpointData d;
   try {
     InArchive a(body, len);
     read_head(a, d);
     d.state.assign(body + (len - a.remaining()), body + len);
   } catch (const ArchiveError& e) {
-    throw refuse(e.what());
+    throw unusable(path, e.what());
   }
   return d;
 }
@@ -268,9 +269,7 @@ std::string number(double v) {
 
 /// The restored state holds finite numbers only (a scene's are checked when it is read).
 void check_finite(const Simulation& sim, const std::string& path) {
-  auto refuse = [&](const std::string& what) {
-    throw CheckpointError(path + ": not a usable checkpoint: " + what + " (a run never writes one)");
-  };
+  auto refuse = [&](const std::string& what) { throw unusable(path, what + " (a run never writes one)"); };
   const ParticleStore& p = sim.particles();
   const std::pair<const char*, const std::vector<double>*> fields[] = {
       {"x", &p.x}, {"y", &p.y}, {"z", &p.z}, {"vx", &p.vx}, {"vy", &p.vy}, {"vz", &p.vz},
@@ -315,12 +314,11 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
       head.get(t);
     });
     if (!std::isfinite(t))
-      throw CheckpointError(path + ": not a usable checkpoint: its time is " + number(t) + ", not a finite number");
+      throw unusable(path, "its time is " + number(t) + ", not a finite number");
     const double expected = static_cast<double>(steps) * sim.dt();
     if (t != expected)
-      throw CheckpointError(path + ": not a usable checkpoint: its time t = " + number(t) + " s is not what its " +
-                            std::to_string(steps) + " steps of dt = " + number(sim.dt()) + " s give (" +
-                            number(expected) + " s)");
+      throw unusable(path, "its time t = " + number(t) + " s is not what its " + std::to_string(steps) +
+                               " steps of dt = " + number(sim.dt()) + " s give (" + number(expected) + " s)");
     state([&](InArchive& a) { sim.load_state(a); });
   } catch (const ArchiveError& e) {
     throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());

@@ -70,15 +70,11 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   // Wall contacts: of listed particles and walls, in strictly increasing (i, w) order.
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
-    ok = wi[k] < n && ww[k] < walls_.size() &&
-         (k == 0 || wi[k - 1] < wi[k] || (wi[k - 1] == wi[k] && ww[k - 1] < ww[k]));
+    ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
   if (!ok) throw ArchiveError("the contact list is inconsistent");
   wall_carry_.resize(wi.size());
   for (std::size_t k = 0; k < wi.size(); ++k) wall_carry_[k] = {wi[k], ww[k], wh[k]};
-  wall_carry_pending_ = true;
-  for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
-  wall_hist_.clear();
-  wall_touch_.clear();
+  drop_wall_entries();
   built_ = built;
   builds_ = builds;
   displacement_ = -1.0;
@@ -117,8 +113,9 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
       if (filter && !(reach < p.radius[i] + skin_)) continue;
       wall_ids_.push_back(static_cast<std::uint32_t>(w));
       if (!history_) continue;
-      while (carry != carry_end && (carry->i < i || (carry->i == i && carry->w < w))) ++carry;
-      const bool carried = carry != carry_end && carry->i == i && carry->w == w;
+      const std::uint64_t key = wall_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w));
+      while (carry != carry_end && carry->key() < key) ++carry;
+      const bool carried = carry != carry_end && carry->key() == key;
       wall_hist_.push_back(carried ? carry->h : Vec3{});
       wall_touch_.push_back(carried ? 1 : 0);
     }
@@ -147,8 +144,12 @@ void VerletList::set_aside_wall_history(const std::vector<std::uint32_t>* to) {
     std::erase_if(wall_carry_, [&](const WallContact& c) { return c.i >= to->size() || (*to)[c.i] == new_particle; });
     for (WallContact& c : wall_carry_) c.i = (*to)[c.i];
     std::sort(wall_carry_.begin(), wall_carry_.end(),
-              [](const WallContact& a, const WallContact& b) { return a.i != b.i ? a.i < b.i : a.w < b.w; });
+              [](const WallContact& a, const WallContact& b) { return a.key() < b.key(); });
   }
+  drop_wall_entries();
+}
+
+void VerletList::drop_wall_entries() {
   wall_carry_pending_ = true;
   for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
   wall_hist_.clear();

@@ -27,17 +27,18 @@ std::array<std::vector<double>, 6> probe_forces(const Simulation& sim, ContactMo
   const std::array<std::vector<double>*, 6> run = {&p.fx, &p.fy, &p.fz, &p.tx, &p.ty, &p.tz};
   std::array<std::vector<double>, 6> out;
   for (std::size_t a = 0; a < 6; ++a) out[a].assign(run[a]->size(), 0.0);
-  struct SetAside {
-    const std::array<std::vector<double>*, 6>& run;
-    std::array<std::vector<double>, 6>& out;
-    SetAside(const std::array<std::vector<double>*, 6>& r, std::array<std::vector<double>, 6>& o) : run(r), out(o) { swap(); }
-    ~SetAside() { swap(); }
-    void swap() {
-      for (std::size_t a = 0; a < 6; ++a) run[a]->swap(out[a]);
-    }
-  } aside(run, out);
-  probe.add_forces(p, 0.0);
-  return out;  // after aside's destructor: the probe's arrays
+  auto trade = [&] {
+    for (std::size_t a = 0; a < 6; ++a) run[a]->swap(out[a]);
+  };
+  trade();
+  try {
+    probe.add_forces(p, 0.0);
+  } catch (...) {
+    trade();
+    throw;
+  }
+  trade();
+  return out;
 }
 }  // namespace
 

@@ -241,10 +241,13 @@ class VerletList {
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
   void rebuild(const ParticleStore& p);
   void list_wall_candidates(const ParticleStore& p);
+  /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
+  static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
   /// One particle–wall contact's history, kept while the candidates are listed anew.
   struct WallContact {
     std::uint32_t i, w;  // particle, wall
     Vec3 h;              // tangential displacement [m]
+    std::uint64_t key() const { return wall_key(i, w); }
   };
   /// The wall entries in contact, in (particle, wall) order: the carried ones while
   /// pending, else the listed ones.
@@ -253,6 +256,8 @@ class VerletList {
   /// (old slot -> new slot, or new_particle for a particle removed) unless null; the
   /// entries are dropped until then.
   void set_aside_wall_history(const std::vector<std::uint32_t>* to);
+  /// Drops the wall entries, whose contacts wall_carry_ now holds, until the next listing.
+  void drop_wall_entries();
 
   /// Whether a moving wall may have moved skin/2 since the candidates were listed.
   bool walls_moved_away() const;
