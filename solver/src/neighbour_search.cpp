@@ -9,8 +9,11 @@
 namespace cdm {
 
 namespace {
-template <bool Periodic>
-inline bool test_pair(const ParticleStore& p, std::uint32_t i, std::uint32_t j, double margin, double& overlap,
+double radius(const ParticleStore& p, std::uint32_t i) { return p.radius[i]; }
+double radius(const SearchPoints& p, std::uint32_t i) { return p.r[i]; }
+
+template <bool Periodic, class Points>
+inline bool test_pair(const Points& p, std::uint32_t i, std::uint32_t j, double margin, double& overlap,
                       const PeriodicBox& box) {
   double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i], dz = p.z[j] - p.z[i];
   if constexpr (Periodic) {
@@ -20,10 +23,10 @@ inline bool test_pair(const ParticleStore& p, std::uint32_t i, std::uint32_t j, 
   } else {
     (void)box;
   }
-  const double reach = p.radius[i] + p.radius[j] + margin;
+  const double reach = radius(p, i) + radius(p, j) + margin;
   const double d2 = dx * dx + dy * dy + dz * dz;
   if (d2 >= reach * reach) return false;
-  overlap = p.radius[i] + p.radius[j] - std::sqrt(d2);
+  overlap = radius(p, i) + radius(p, j) - std::sqrt(d2);
   return true;
 }
 bool by_pair(const ContactPair& a, const ContactPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
@@ -57,10 +60,10 @@ bool CellListSearch::find_contacts(const ParticleStore& p, double margin, std::v
   return whole;
 }
 
-bool CellListSearch::find_contacts(const ParticleStore& p, double margin,
+bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
                                    std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
                                    std::size_t expected, std::size_t limit) {
-  const std::size_t n = p.size();
+  const std::size_t n = p.n;
   const bool threads = n > parallel_threshold;
   if (!threads) {  // one chunk; with threads, one per thread (sized in the parallel region)
     chunks.resize(1);
@@ -74,7 +77,7 @@ bool CellListSearch::find_contacts(const ParticleStore& p, double margin,
   for (std::size_t i = 0; i < n; ++i) {
     const double c[3] = {p.x[i], p.y[i], p.z[i]};
     for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], c[k]); hi[k] = std::max(hi[k], c[k]); }
-    rmax = std::max(rmax, p.radius[i]);
+    rmax = std::max(rmax, p.r[i]);
   }
   // Along a periodic axis the cells tile the period exactly, so the cells at either
   // face are neighbours.

@@ -31,6 +31,11 @@ bool VerletList::walls_moved_away() const {
 
 VerletList::Update VerletList::update(const ParticleStore& p) {
   Update u;
+  if (pairs_pending_ && built_ && x0_.size() == p.size()) {
+    // A loaded list: its pairs as its build listed them, from the build positions.
+    list_pairs(p, {x0_.data(), y0_.data(), z0_.data(), p.radius.data(), x0_.size()}, false);
+    u.rebuilt = u.walls_listed = true;
+  }
   if (!built_ || needs_rebuild(p)) {
     rebuild(p);
     u.rebuilt = u.walls_listed = true;
@@ -43,8 +48,15 @@ VerletList::Update VerletList::update(const ParticleStore& p) {
 }
 
 void VerletList::save_state(OutArchive& a) const {
-  a.put(pi_); a.put(pj_); a.put(slab_start_); a.put(hist_); a.put(touch_);
-  // The wall contacts only: the other entries carry nothing (a contact starts afresh).
+  // The contacts only: a listed pair or wall entry out of contact carries nothing (a
+  // contact starts afresh), and the pairs are listed again from x0_.
+  const std::vector<PairContact> pc = pair_contacts();
+  std::vector<std::uint32_t> pi(pc.size()), pj(pc.size());
+  std::vector<Vec3> ph(pc.size());
+  for (std::size_t k = 0; k < pc.size(); ++k) {
+    pi[k] = pc[k].i; pj[k] = pc[k].j; ph[k] = pc[k].h;
+  }
+  a.put(pi); a.put(pj); a.put(ph);
   const std::vector<WallContact> wc = wall_contacts();
   std::vector<std::uint32_t> wi(wc.size()), ww(wc.size());
   std::vector<Vec3> wh(wc.size());
@@ -56,22 +68,27 @@ void VerletList::save_state(OutArchive& a) const {
 }
 
 void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
-  std::vector<std::uint32_t> wi, ww;
-  std::vector<Vec3> wh;
-  a.get(pi_); a.get(pj_); a.get(slab_start_); a.get(hist_); a.get(touch_);
+  std::vector<std::uint32_t> pi, pj, wi, ww;
+  std::vector<Vec3> ph, wh;
+  a.get(pi); a.get(pj); a.get(ph);
   a.get(wi); a.get(ww); a.get(wh);
   a.get(x0_); a.get(y0_); a.get(z0_);
   const std::size_t n = x0_.size();
-  bool ok = pi_.size() == pj_.size() && y0_.size() == n && z0_.size() == n;
-  ok = ok && (slab_start_.empty() ? pi_.empty() : slab_start_.front() == 0 && slab_start_.back() == pi_.size());
-  for (std::size_t s = 1; ok && s < slab_start_.size(); ++s) ok = slab_start_[s - 1] <= slab_start_[s];
-  for (std::size_t k = 0; ok && k < pi_.size(); ++k) ok = pi_[k] < pj_[k] && pj_[k] < n;
-  if (history_) ok = ok && hist_.size() == pi_.size() && touch_.size() == pi_.size();
-  // Wall contacts: of listed particles and walls, in strictly increasing (i, w) order.
+  bool ok = y0_.size() == n && z0_.size() == n;
+  // Contacts of particles listed, in strictly increasing (i, j) and (i, w) order.
+  ok = ok && pj.size() == pi.size() && ph.size() == pi.size() && (history_ || pi.empty());
+  for (std::size_t k = 0; ok && k < pi.size(); ++k)
+    ok = pi[k] < pj[k] && pj[k] < n && (k == 0 || PairContact{pi[k - 1], pj[k - 1], {}}.key() < PairContact{pi[k], pj[k], {}}.key());
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
     ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
   if (!ok) throw ArchiveError("the contact list is inconsistent");
+  pair_carry_.resize(pi.size());
+  for (std::size_t k = 0; k < pi.size(); ++k) pair_carry_[k] = {pi[k], pj[k], ph[k]};
+  pairs_pending_ = true;
+  for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
+  hist_.clear();
+  touch_.clear();
   wall_carry_.resize(wi.size());
   for (std::size_t k = 0; k < wi.size(); ++k) wall_carry_[k] = {wi[k], ww[k], wh[k]};
   drop_wall_entries();
@@ -82,85 +99,31 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   wall_candidates_stale_ = true;  // listed from the build's positions at the next update
 }
 
-void VerletList::list_wall_candidates(const ParticleStore& p) {
-  // From the positions at the last build (x0_) and the walls where they stand now. A particle moves less than skin/2 before the next build, so one farther
-  // than r + skin from a wall cannot reach it: each particle is listed with the walls it
-  // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
-  // jump, so then every particle is listed with every wall.
-  const std::size_t n = x0_.size(), nw = walls_.size();
-  if (!wall_carry_pending_) set_aside_wall_history(nullptr);
-  wall_begin_.assign(1, 0);
-  wall_candidates_stale_ = false;
-  listed_time_ = time_;
-  // Likewise a surface of revolution, or a plane that turns, with any periodic axis.
-  bool filter = skin_ >= 0.0;
-  for (const Wall& w : walls_) {
-    const double nrm[3] = {w.normal.x, w.normal.y, w.normal.z};
-    const bool fixed_plane = w.shape == WallShape::plane && w.motion.kind != WallMotion::Kind::rotation;
-    for (int a = 0; a < 3; ++a)
-      if (box_.on[a] && (nrm[a] != 0.0 || !fixed_plane)) filter = false;
-  }
-  // A listed entry takes its history from the carried contact of the same particle and
-  // wall (both in (i, w) order); a contact not listed again has ended.
-  auto carry = wall_carry_.cbegin();
-  const auto carry_end = wall_carry_.cend();
-  for (std::size_t i = 0; i < n && nw; ++i) {
-    const std::size_t before = wall_ids_.size();
-    for (std::size_t w = 0; w < nw; ++w) {
-      const Wall& wall = posed_[w];
-      const Vec3 X{x0_[i], y0_[i], z0_[i]};
-      const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
-      if (filter && !(reach < p.radius[i] + skin_)) continue;
-      wall_ids_.push_back(static_cast<std::uint32_t>(w));
-      if (!history_) continue;
-      const std::uint64_t key = wall_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w));
-      while (carry != carry_end && carry->key() < key) ++carry;
-      const bool carried = carry != carry_end && carry->key() == key;
-      wall_hist_.push_back(carried ? carry->h : Vec3{});
-      wall_touch_.push_back(carried ? 1 : 0);
-    }
-    if (wall_ids_.size() != before) {
-      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
-      wall_begin_.push_back(static_cast<std::uint32_t>(wall_ids_.size()));
-    }
-  }
-  std::vector<WallContact>().swap(wall_carry_);
-  wall_carry_pending_ = false;
-}
-
-std::vector<VerletList::WallContact> VerletList::wall_contacts() const {
-  if (wall_carry_pending_) return wall_carry_;
-  std::vector<WallContact> out;
+std::vector<VerletList::PairContact> VerletList::pair_contacts() const {
+  if (pairs_pending_) return pair_carry_;
+  std::vector<PairContact> out;
   if (!history_) return out;
-  for (std::size_t c = 0; c < wall_candidates_.size(); ++c)
-    for (std::uint32_t q = wall_begin_[c]; q < wall_begin_[c + 1]; ++q)
-      if (wall_touch_[q]) out.push_back({wall_candidates_[c], wall_ids_[q], wall_hist_[q]});
+  for (std::size_t k = 0; k < pi_.size(); ++k)
+    if (touch_[k]) out.push_back({pi_[k], pj_[k], hist_[k]});
+  std::sort(out.begin(), out.end(), [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
   return out;
 }
 
-void VerletList::set_aside_wall_history(const std::vector<std::uint32_t>* to) {
-  wall_carry_ = wall_contacts();
-  if (to) {
-    std::erase_if(wall_carry_, [&](const WallContact& c) { return c.i >= to->size() || (*to)[c.i] == new_particle; });
-    for (WallContact& c : wall_carry_) c.i = (*to)[c.i];
-    std::sort(wall_carry_.begin(), wall_carry_.end(),
-              [](const WallContact& a, const WallContact& b) { return a.key() < b.key(); });
+void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
+  // As permute and remap renumber listed pairs: i < j kept, the history seen from i.
+  std::erase_if(pair_carry_, [&](const PairContact& c) {
+    return c.j >= to.size() || to[c.i] == new_particle || to[c.j] == new_particle;
+  });
+  for (PairContact& c : pair_carry_) {
+    c.i = to[c.i];
+    c.j = to[c.j];
+    if (c.i > c.j) {
+      std::swap(c.i, c.j);
+      c.h = -c.h;
+    }
   }
-  drop_wall_entries();
-}
-
-void VerletList::drop_wall_entries() {
-  wall_carry_pending_ = true;
-  for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
-  wall_hist_.clear();
-  wall_touch_.clear();
-}
-
-std::pair<std::uint32_t, std::uint32_t> VerletList::wall_entries(std::uint32_t i) const {
-  const auto c = std::lower_bound(wall_candidates_.begin(), wall_candidates_.end(), i);
-  if (c == wall_candidates_.end() || *c != i) return {0, 0};
-  const auto k = static_cast<std::size_t>(c - wall_candidates_.begin());
-  return {wall_begin_[k], wall_begin_[k + 1]};
+  std::sort(pair_carry_.begin(), pair_carry_.end(),
+            [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
 }
 
 bool VerletList::needs_rebuild(const ParticleStore& p) const {
@@ -286,6 +249,7 @@ void VerletList::permute(const std::vector<std::uint32_t>& from) {
     pi_[k] = i;
     pj_[k] = j;
   }
+  if (pairs_pending_) renumber_pair_carry(to);
   set_aside_wall_history(&to);
   std::vector<double> tmp;
   for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
@@ -328,7 +292,8 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
     hist_.resize(kept);
     touch_.resize(kept);
   }
-  // The wall contacts of the particles left follow them; new particles have none.
+  // The contacts of the particles left follow them; new particles have none.
+  if (pairs_pending_) renumber_pair_carry(to);
   set_aside_wall_history(&to);
   // Build positions: the particles' own (a new particle's is where it appeared); the
   // list is built again at the next update, so the new particles find their partners.
@@ -340,7 +305,9 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
   wall_candidates_stale_ = true;
 }
 
-void VerletList::rebuild(const ParticleStore& p) {
+void VerletList::rebuild(const ParticleStore& p) { list_pairs(p, SearchPoints::of(p), true); }
+
+void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool build) {
   const std::size_t n = p.size();
   // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
   // small. First the history to carry over: only the pairs in contact have any (a pair
@@ -351,22 +318,30 @@ void VerletList::rebuild(const ParticleStore& p) {
   std::vector<Vec3> carry_hist;
   // (A list that is not built holds pairs only after ParticleStore::keep or add,
   // remapped: their history is carried over too.)
-  if (history_ && !pi_.empty()) {
+  // (A loaded list carries the checkpoint's contacts: pair_carry_.)
+  if (history_ && (!pi_.empty() || !pair_carry_.empty())) {
+    auto each_contact = [&](auto&& f) {
+      if (pairs_pending_)
+        for (const PairContact& c : pair_carry_) f(c.i, c.j, c.h);
+      else
+        for (std::size_t k = 0; k < pi_.size(); ++k)
+          if (touch_[k]) f(pi_[k], pj_[k], hist_[k]);
+    };
     const std::size_t rows = std::max(n, x0_.size());
     carry_first.assign(rows + 1, 0);
-    for (std::size_t k = 0; k < pi_.size(); ++k)
-      if (touch_[k]) ++carry_first[pi_[k] + 1];
+    each_contact([&](std::uint32_t i, std::uint32_t, const Vec3&) { ++carry_first[i + 1]; });
     for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
     carry_j.resize(carry_first[rows]);
     carry_hist.resize(carry_first[rows]);
     std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
-    for (std::size_t k = 0; k < pi_.size(); ++k)
-      if (touch_[k]) {
-        const std::uint32_t at = fill[pi_[k]]++;
-        carry_j[at] = pj_[k];
-        carry_hist[at] = hist_[k];
-      }
+    each_contact([&](std::uint32_t i, std::uint32_t j, const Vec3& h) {
+      const std::uint32_t q = fill[i]++;
+      carry_j[q] = j;
+      carry_hist[q] = h;
+    });
   }
+  std::vector<PairContact>().swap(pair_carry_);
+  pairs_pending_ = false;
   const std::size_t last_size = pi_.size();
   std::vector<std::uint32_t>().swap(pi_);
   std::vector<std::uint32_t>().swap(pj_);
@@ -381,7 +356,7 @@ void VerletList::rebuild(const ParticleStore& p) {
     const auto [first, last] = share_->rows(n);
     search_.set_rows(first, last);
   }
-  search_.find_contacts(p, skin_, candidates, box_, last_size + last_size / 8 + 64);
+  search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
   if (share_) share_->gather_candidates(candidates);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
   std::size_t listed = 0;
@@ -392,11 +367,11 @@ void VerletList::rebuild(const ParticleStore& p) {
     listed += chunk.size();
   }
 
-  const Slabs g = slabs(p);
+  const Slabs g = slabs(at.x, at.y, at.z, p.radius, n);
   const std::size_t nslab = g.count;
   const double width = g.width;
-  const std::vector<double>* axis_data[3] = {&p.x, &p.y, &p.z};
-  const std::vector<double>& c = *axis_data[g.axis];
+  const double* const axis_data[3] = {at.x, at.y, at.z};
+  const double* const c = axis_data[g.axis];
   const double lo_axis = g.lo[g.axis];
   auto slab_of = [&](std::uint32_t i) {
     if (nslab == 1) return std::size_t{0};
@@ -452,10 +427,12 @@ void VerletList::rebuild(const ParticleStore& p) {
   pj_.swap(pj);
   slab_start_.swap(start);
   slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
-  x0_ = p.x; y0_ = p.y; z0_ = p.z;
-  built_ = true;
-  ++builds_;
-  drift_bound_ = 0.0;
+  if (build) {
+    x0_ = p.x; y0_ = p.y; z0_ = p.z;
+    built_ = true;
+    ++builds_;
+    drift_bound_ = 0.0;
+  }
   list_wall_candidates(p);
 }
 

@@ -49,7 +49,7 @@ struct OutputMarks {
 /// (Simulation::save_population) and outlets.dat's length; 8: the gas's drag gradients
 /// on its fixed faces (GasField::drag_gradient); 9: the contact list's wall history as
 /// the wall contacts only (particle, wall, displacement), not a slot per particle and wall.
-constexpr std::uint32_t checkpoint_format_version = 9;
+constexpr std::uint32_t checkpoint_format_version = 10;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

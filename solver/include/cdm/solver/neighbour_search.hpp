@@ -15,6 +15,14 @@
 
 namespace cdm {
 
+/// The centres [m] and radii [m] of @p n particles that a search lists: a store's own, or
+/// the positions a list was built from (VerletList::load_state lists them again).
+struct SearchPoints {
+  const double *x, *y, *z, *r;
+  std::size_t n;
+  static SearchPoints of(const ParticleStore& p) { return {p.x.data(), p.y.data(), p.z.data(), p.radius.data(), p.size()}; }
+};
+
 struct ContactPair {
   std::uint32_t i, j;
   double overlap;  // r_i + r_j - |X_j - X_i| [m]; >= -margin
@@ -40,6 +48,10 @@ class CellListSearch {
   /// (thread_range) into a chunk of its own (so the list is built in parallel and never
   /// copied whole). @p expected: about how many pairs to expect in all (capacity).
   bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+                     const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX) {
+    return find_contacts(SearchPoints::of(p), margin, chunks, box, expected, limit);
+  }
+  bool find_contacts(const SearchPoints& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX);
   /// Only the rows of particles i in [first, last) (their pairs with every j > i) are
   /// listed by the chunked find_contacts: processes that share the search each list a

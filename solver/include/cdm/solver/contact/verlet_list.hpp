@@ -217,14 +217,20 @@ class VerletList {
   /// the build positions: listed(n) particles.
   std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;
 
-  /// The list and its history, for checkpoints. The build flag and count are put by the
-  /// caller, ahead of its own counters (the checkpoint's layout), and given back to
-  /// load_state.
+  /// The list's contacts and build positions, for checkpoints: the pairs and the
+  /// particle–wall entries in contact, with their history, not the listed pairs, which
+  /// the next update lists again from the build positions, as the build listed them
+  /// (the same pairs in the same order: the search depends on the positions alone).
+  /// The build flag and count are put by the caller, ahead of its own counters (the
+  /// checkpoint's layout), and given back to load_state.
   void save_state(OutArchive& a) const;
   void load_state(InArchive& a, bool built, std::uint64_t builds);
 
  private:
   bool needs_rebuild(const ParticleStore& p) const;
+  /// Lists the pairs anew from @p at, the positions of the particles of @p (their own
+  /// at a build; x0_ to list again the pairs of a loaded list, which is no new build).
+  void list_pairs(const ParticleStore& p, const SearchPoints& at, bool build);
   double drift_limit() const { return 0.49 * skin_; }
   /// How the particles' bounding box is cut into slabs (see the file comment).
   struct Slabs {
@@ -252,6 +258,17 @@ class VerletList {
   /// The wall entries in contact, in (particle, wall) order: the carried ones while
   /// pending, else the listed ones.
   std::vector<WallContact> wall_contacts() const;
+  /// One pair contact's history (i < j), carried to a list not yet listed again.
+  struct PairContact {
+    std::uint32_t i, j;  // particles
+    Vec3 h;              // tangential displacement [m]
+    std::uint64_t key() const { return (std::uint64_t{i} << 32) | j; }
+  };
+  /// The listed pairs in contact, in (i, j) order: the carried ones while pending.
+  std::vector<PairContact> pair_contacts() const;
+  /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
+  /// a particle removed).
+  void renumber_pair_carry(const std::vector<std::uint32_t>& to);
   /// Sets the wall entries in contact aside for the next listing, renumbered by @p to
   /// (old slot -> new slot, or new_particle for a particle removed) unless null; the
   /// entries are dropped until then.
@@ -284,6 +301,8 @@ class VerletList {
   std::pair<std::size_t, std::size_t> rank_slabs_{0, 0};  // set_rank_slabs
   bool rank_split_ = false;
   SearchShare* share_ = nullptr;  // set_search_share
+  std::vector<PairContact> pair_carry_;  // load_state: the contacts, until the pairs are listed
+  bool pairs_pending_ = false;          // load_state: the pairs are listed at the next update
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per entry of wall_ids_

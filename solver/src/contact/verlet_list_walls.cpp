@@ -1,0 +1,89 @@
+// The Verlet list's particle–wall candidates and the history beside them.
+#include "cdm/solver/contact/verlet_list.hpp"
+
+#include <algorithm>
+
+namespace cdm {
+
+void VerletList::list_wall_candidates(const ParticleStore& p) {
+  // From the positions at the last build (x0_) and the walls where they stand now. A particle moves less than skin/2 before the next build, so one farther
+  // than r + skin from a wall cannot reach it: each particle is listed with the walls it
+  // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
+  // jump, so then every particle is listed with every wall.
+  const std::size_t n = x0_.size(), nw = walls_.size();
+  if (!wall_carry_pending_) set_aside_wall_history(nullptr);
+  wall_begin_.assign(1, 0);
+  wall_candidates_stale_ = false;
+  listed_time_ = time_;
+  // Likewise a surface of revolution, or a plane that turns, with any periodic axis.
+  bool filter = skin_ >= 0.0;
+  for (const Wall& w : walls_) {
+    const double nrm[3] = {w.normal.x, w.normal.y, w.normal.z};
+    const bool fixed_plane = w.shape == WallShape::plane && w.motion.kind != WallMotion::Kind::rotation;
+    for (int a = 0; a < 3; ++a)
+      if (box_.on[a] && (nrm[a] != 0.0 || !fixed_plane)) filter = false;
+  }
+  // A listed entry takes its history from the carried contact of the same particle and
+  // wall (both in (i, w) order); a contact not listed again has ended.
+  auto carry = wall_carry_.cbegin();
+  const auto carry_end = wall_carry_.cend();
+  for (std::size_t i = 0; i < n && nw; ++i) {
+    const std::size_t before = wall_ids_.size();
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Wall& wall = posed_[w];
+      const Vec3 X{x0_[i], y0_[i], z0_[i]};
+      const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
+      if (filter && !(reach < p.radius[i] + skin_)) continue;
+      wall_ids_.push_back(static_cast<std::uint32_t>(w));
+      if (!history_) continue;
+      const std::uint64_t key = wall_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w));
+      while (carry != carry_end && carry->key() < key) ++carry;
+      const bool carried = carry != carry_end && carry->key() == key;
+      wall_hist_.push_back(carried ? carry->h : Vec3{});
+      wall_touch_.push_back(carried ? 1 : 0);
+    }
+    if (wall_ids_.size() != before) {
+      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+      wall_begin_.push_back(static_cast<std::uint32_t>(wall_ids_.size()));
+    }
+  }
+  std::vector<WallContact>().swap(wall_carry_);
+  wall_carry_pending_ = false;
+}
+
+std::vector<VerletList::WallContact> VerletList::wall_contacts() const {
+  if (wall_carry_pending_) return wall_carry_;
+  std::vector<WallContact> out;
+  if (!history_) return out;
+  for (std::size_t c = 0; c < wall_candidates_.size(); ++c)
+    for (std::uint32_t q = wall_begin_[c]; q < wall_begin_[c + 1]; ++q)
+      if (wall_touch_[q]) out.push_back({wall_candidates_[c], wall_ids_[q], wall_hist_[q]});
+  return out;
+}
+
+void VerletList::set_aside_wall_history(const std::vector<std::uint32_t>* to) {
+  wall_carry_ = wall_contacts();
+  if (to) {
+    std::erase_if(wall_carry_, [&](const WallContact& c) { return c.i >= to->size() || (*to)[c.i] == new_particle; });
+    for (WallContact& c : wall_carry_) c.i = (*to)[c.i];
+    std::sort(wall_carry_.begin(), wall_carry_.end(),
+              [](const WallContact& a, const WallContact& b) { return a.key() < b.key(); });
+  }
+  drop_wall_entries();
+}
+
+void VerletList::drop_wall_entries() {
+  wall_carry_pending_ = true;
+  for (auto* v : {&wall_candidates_, &wall_begin_, &wall_ids_}) v->clear();
+  wall_hist_.clear();
+  wall_touch_.clear();
+}
+
+std::pair<std::uint32_t, std::uint32_t> VerletList::wall_entries(std::uint32_t i) const {
+  const auto c = std::lower_bound(wall_candidates_.begin(), wall_candidates_.end(), i);
+  if (c == wall_candidates_.end() || *c != i) return {0, 0};
+  const auto k = static_cast<std::size_t>(c - wall_candidates_.begin());
+  return {wall_begin_[k], wall_begin_[k + 1]};
+}
+
+}  // namespace cdm
