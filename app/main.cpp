@@ -218,6 +218,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     if (log) marks.log = log->sync();
     marks.monitors = monitors.sync();
     if (population) marks.population = population->sync();
+    const auto held = s.hold_contacts();  // the contact list's, from every rank
     if (writes) cdm::write_checkpoint(ckpt, s, origin, marks);
     else s.particles();  // the state at the checkpoint's step, gathered as rank 0's is
   };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 #include "cdm/solver/parallel.hpp"
 
@@ -49,7 +50,10 @@ VerletList::Update VerletList::update(const ParticleStore& p) {
 
 void VerletList::save_state(OutArchive& a) const {
   // The contacts only: a listed pair or wall entry out of contact carries nothing (a
-  // contact starts afresh), and the pairs are listed again from x0_.
+  // contact starts afresh), and the pairs are listed again from x0_. A list shared
+  // among processes holds its own part only: its whole contacts are held for this.
+  if (rank_split_ && share_ && !holding_ && !pairs_pending_)
+    throw std::logic_error("VerletList: a shared list saved without its whole contacts");
   const std::vector<PairContact> pc = pair_contacts();
   std::vector<std::uint32_t> pi(pc.size()), pj(pc.size());
   std::vector<Vec3> ph(pc.size());
@@ -100,13 +104,9 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
 }
 
 std::vector<VerletList::PairContact> VerletList::pair_contacts() const {
+  if (holding_) return held_;
   if (pairs_pending_) return pair_carry_;
-  std::vector<PairContact> out;
-  if (!history_) return out;
-  for (std::size_t k = 0; k < pi_.size(); ++k)
-    if (touch_[k]) out.push_back({pi_[k], pj_[k], hist_[k]});
-  std::sort(out.begin(), out.end(), [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
-  return out;
+  return own_contacts();
 }
 
 void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
@@ -309,24 +309,31 @@ void VerletList::rebuild(const ParticleStore& p) { list_pairs(p, SearchPoints::o
 
 void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool build) {
   const std::size_t n = p.size();
+  const bool divided = share_ && share_->share_size() > 1;
+  // The slab cut first: a list shared among processes sends each pair, and each contact,
+  // to the process of its slab.
+  const Slabs g = slabs(at.x, at.y, at.z, p.radius, n);
+  const std::size_t nslab = g.count;
+  std::vector<std::uint32_t> slab_of(n, 0);
+  if (nslab > 1) {
+    const double* const axis_data[3] = {at.x, at.y, at.z};
+    const double* const c = axis_data[g.axis];
+    const double lo_axis = g.lo[g.axis];
+    for (std::size_t i = 0; i < n; ++i)
+      slab_of[i] = static_cast<std::uint32_t>(std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo_axis) / g.width)));
+  }
   // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
   // small. First the history to carry over: only the pairs in contact have any (a pair
   // not in contact starts afresh), so their partner and history are set apart, by
   // particle i (a counting sort, stable: row i is [carry_first[i], carry_first[i+1])),
-  // and the old list is released before the new one is built.
+  // and the old list is released before the new one is built. (A list that is not
+  // built holds pairs only after ParticleStore::keep or add, remapped: their history is
+  // carried over too; a loaded one carries the checkpoint's contacts, pair_carry_.) A
+  // shared list sets its own pairs' contacts apart, to be sent on once the slabs are
+  // dealt out.
   std::vector<std::uint32_t> carry_first, carry_j;
   std::vector<Vec3> carry_hist;
-  // (A list that is not built holds pairs only after ParticleStore::keep or add,
-  // remapped: their history is carried over too.)
-  // (A loaded list carries the checkpoint's contacts: pair_carry_.)
-  if (history_ && (!pi_.empty() || !pair_carry_.empty())) {
-    auto each_contact = [&](auto&& f) {
-      if (pairs_pending_)
-        for (const PairContact& c : pair_carry_) f(c.i, c.j, c.h);
-      else
-        for (std::size_t k = 0; k < pi_.size(); ++k)
-          if (touch_[k]) f(pi_[k], pj_[k], hist_[k]);
-    };
+  auto index_carry = [&](auto&& each_contact) {
     const std::size_t rows = std::max(n, x0_.size());
     carry_first.assign(rows + 1, 0);
     each_contact([&](std::uint32_t i, std::uint32_t, const Vec3&) { ++carry_first[i + 1]; });
@@ -339,7 +346,27 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
       carry_j[q] = j;
       carry_hist[q] = h;
     });
+  };
+  auto each_of = [](const std::vector<PairContact>& v) {
+    return [&v](auto&& f) {
+      for (const PairContact& c : v) f(c.i, c.j, c.h);
+    };
+  };
+  std::vector<PairContact> carry;  // a shared list's, until dealt out
+  if (history_) {
+    if (pairs_pending_) carry.swap(pair_carry_);
+    else if (divided) carry = collect_contacts(true);
+    else if (!pi_.empty())
+      index_carry([&](auto&& f) {
+        for (std::size_t k = 0; k < pi_.size(); ++k)
+          if (touch_[k]) f(pi_[k], pj_[k], hist_[k]);
+      });
+    if (!divided && !carry.empty()) {
+      index_carry(each_of(carry));
+      std::vector<PairContact>().swap(carry);
+    }
   }
+  const bool carry_whole = pairs_pending_;  // every process holds every contact
   std::vector<PairContact>().swap(pair_carry_);
   pairs_pending_ = false;
   const std::size_t last_size = pi_.size();
@@ -357,26 +384,20 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     search_.set_rows(first, last);
   }
   search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
-  if (share_) share_->gather_candidates(candidates);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
-  std::size_t listed = 0;
-  for (auto& chunk : candidates) {
+  for (auto& chunk : candidates)
     chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
                                [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
                 chunk.end());
-    listed += chunk.size();
+  if (divided) {
+    divide(candidates, slab_of, nslab, carry, carry_whole);
+    if (history_) index_carry(each_of(carry));
+    std::vector<PairContact>().swap(carry);
+  } else {
+    rank_slab_first_.clear();
   }
-
-  const Slabs g = slabs(at.x, at.y, at.z, p.radius, n);
-  const std::size_t nslab = g.count;
-  const double width = g.width;
-  const double* const axis_data[3] = {at.x, at.y, at.z};
-  const double* const c = axis_data[g.axis];
-  const double lo_axis = g.lo[g.axis];
-  auto slab_of = [&](std::uint32_t i) {
-    if (nslab == 1) return std::size_t{0};
-    return std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo_axis) / width));
-  };
+  std::size_t listed = 0;
+  for (const auto& chunk : candidates) listed += chunk.size();
 
   // Counting sort of the pairs by owner slab (the lower of the two), keeping (i, j) order.
   std::vector<std::uint32_t> start(nslab + 1, 0), owner(listed);
@@ -384,10 +405,11 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     std::size_t k = 0;
     for (const auto& chunk : candidates)
       for (const ContactPair& cp : chunk) {
-        owner[k] = static_cast<std::uint32_t>(std::min(slab_of(cp.i), slab_of(cp.j)));
+        owner[k] = std::min(slab_of[cp.i], slab_of[cp.j]);
         ++start[owner[k++] + 1];
       }
   }
+  std::vector<std::uint32_t>().swap(slab_of);
   for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
   std::vector<std::uint32_t> pi(listed), pj(listed);
   {
@@ -427,6 +449,8 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   pj_.swap(pj);
   slab_start_.swap(start);
   slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
+  if (divided) set_rank_slabs(rank_slab_first_[static_cast<std::size_t>(share_->share_rank())],
+                              rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1]);
   if (build) {
     x0_ = p.x; y0_ = p.y; z0_ = p.z;
     built_ = true;

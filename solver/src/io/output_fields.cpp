@@ -8,10 +8,14 @@
 namespace cdm {
 
 namespace {
-/// A copy of the run's contacts that evaluates every contact on this process (whatever
-/// the ranks share), so that the run itself is not changed.
-ContactModule probe_of(const Simulation& sim) {
+/// A copy of the run's contacts that evaluates every contact on this process, so that
+/// the run itself is not changed. Where the processes share the list, each holding its
+/// slabs' pairs, the copy lists them all again, carrying the whole list's contacts held
+/// for the output (Simulation::hold_contacts), unless @p pairs is false: the copy's pairs
+/// are then this process's only, and only its wall contacts may be read.
+ContactModule probe_of(const Simulation& sim, bool pairs = true) {
   ContactModule probe = *sim.contact();
+  if (pairs && sim.shares_list()) probe.list().list_held_again();
   probe.set_ranks(nullptr);
   return probe;
 }
@@ -83,7 +87,7 @@ ContactNetwork contact_network(const Simulation& sim) {
 std::vector<double> wall_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
   const ParticleStore& p = sim.particles();
-  ContactModule probe = probe_of(sim);
+  ContactModule probe = probe_of(sim, false);
   probe.set_recording(true);
   probe_forces(sim, probe);
   const VerletList& list = probe.list();

@@ -35,16 +35,22 @@ ThermoSample thermo_sample(const Simulation& sim) {
       s.kinetic_rotational += 0.5 / p.inv_inertia[i] * dot(p.angular_velocity(i), p.angular_velocity(i));
   }
   if (const ContactModule* c = sim.contact()) {
+    // Each process its own pairs (where they share the list), added up.
     const VerletList& list = c->list();
     const PeriodicBox& box = list.periodic_box();
-    for (std::size_t n = 0; n < list.size(); ++n) {
+    const auto [k0, k1] = list.own_pairs();
+    std::uint64_t pairs = 0;
+    double worst = 0.0;
+    for (std::size_t n = k0; n < k1; ++n) {
       const std::size_t i = list.pair_i()[n], j = list.pair_j()[n];
       const Vec3 d = box.min_image(p.position(j) - p.position(i));
       const double overlap = p.radius[i] + p.radius[j] - norm(d);
       if (overlap <= 0.0) continue;
-      ++s.contacts;
-      s.max_overlap_ratio = std::max(s.max_overlap_ratio, overlap / std::min(p.radius[i], p.radius[j]));
+      ++pairs;
+      worst = std::max(worst, overlap / std::min(p.radius[i], p.radius[j]));
     }
+    s.contacts += sim.rank_sum(pairs);
+    s.max_overlap_ratio = std::max(s.max_overlap_ratio, sim.rank_max(worst));
     for (const Wall& w : c->walls())
       for (std::size_t i = 0; i < p.size(); ++i) {
         const double overlap = p.radius[i] - w.gap(p.position(i), p.radius[i]).gap;

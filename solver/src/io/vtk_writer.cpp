@@ -224,6 +224,7 @@ void VtkObserver::operator()(const Simulation& sim) {
   if (k <= last_ && !last) return;
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;
+  const auto held = sim.hold_contacts();  // for the contact forces and network, from every rank
   if (dir_.empty()) sim.particles();  // the frame's state, gathered as where it is written
   else write(sim, k);
 }

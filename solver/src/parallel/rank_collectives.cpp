@@ -1,8 +1,11 @@
 /// @file rank_collectives.cpp
 /// @brief RankSplit's collectives that carry no particle state: the reductions every step
 /// takes (the largest drift, a stop signal, the contacts' count and worst overlap, the
-/// deposited sums) and the shared search's rows and gathered candidates.
+/// deposited sums), the shared list's rows, sums and exchanges at a build, and its
+/// contacts gathered whole.
 #include "cdm/solver/rank_split.hpp"
+
+#include <algorithm>
 
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/mpi_session.hpp"
@@ -20,27 +23,84 @@ std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
   return {n * r / p, n * (r + 1) / p};
 }
 
-void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>& chunks) {
-  std::vector<std::uint32_t> mine;
-  for (const auto& c : chunks)
-    for (const ContactPair& cp : c) mine.insert(mine.end(), {cp.i, cp.j});
+namespace {
+template <class T>
+MPI_Datatype mpi_type();
+template <>
+MPI_Datatype mpi_type<std::uint32_t>() { return MPI_UINT32_T; }
+template <>
+MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+
+/// Sends out[r] to rank r (released) and returns what each rank sent, in rank order.
+template <class T>
+std::vector<T> all_to_all(std::vector<std::vector<T>>& out, std::size_t size) {
+  std::vector<int> sc(size), sd(size), rc(size), rd(size);
+  std::vector<T> send;
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) total += out[r].size();
+  send.reserve(total);
+  for (std::size_t r = 0; r < size; ++r) {
+    sd[r] = static_cast<int>(send.size());
+    sc[r] = static_cast<int>(out[r].size());
+    send.insert(send.end(), out[r].begin(), out[r].end());
+    std::vector<T>().swap(out[r]);
+  }
+  mpi_check(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
+  std::size_t got = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    rd[r] = static_cast<int>(got);
+    got += static_cast<std::size_t>(rc[r]);
+  }
+  std::vector<T> in(got);
+  mpi_check(MPI_Alltoallv(send.data(), sc.data(), sd.data(), mpi_type<T>(), in.data(), rc.data(), rd.data(),
+                          mpi_type<T>(), MPI_COMM_WORLD),
+            "MPI_Alltoallv");
+  return in;
+}
+}  // namespace
+
+void RankSplit::sum(std::vector<std::uint64_t>& v) {
+  mpi_check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD),
+            "MPI_Allreduce");
+}
+
+std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::uint32_t>>& out) {
+  return all_to_all(out, static_cast<std::size_t>(size_));
+}
+
+std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) {
+  return all_to_all(out, static_cast<std::size_t>(size_));
+}
+
+std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) {
+  // Each rank's own pairs' contacts, as (i, j, hx, hy, hz); joined in (i, j) order.
+  const std::vector<VerletList::PairContact> mine = list.own_contacts();
+  std::vector<double> send(5 * mine.size());
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    const auto& c = mine[k];
+    const double v[5] = {static_cast<double>(c.i), static_cast<double>(c.j), c.h.x, c.h.y, c.h.z};
+    std::copy(v, v + 5, &send[5 * k]);
+  }
   const auto size = static_cast<std::size_t>(size_);
   std::vector<int> counts(size), displs(size);
-  const int count = static_cast<int>(mine.size());
+  const int count = static_cast<int>(send.size());
   mpi_check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
     displs[r] = static_cast<int>(total);
     total += static_cast<std::size_t>(counts[r]);
   }
-  std::vector<std::uint32_t> all(total);
-  mpi_check(MPI_Allgatherv(mine.data(), count, MPI_UINT32_T, all.data(), counts.data(), displs.data(), MPI_UINT32_T,
+  std::vector<double> all(total);
+  mpi_check(MPI_Allgatherv(send.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
                            MPI_COMM_WORLD),
             "MPI_Allgatherv");
-  // One chunk of every row's pairs, in row order (the overlap is not needed by the build).
-  chunks.assign(1, {});
-  chunks[0].reserve(total / 2);
-  for (std::size_t k = 0; k + 1 < total; k += 2) chunks[0].push_back({all[k], all[k + 1], 0.0});
+  std::vector<VerletList::PairContact> out(total / 5);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const double* v = &all[5 * k];
+    out[k] = {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]), {v[2], v[3], v[4]}};
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.key() < b.key(); });
+  return out;
 }
 
 double RankSplit::max(double x) const {
@@ -79,7 +139,10 @@ void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const
 #else  // a build without MPI has one rank: create() gives none, so nothing below runs
 
 std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { return {0, n}; }
-void RankSplit::gather_candidates(std::vector<std::vector<ContactPair>>&) {}
+void RankSplit::sum(std::vector<std::uint64_t>&) {}
+std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::uint32_t>>& out) { return out.at(0); }
+std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) { return out.at(0); }
+std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) { return list.own_contacts(); }
 double RankSplit::max(double x) const { return x; }
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}

@@ -45,18 +45,11 @@ std::vector<std::vector<double>*> RankSplit::ghost_arrays(ParticleStore& p) cons
 void RankSplit::assign(VerletList& list, ParticleStore& p) {
   const std::size_t n = p.size(), nslab = list.slab_count();
   const std::vector<std::uint32_t> slab_of = list.particle_slabs(p);
-  const std::vector<std::uint32_t>& start = list.slab_start();
-  // Each slab's cost: its listed pairs (the pair loop) and its particles (the pass).
-  std::vector<std::uint64_t> cost(nslab + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++cost[slab_of[i] + 1];
-  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s] + (start[s + 1] - start[s]);
+  // The slabs as the build dealt them out (VerletList::divide).
+  slab_first_ = list.rank_slab_first();
+  if (slab_first_.size() != static_cast<std::size_t>(size_) + 1)
+    throw std::logic_error("RankSplit: the list was not built shared among the ranks");
   const auto size = static_cast<std::size_t>(size_);
-  slab_first_.assign(size + 1, static_cast<std::uint32_t>(nslab));
-  slab_first_[0] = 0;
-  for (std::size_t r = 1; r < size; ++r) {
-    const std::uint64_t at = cost.back() * r / size;
-    slab_first_[r] = static_cast<std::uint32_t>(std::lower_bound(cost.begin(), cost.end() - 1, at) - cost.begin());
-  }
   slab_owner_.assign(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
     for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
@@ -267,61 +260,6 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   } else {
     share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()));
     if (meshes_) share_mesh_contacts();
-  }
-  // The pairs' history: each rank's pairs are those of its slabs, one run of the list.
-  // First the contact flags, in place; then the history of every pair, in place, or for
-  // a build, which carries only theirs, of the pairs in contact.
-  if (list.keeps_history() && list.size() > 0) {
-    const auto size = static_cast<std::size_t>(size_);
-    const std::vector<std::uint32_t>& start = list.slab_start();
-    Vec3* const ph = list.pair_history();
-    std::uint8_t* const pt = list.pair_touch();
-    auto first_pair = [&](std::size_t r) { return static_cast<std::size_t>(start[slab_first_[r]]); };
-    std::vector<int> counts(size), displs(size);
-    for (std::size_t r = 0; r < size; ++r) {
-      counts[r] = static_cast<int>(first_pair(r + 1) - first_pair(r));
-      displs[r] = static_cast<int>(first_pair(r));
-    }
-    mpi_check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_UINT8_T, pt, counts.data(), displs.data(), MPI_UINT8_T,
-                             MPI_COMM_WORLD),
-              "MPI_Allgatherv");
-    if (!for_build) {  // every pair's history: each rank's run of the list, gathered in place
-      static_assert(sizeof(Vec3) == 3 * sizeof(double));
-      for (std::size_t r = 0; r < size; ++r) {
-        counts[r] = static_cast<int>(3 * (first_pair(r + 1) - first_pair(r)));
-        displs[r] = static_cast<int>(3 * first_pair(r));
-      }
-      mpi_check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, reinterpret_cast<double*>(ph), counts.data(), displs.data(),
-                               MPI_DOUBLE, MPI_COMM_WORLD),
-                "MPI_Allgatherv");
-    } else {  // a build: the history of the pairs in contact (the flags say which), in
-              // rounds of at most `batch` pairs of each rank's run
-      const std::size_t batch = std::max<std::size_t>(1, round_values() / (3 * size));
-      std::size_t most = 0;
-      for (std::size_t r = 0; r < size; ++r) most = std::max(most, first_pair(r + 1) - first_pair(r));
-      for (std::size_t b0 = 0; b0 < most; b0 += batch) {
-        auto begin = [&](std::size_t r) { return std::min(first_pair(r) + b0, first_pair(r + 1)); };
-        auto end = [&](std::size_t r) { return std::min(first_pair(r) + b0 + batch, first_pair(r + 1)); };
-        std::size_t total = 0;
-        for (std::size_t r = 0; r < size; ++r) {
-          displs[r] = static_cast<int>(total);
-          for (std::size_t k = begin(r); k < end(r); ++k) total += pt[k] != 0 ? 3 : 0;
-          counts[r] = static_cast<int>(total) - displs[r];
-        }
-        send_.clear();
-        const auto me = static_cast<std::size_t>(rank_);
-        for (std::size_t k = begin(me); k < end(me); ++k)
-          if (pt[k] != 0) send_.insert(send_.end(), {ph[k].x, ph[k].y, ph[k].z});
-        recv_.resize(total);
-        mpi_check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                                 displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-                  "MPI_Allgatherv");
-        std::size_t at = 0;
-        for (std::size_t r = 0; r < size; ++r)
-          for (std::size_t k = begin(r); k < end(r); ++k)
-            if (pt[k] != 0) { ph[k] = {recv_[at], recv_[at + 1], recv_[at + 2]}; at += 3; }
-      }
-    }
   }
   stale_ = moving_ = positions_only;
 }

@@ -7,7 +7,8 @@
 /// Verlet list's slabs (verlet_list.hpp) are dealt out in contiguous runs, one per rank,
 /// about equal in listed pairs plus particles, at every build. A rank owns the particles
 /// of its slabs (each particle's slab at the build) and the pairs listed in them, and
-/// within the rank its threads split those slabs as before. Per step:
+/// holds only those pairs and the shadow slab's (below): the list is divided among the
+/// ranks (SearchShare). Within the rank its threads split its slabs as before. Per step:
 ///  - the integrator's pass moves the rank's own particles (velocity Verlet's, or the
 ///    paper's Euler step);
 ///  - exchange_ghosts(): each rank receives the moved state of the first slab of the
@@ -24,11 +25,14 @@
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
-/// whole state (each rank's own particles, wall and pair histories) whenever the state is
-/// read (output, checkpoints, the implicit drag's gas step, the end). Before the list is
-/// built again every rank gets the positions only, and the history of the pairs in
-/// contact: every rank then does the same sort and build (its search shared, each rank
-/// listing a run of rows: SearchShare), and assign() sends each particle whose slab now
+/// whole state (each rank's own particles and wall history) whenever the state is read
+/// (output, checkpoints, the implicit drag's gas step, the end); the pairs' history stays
+/// with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
+/// list: the checkpoint and the contact-force and contact-network outputs. Before the
+/// list is built again every rank gets the positions only: every rank then does the same
+/// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
+/// per slab summed over the ranks, and each pair, and each pair contact's history, goes
+/// to the ranks that hold its slab (VerletList::divide). assign() then sends each particle whose slab now
 /// belongs to another rank with its whole state (the arrays below, its row of wall
 /// history) from its old owner to its new one, then the ghosts. With triangle meshes,
 /// whose contact lists are joined only when the state is gathered, the whole state is
@@ -58,8 +62,8 @@
 /// Against triangle meshes each rank finds and resolves its own particles' contacts; the
 /// contact lists are joined, in particle order, whenever the state is gathered.
 ///
-/// Limits: memory is not divided (each rank holds all the particles, the list and the
-/// gas), the gas step's smaller loops (ghost layers, the pressure's update, the
+/// Limits: memory is divided for the pair list only (each rank holds all the particles
+/// and the gas), the gas step's smaller loops (ghost layers, the pressure's update, the
 /// interpolators' refresh) and a direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
@@ -147,11 +151,11 @@ class RankSplit final : public SearchShare {
   /// receive the ghosts' torques, complete with their contacts and walls.
   void exchange_ghost_torques(ParticleStore& p);
 
-  /// Every rank gets the whole state: every particle's, the wall history of the
-  /// particles, the pair history of the listed pairs. A no-op while nothing is stale.
-  /// @p for_build: the list is built next, which reads the positions and carries the
-  /// history of the pairs in contact only, so only those are sent (all of the state
-  /// with meshes); assign() then moves the rest with the particles that change owner.
+  /// Every rank gets the whole state: every particle's and the wall history of the
+  /// particles (not the pairs', which stay divided). A no-op while nothing is stale.
+  /// @p for_build: the list is built next, which reads the positions only, so only those
+  /// are sent (all of the state with meshes); assign() then moves the rest with the
+  /// particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
@@ -177,10 +181,17 @@ class RankSplit final : public SearchShare {
   /// same terms' bound).
   void add_up(ExactSums& s) const;
 
-  // The contact search at a build (SearchShare): rank r lists the r-th of size() equal
-  // runs of rows, and every rank then gets all the candidates.
+  // The contact search and list at a build (SearchShare): rank r lists the r-th of
+  // size() equal runs of rows, and each pair goes to the ranks that hold its slab.
   std::pair<std::size_t, std::size_t> rows(std::size_t n) const override;
-  void gather_candidates(std::vector<std::vector<ContactPair>>& chunks) override;
+  int share_rank() const override { return rank_; }
+  int share_size() const override { return size_; }
+  void sum(std::vector<std::uint64_t>& v) override;
+  std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) override;
+  std::vector<double> swap_values(std::vector<std::vector<double>>& out) override;
+  /// Every rank gets the contacts of the whole list (each rank's own pairs'), in (i, j)
+  /// order: for the checkpoint and the output probes, which read them whole.
+  std::vector<VerletList::PairContact> gather_contacts(const VerletList& list);
 
   /// The send and receive buffers of the exchanges with the neighbouring ranks, one per
   /// message, kept between steps.

@@ -54,6 +54,42 @@ class Simulation : private integrators::StepHost {
   const std::string& unshared() const { return unshared_; }
   /// Whether @p flag is set on any of the processes (a collective call when several).
   bool any_rank(bool flag) const { return ranks_ ? ranks_->any(flag) : flag; }
+  /// The sum of @p v over the processes, and the largest of @p x (collective calls
+  /// when several): for what each process counts of its own part.
+  std::uint64_t rank_sum(std::uint64_t v) const {
+    std::vector<std::uint64_t> s{v};
+    if (ranks_) ranks_->sum(s);
+    return s[0];
+  }
+  double rank_max(double x) const { return ranks_ ? ranks_->max(x) : x; }
+  /// Whether the processes share the contact list, each holding its own slabs' pairs.
+  bool shares_list() const { return ranks_ != nullptr; }
+  /// The pair contacts of the whole contact list (each process holds its own slabs'
+  /// pairs, rank_split.hpp), in (i, j) order, on every process (a collective call when
+  /// several): for the output probes, which evaluate the whole list.
+  std::vector<VerletList::PairContact> pair_contacts() const {
+    if (!contact_) return {};
+    return ranks_ ? ranks_->gather_contacts(contact_->list()) : contact_->list().pair_contacts();
+  }
+  /// For a checkpoint, on every process (collective): the contact list keeps the whole
+  /// list's contacts (pair_contacts()) for save_state, until the returned guard goes.
+  class HeldContacts {
+   public:
+    explicit HeldContacts(VerletList* list) : list_(list) {}
+    HeldContacts(const HeldContacts&) = delete;
+    HeldContacts& operator=(const HeldContacts&) = delete;
+    ~HeldContacts() {
+      if (list_) list_->release_contacts();
+    }
+
+   private:
+    VerletList* list_;
+  };
+  [[nodiscard]] HeldContacts hold_contacts() const {
+    if (!ranks_ || !contact_) return HeldContacts(nullptr);
+    contact_->list().hold_contacts(pair_contacts());
+    return HeldContacts(&contact_->list());
+  }
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
   std::uint64_t steps() const { return steps_; }

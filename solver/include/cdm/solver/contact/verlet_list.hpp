@@ -25,7 +25,9 @@
 /// pairs, those in contact at the last evaluation counted kTouchCost times more): after
 /// the spatial sort its slabs' particles are about its share of the integrator's pass
 /// (thread_range), so a thread finds in its own cache the forces and positions it works
-/// on.
+/// on. Among MPI processes (SearchShare) the slabs are dealt out likewise, one run per
+/// process, and each process holds only its slabs' pairs and those of the slab below
+/// them (its shadow slab, whose pairs reach into its first slab): the list is divided.
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -39,13 +41,23 @@
 
 namespace cdm {
 
-/// Processes that share the contact search (RankSplit): each lists the rows rows(n) of
-/// the candidates (particles i's pairs with every j > i), and gather_candidates() leaves
-/// every process the candidates of all rows, in row order: the one-process list.
+/// Processes that share the contact search and the list (RankSplit). At a build each
+/// lists the rows rows(n) of the candidates (particle i's pairs with every j > i); the
+/// slabs are dealt out in contiguous runs, one per process, from the slabs' particles and
+/// pairs summed over the processes; and each pair goes to the process whose slab holds it,
+/// and to the one above when its slab is that process's shadow slab. Each process then
+/// holds the pairs of its slabs and of its shadow slab only, in the one-process order.
 class SearchShare {
  public:
   virtual std::pair<std::size_t, std::size_t> rows(std::size_t n) const = 0;
-  virtual void gather_candidates(std::vector<std::vector<ContactPair>>& chunks) = 0;
+  virtual int share_rank() const = 0;
+  virtual int share_size() const = 0;
+  /// Every process gets the sums of @p v over the processes.
+  virtual void sum(std::vector<std::uint64_t>& v) = 0;
+  /// Sends out[r] to process r and returns what the processes sent here, in process
+  /// order; @p out is released.
+  virtual std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) = 0;
+  virtual std::vector<double> swap_values(std::vector<std::vector<double>>& out) = 0;
 
  protected:
   ~SearchShare() = default;
@@ -217,6 +229,39 @@ class VerletList {
   /// the build positions: listed(n) particles.
   std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;
 
+  /// One pair contact's history (i < j).
+  struct PairContact {
+    std::uint32_t i, j;  // particles
+    Vec3 h;              // tangential displacement [m]
+    std::uint64_t key() const { return (std::uint64_t{i} << 32) | j; }
+  };
+  /// The listed pairs in contact, in (i, j) order: the carried ones while the pairs are
+  /// not listed, or those held (hold_contacts).
+  std::vector<PairContact> pair_contacts() const;
+  /// Of a list shared among processes, the contacts of this process's own pairs (its
+  /// slabs', not the shadow slab's), in (i, j) order: every contact on one process.
+  std::vector<PairContact> own_contacts() const;
+  /// The whole list's contacts, gathered from the processes, given to pair_contacts()
+  /// (and so to save_state) until release_contacts().
+  void hold_contacts(std::vector<PairContact> all) {
+    held_ = std::move(all);
+    holding_ = true;
+  }
+  void release_contacts() {
+    std::vector<PairContact>().swap(held_);
+    holding_ = false;
+  }
+  /// Drops the listed pairs: the next update lists them all again, carrying the held
+  /// contacts (hold_contacts), for a copy that evaluates every contact on one process.
+  /// Throws std::logic_error unless they are held.
+  void list_held_again();
+  /// This process's own listed pairs [k0, k1): its slabs' (not the shadow slab's) where
+  /// the processes share the list, else all.
+  std::pair<std::size_t, std::size_t> own_pairs() const;
+  /// How the last build dealt the slabs among the processes that share the list: process
+  /// r's are [rank_slab_first()[r], rank_slab_first()[r + 1]). Empty on one process.
+  const std::vector<std::uint32_t>& rank_slab_first() const { return rank_slab_first_; }
+
   /// The list's contacts and build positions, for checkpoints: the pairs and the
   /// particle–wall entries in contact, with their history, not the listed pairs, which
   /// the next update lists again from the build positions, as the build listed them
@@ -231,6 +276,16 @@ class VerletList {
   /// Lists the pairs anew from @p at, the positions of the particles of @p (their own
   /// at a build; x0_ to list again the pairs of a loaded list, which is no new build).
   void list_pairs(const ParticleStore& p, const SearchPoints& at, bool build);
+  /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
+  /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
+  /// @p slab_of each particle's slab), and of @p carry the contacts of those pairs.
+  /// @p whole: every process holds every contact of @p carry (loaded, or list_again),
+  /// else each its own pairs' (collect_contacts).
+  void divide(std::vector<std::vector<ContactPair>>& chunks, const std::vector<std::uint32_t>& slab_of,
+              std::size_t nslab, std::vector<PairContact>& carry, bool whole);
+  /// The listed pairs in contact, in list order: this process's own pairs' only
+  /// (@p own, where the list is shared: not the shadow slab's), or all.
+  std::vector<PairContact> collect_contacts(bool own) const;
   double drift_limit() const { return 0.49 * skin_; }
   /// How the particles' bounding box is cut into slabs (see the file comment).
   struct Slabs {
@@ -258,14 +313,7 @@ class VerletList {
   /// The wall entries in contact, in (particle, wall) order: the carried ones while
   /// pending, else the listed ones.
   std::vector<WallContact> wall_contacts() const;
-  /// One pair contact's history (i < j), carried to a list not yet listed again.
-  struct PairContact {
-    std::uint32_t i, j;  // particles
-    Vec3 h;              // tangential displacement [m]
-    std::uint64_t key() const { return (std::uint64_t{i} << 32) | j; }
-  };
-  /// The listed pairs in contact, in (i, j) order: the carried ones while pending.
-  std::vector<PairContact> pair_contacts() const;
+
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
   /// a particle removed).
   void renumber_pair_carry(const std::vector<std::uint32_t>& to);
@@ -302,6 +350,9 @@ class VerletList {
   bool rank_split_ = false;
   SearchShare* share_ = nullptr;  // set_search_share
   std::vector<PairContact> pair_carry_;  // load_state: the contacts, until the pairs are listed
+  std::vector<PairContact> held_;        // hold_contacts
+  bool holding_ = false;
+  std::vector<std::uint32_t> rank_slab_first_;  // rank_slab_first
   bool pairs_pending_ = false;          // load_state: the pairs are listed at the next update
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation

@@ -1,0 +1,108 @@
+// The Verlet list shared among processes (SearchShare): each holds its slabs' pairs and
+// its shadow slab's, and the contacts are gathered only for those who read them whole.
+#include <algorithm>
+#include <stdexcept>
+
+#include "cdm/solver/contact/verlet_list.hpp"
+
+namespace cdm {
+
+std::pair<std::size_t, std::size_t> VerletList::own_pairs() const {
+  if (!rank_split_ || slab_start_.empty()) return {0, pi_.size()};
+  return {slab_start_[std::min(rank_slabs_.first, slab_count())], slab_start_[std::min(rank_slabs_.second, slab_count())]};
+}
+
+std::vector<VerletList::PairContact> VerletList::collect_contacts(bool own) const {
+  std::vector<PairContact> out;
+  if (!history_ || pairs_pending_) return out;
+  const auto [k0, k1] = own ? own_pairs() : std::pair<std::size_t, std::size_t>{0, pi_.size()};
+  for (std::size_t k = k0; k < k1; ++k)
+    if (touch_[k]) out.push_back({pi_[k], pj_[k], hist_[k]});
+  return out;
+}
+
+std::vector<VerletList::PairContact> VerletList::own_contacts() const {
+  std::vector<PairContact> out = pairs_pending_ ? pair_carry_ : collect_contacts(true);
+  std::sort(out.begin(), out.end(), [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
+  return out;
+}
+
+void VerletList::list_held_again() {
+  if (!holding_) throw std::logic_error("VerletList: the whole list's contacts are not held");
+  pair_carry_.swap(held_);
+  release_contacts();
+  pairs_pending_ = true;
+  for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
+  hist_.clear();
+  touch_.clear();
+}
+
+void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const std::vector<std::uint32_t>& slab_of,
+                        std::size_t nslab, std::vector<PairContact>& carry, bool whole) {
+  SearchShare& share = *share_;
+  const auto size = static_cast<std::size_t>(share.share_size());
+  const auto me = static_cast<std::size_t>(share.share_rank());
+  auto slab = [&](std::uint32_t i, std::uint32_t j) { return std::min(slab_of[i], slab_of[j]); };
+  // Each slab's cost: its particles (the integrator's pass; every process holds every
+  // position) and its listed pairs (the pair loop), summed over the processes. Each
+  // process takes a contiguous run of slabs with about an equal share of the cost.
+  std::vector<std::uint64_t> cost(nslab + 1, 0);
+  for (const auto& chunk : chunks)
+    for (const ContactPair& c : chunk) ++cost[slab(c.i, c.j) + 1];
+  share.sum(cost);
+  for (const std::uint32_t s : slab_of) ++cost[s + 1];
+  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s];
+  rank_slab_first_.assign(size + 1, static_cast<std::uint32_t>(nslab));
+  rank_slab_first_[0] = 0;
+  for (std::size_t r = 1; r < size; ++r) {
+    const std::uint64_t at = cost.back() * r / size;
+    rank_slab_first_[r] =
+        static_cast<std::uint32_t>(std::lower_bound(cost.begin(), cost.end() - 1, at) - cost.begin());
+  }
+  std::vector<std::uint32_t> owner(nslab, 0);
+  for (std::size_t r = 0; r < size; ++r)
+    for (std::size_t s = rank_slab_first_[r]; s < rank_slab_first_[r + 1]; ++s) owner[s] = static_cast<std::uint32_t>(r);
+  // A pair of slab s goes to its owner and, when s is the shadow slab of the process
+  // above (whose first slab is s + 1), to that process too.
+  auto each_process = [&](std::uint32_t s, auto&& to) {
+    to(owner[s]);
+    if (s + 1 < nslab && owner[s + 1] != owner[s]) to(owner[s + 1]);
+  };
+  {
+    std::vector<std::vector<std::uint32_t>> out(size);
+    for (auto& chunk : chunks) {
+      for (const ContactPair& c : chunk)
+        each_process(slab(c.i, c.j), [&](std::uint32_t r) { out[r].insert(out[r].end(), {c.i, c.j}); });
+      std::vector<ContactPair>().swap(chunk);
+    }
+    // From each process its rows' pairs in row order, the processes in row order: the
+    // one-process order of the candidates.
+    const std::vector<std::uint32_t> in = share.swap_values(out);
+    chunks.assign(1, {});
+    chunks[0].reserve(in.size() / 2);
+    for (std::size_t k = 0; k + 1 < in.size(); k += 2) chunks[0].push_back({in[k], in[k + 1], 0.0});
+  }
+  if (!history_) return;
+  if (whole) {  // every process holds them all: each keeps its pairs'
+    std::erase_if(carry, [&](const PairContact& c) {
+      bool mine = false;
+      each_process(slab(c.i, c.j), [&](std::uint32_t r) { mine = mine || r == me; });
+      return !mine;
+    });
+    return;
+  }
+  std::vector<std::vector<double>> out(size);
+  for (const PairContact& c : carry)
+    each_process(slab(c.i, c.j), [&](std::uint32_t r) {
+      out[r].insert(out[r].end(), {static_cast<double>(c.i), static_cast<double>(c.j), c.h.x, c.h.y, c.h.z});
+    });
+  std::vector<PairContact>().swap(carry);
+  const std::vector<double> in = share.swap_values(out);
+  carry.resize(in.size() / 5);
+  for (std::size_t k = 0; k < carry.size(); ++k) {
+    const double* v = &in[5 * k];
+    carry[k] = {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]), {v[2], v[3], v[4]}};
+  }
+}
+
+}  // namespace cdm
