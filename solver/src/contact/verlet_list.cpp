@@ -52,15 +52,27 @@ void VerletList::save_state(OutArchive& a) const {
   // The contacts only: a listed pair or wall entry out of contact carries nothing (a
   // contact starts afresh), and the pairs are listed again from x0_. A list shared
   // among processes holds its own part only: its whole contacts are held for this.
+  // Written as three arrays, field by field, without a copy of the contacts.
   if (rank_split_ && share_ && !holding_ && !pairs_pending_)
     throw std::logic_error("VerletList: a shared list saved without its whole contacts");
-  const std::vector<PairContact> pc = pair_contacts();
-  std::vector<std::uint32_t> pi(pc.size()), pj(pc.size());
-  std::vector<Vec3> ph(pc.size());
-  for (std::size_t k = 0; k < pc.size(); ++k) {
-    pi[k] = pc[k].i; pj[k] = pc[k].j; ph[k] = pc[k].h;
-  }
-  a.put(pi); a.put(pj); a.put(ph);
+  const std::vector<PairContact>* whole = holding_ ? &held_ : pairs_pending_ ? &pair_carry_ : nullptr;
+  auto put_field = [&](auto field) {
+    if (whole) {
+      a.put(static_cast<std::uint64_t>(whole->size()));
+      for (const PairContact& c : *whole) a.put(field(c));
+      return;
+    }
+    std::uint64_t n = 0;
+    if (history_)
+      for (std::size_t k = 0; k < pi_.size(); ++k) n += touch_[k];
+    a.put(n);
+    if (history_)
+      for (std::size_t k = 0; k < pi_.size(); ++k)
+        if (touch_[k]) a.put(field(PairContact{pi_[k], pj_[k], hist_[k]}));
+  };
+  put_field([](const PairContact& c) { return c.i; });
+  put_field([](const PairContact& c) { return c.j; });
+  put_field([](const PairContact& c) { return c.h; });
   const std::vector<WallContact> wc = wall_contacts();
   std::vector<std::uint32_t> wi(wc.size()), ww(wc.size());
   std::vector<Vec3> wh(wc.size());
@@ -79,10 +91,16 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   a.get(x0_); a.get(y0_); a.get(z0_);
   const std::size_t n = x0_.size();
   bool ok = y0_.size() == n && z0_.size() == n;
-  // Contacts of particles listed, in strictly increasing (i, j) and (i, w) order.
+  // Contacts of particles listed, each pair once (in list order), and the wall
+  // contacts in strictly increasing (i, w) order.
   ok = ok && pj.size() == pi.size() && ph.size() == pi.size() && (history_ || pi.empty());
-  for (std::size_t k = 0; ok && k < pi.size(); ++k)
-    ok = pi[k] < pj[k] && pj[k] < n && (k == 0 || PairContact{pi[k - 1], pj[k - 1], {}}.key() < PairContact{pi[k], pj[k], {}}.key());
+  for (std::size_t k = 0; ok && k < pi.size(); ++k) ok = pi[k] < pj[k] && pj[k] < n;
+  if (ok) {
+    std::vector<std::uint64_t> keys(pi.size());
+    for (std::size_t k = 0; k < pi.size(); ++k) keys[k] = PairContact{pi[k], pj[k], {}}.key();
+    std::sort(keys.begin(), keys.end());
+    ok = std::adjacent_find(keys.begin(), keys.end()) == keys.end();
+  }
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
     ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
@@ -103,11 +121,6 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   wall_candidates_stale_ = true;  // listed from the build's positions at the next update
 }
 
-std::vector<VerletList::PairContact> VerletList::pair_contacts() const {
-  if (holding_) return held_;
-  if (pairs_pending_) return pair_carry_;
-  return own_contacts();
-}
 
 void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
   // As permute and remap renumber listed pairs: i < j kept, the history seen from i.
@@ -314,14 +327,8 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // to the process of its slab.
   const Slabs g = slabs(at.x, at.y, at.z, p.radius, n);
   const std::size_t nslab = g.count;
-  std::vector<std::uint32_t> slab_of(n, 0);
-  if (nslab > 1) {
-    const double* const axis_data[3] = {at.x, at.y, at.z};
-    const double* const c = axis_data[g.axis];
-    const double lo_axis = g.lo[g.axis];
-    for (std::size_t i = 0; i < n; ++i)
-      slab_of[i] = static_cast<std::uint32_t>(std::min(nslab - 1, static_cast<std::size_t>((c[i] - lo_axis) / g.width)));
-  }
+  const double* const axis_data[3] = {at.x, at.y, at.z};
+  const SlabOf slab_of{axis_data[g.axis], g.lo[g.axis], g.width, nslab};
   // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
   // small. First the history to carry over: only the pairs in contact have any (a pair
   // not in contact starts afresh), so their partner and history are set apart, by
@@ -390,7 +397,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
                                [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
                 chunk.end());
   if (divided) {
-    divide(candidates, slab_of, nslab, carry, carry_whole);
+    divide(candidates, slab_of, n, carry, carry_whole);
     if (history_) index_carry(each_of(carry));
     std::vector<PairContact>().swap(carry);
   } else {
@@ -405,11 +412,10 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     std::size_t k = 0;
     for (const auto& chunk : candidates)
       for (const ContactPair& cp : chunk) {
-        owner[k] = std::min(slab_of[cp.i], slab_of[cp.j]);
+        owner[k] = std::min(slab_of(cp.i), slab_of(cp.j));
         ++start[owner[k++] + 1];
       }
   }
-  std::vector<std::uint32_t>().swap(slab_of);
   for (std::size_t s = 0; s < nslab; ++s) start[s + 1] += start[s];
   std::vector<std::uint32_t> pi(listed), pj(listed);
   {

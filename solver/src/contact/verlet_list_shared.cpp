@@ -22,9 +22,7 @@ std::vector<VerletList::PairContact> VerletList::collect_contacts(bool own) cons
 }
 
 std::vector<VerletList::PairContact> VerletList::own_contacts() const {
-  std::vector<PairContact> out = pairs_pending_ ? pair_carry_ : collect_contacts(true);
-  std::sort(out.begin(), out.end(), [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
-  return out;
+  return pairs_pending_ ? pair_carry_ : collect_contacts(true);
 }
 
 void VerletList::list_held_again() {
@@ -37,12 +35,13 @@ void VerletList::list_held_again() {
   touch_.clear();
 }
 
-void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const std::vector<std::uint32_t>& slab_of,
-                        std::size_t nslab, std::vector<PairContact>& carry, bool whole) {
+void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
+                        std::vector<PairContact>& carry, bool whole) {
+  const std::size_t nslab = slab_of.count;
   SearchShare& share = *share_;
   const auto size = static_cast<std::size_t>(share.share_size());
   const auto me = static_cast<std::size_t>(share.share_rank());
-  auto slab = [&](std::uint32_t i, std::uint32_t j) { return std::min(slab_of[i], slab_of[j]); };
+  auto slab = [&](std::uint32_t i, std::uint32_t j) { return std::min(slab_of(i), slab_of(j)); };
   // Each slab's cost: its particles (the integrator's pass; every process holds every
   // position) and its listed pairs (the pair loop), summed over the processes. Each
   // process takes a contiguous run of slabs with about an equal share of the cost.
@@ -50,7 +49,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const std
   for (const auto& chunk : chunks)
     for (const ContactPair& c : chunk) ++cost[slab(c.i, c.j) + 1];
   share.sum(cost);
-  for (const std::uint32_t s : slab_of) ++cost[s + 1];
+  for (std::size_t i = 0; i < n; ++i) ++cost[slab_of(static_cast<std::uint32_t>(i)) + 1];
   for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s];
   rank_slab_first_.assign(size + 1, static_cast<std::uint32_t>(nslab));
   rank_slab_first_[0] = 0;

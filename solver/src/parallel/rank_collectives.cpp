@@ -6,6 +6,7 @@
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/mpi_session.hpp"
@@ -73,34 +74,27 @@ std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out
 }
 
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) {
-  // Each rank's own pairs' contacts, as (i, j, hx, hy, hz); joined in (i, j) order.
-  const std::vector<VerletList::PairContact> mine = list.own_contacts();
-  std::vector<double> send(5 * mine.size());
-  for (std::size_t k = 0; k < mine.size(); ++k) {
-    const auto& c = mine[k];
-    const double v[5] = {static_cast<double>(c.i), static_cast<double>(c.j), c.h.x, c.h.y, c.h.z};
-    std::copy(v, v + 5, &send[5 * k]);
-  }
+  // A loaded list not listed again holds every contact on every rank.
+  if (!list.pairs_listed()) return rank_ == 0 ? list.own_contacts() : std::vector<VerletList::PairContact>();
+  // Each rank's own pairs' contacts, in list order; the ranks' slabs follow one another,
+  // so rank 0 receives them in the one-rank list's order.
+  using Contact = VerletList::PairContact;
+  static_assert(std::is_trivially_copyable_v<Contact>);
+  const std::vector<Contact> mine = list.own_contacts();
   const auto size = static_cast<std::size_t>(size_);
+  const int bytes = static_cast<int>(mine.size() * sizeof(Contact));
   std::vector<int> counts(size), displs(size);
-  const int count = static_cast<int>(send.size());
-  mpi_check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  mpi_check(MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
     displs[r] = static_cast<int>(total);
     total += static_cast<std::size_t>(counts[r]);
   }
-  std::vector<double> all(total);
-  mpi_check(MPI_Allgatherv(send.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                           MPI_COMM_WORLD),
-            "MPI_Allgatherv");
-  std::vector<VerletList::PairContact> out(total / 5);
-  for (std::size_t k = 0; k < out.size(); ++k) {
-    const double* v = &all[5 * k];
-    out[k] = {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]), {v[2], v[3], v[4]}};
-  }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.key() < b.key(); });
-  return out;
+  std::vector<Contact> all(rank_ == 0 ? total / sizeof(Contact) : 0);
+  mpi_check(MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
+                        MPI_COMM_WORLD),
+            "MPI_Gatherv");
+  return all;
 }
 
 double RankSplit::max(double x) const {

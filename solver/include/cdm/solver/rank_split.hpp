@@ -189,8 +189,9 @@ class RankSplit final : public SearchShare {
   void sum(std::vector<std::uint64_t>& v) override;
   std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) override;
   std::vector<double> swap_values(std::vector<std::vector<double>>& out) override;
-  /// Every rank gets the contacts of the whole list (each rank's own pairs'), in (i, j)
-  /// order: for the checkpoint and the output probes, which read them whole.
+  /// Rank 0 gets the contacts of the whole list (each rank's own pairs'), in the
+  /// one-rank list's order; the others nothing: for the checkpoint and the output probes,
+  /// which rank 0 writes.
   std::vector<VerletList::PairContact> gather_contacts(const VerletList& list);
 
   /// The send and receive buffers of the exchanges with the neighbouring ranks, one per

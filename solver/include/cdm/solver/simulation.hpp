@@ -64,15 +64,10 @@ class Simulation : private integrators::StepHost {
   double rank_max(double x) const { return ranks_ ? ranks_->max(x) : x; }
   /// Whether the processes share the contact list, each holding its own slabs' pairs.
   bool shares_list() const { return ranks_ != nullptr; }
-  /// The pair contacts of the whole contact list (each process holds its own slabs'
-  /// pairs, rank_split.hpp), in (i, j) order, on every process (a collective call when
-  /// several): for the output probes, which evaluate the whole list.
-  std::vector<VerletList::PairContact> pair_contacts() const {
-    if (!contact_) return {};
-    return ranks_ ? ranks_->gather_contacts(contact_->list()) : contact_->list().pair_contacts();
-  }
-  /// For a checkpoint, on every process (collective): the contact list keeps the whole
-  /// list's contacts (pair_contacts()) for save_state, until the returned guard goes.
+  /// For a checkpoint or a frame with contact forces, on every process (a collective
+  /// call when the processes share the contact list, each holding its own slabs' pairs,
+  /// rank_split.hpp): rank 0, which writes them, holds the whole list's contacts
+  /// (VerletList::hold_contacts) until the returned guard goes; a no-op otherwise.
   class HeldContacts {
    public:
     explicit HeldContacts(VerletList* list) : list_(list) {}
@@ -87,7 +82,9 @@ class Simulation : private integrators::StepHost {
   };
   [[nodiscard]] HeldContacts hold_contacts() const {
     if (!ranks_ || !contact_) return HeldContacts(nullptr);
-    contact_->list().hold_contacts(pair_contacts());
+    std::vector<VerletList::PairContact> all = ranks_->gather_contacts(contact_->list());
+    if (ranks_->share_rank() != 0) return HeldContacts(nullptr);
+    contact_->list().hold_contacts(std::move(all));
     return HeldContacts(&contact_->list());
   }
   double time() const { return time_; }

@@ -28,6 +28,7 @@
 /// on. Among MPI processes (SearchShare) the slabs are dealt out likewise, one run per
 /// process, and each process holds only its slabs' pairs and those of the slab below
 /// them (its shadow slab, whose pairs reach into its first slab): the list is divided.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -235,14 +236,13 @@ class VerletList {
     Vec3 h;              // tangential displacement [m]
     std::uint64_t key() const { return (std::uint64_t{i} << 32) | j; }
   };
-  /// The listed pairs in contact, in (i, j) order: the carried ones while the pairs are
-  /// not listed, or those held (hold_contacts).
-  std::vector<PairContact> pair_contacts() const;
-  /// Of a list shared among processes, the contacts of this process's own pairs (its
-  /// slabs', not the shadow slab's), in (i, j) order: every contact on one process.
+  /// The contacts of this process's own pairs (its slabs', not the shadow slab's, where
+  /// the processes share the list; else all), in list order; the loaded ones, all of
+  /// them, while the pairs are not listed again (pairs_listed()).
   std::vector<PairContact> own_contacts() const;
-  /// The whole list's contacts, gathered from the processes, given to pair_contacts()
-  /// (and so to save_state) until release_contacts().
+  bool pairs_listed() const { return !pairs_pending_; }
+  /// The whole list's contacts, in list order, gathered from the processes for
+  /// save_state (and for list_held_again) until release_contacts().
   void hold_contacts(std::vector<PairContact> all) {
     held_ = std::move(all);
     holding_ = true;
@@ -262,8 +262,9 @@ class VerletList {
   /// r's are [rank_slab_first()[r], rank_slab_first()[r + 1]). Empty on one process.
   const std::vector<std::uint32_t>& rank_slab_first() const { return rank_slab_first_; }
 
-  /// The list's contacts and build positions, for checkpoints: the pairs and the
-  /// particle–wall entries in contact, with their history, not the listed pairs, which
+  /// The list's contacts and build positions, for checkpoints: the pairs (in list order,
+  /// the same on any number of processes) and the particle–wall entries (in (i, w)
+  /// order) in contact, with their history, not the listed pairs, which
   /// the next update lists again from the build positions, as the build listed them
   /// (the same pairs in the same order: the search depends on the positions alone).
   /// The build flag and count are put by the caller, ahead of its own counters (the
@@ -281,8 +282,17 @@ class VerletList {
   /// @p slab_of each particle's slab), and of @p carry the contacts of those pairs.
   /// @p whole: every process holds every contact of @p carry (loaded, or list_again),
   /// else each its own pairs' (collect_contacts).
-  void divide(std::vector<std::vector<ContactPair>>& chunks, const std::vector<std::uint32_t>& slab_of,
-              std::size_t nslab, std::vector<PairContact>& carry, bool whole);
+  /// Each particle's slab as a build cuts them (from the positions it lists).
+  struct SlabOf {
+    const double* c;  // the positions along the cut axis [m]
+    double lo, width;
+    std::size_t count;
+    std::uint32_t operator()(std::uint32_t i) const {
+      return count == 1 ? 0 : static_cast<std::uint32_t>(std::min(count - 1, static_cast<std::size_t>((c[i] - lo) / width)));
+    }
+  };
+  void divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
+              std::vector<PairContact>& carry, bool whole);
   /// The listed pairs in contact, in list order: this process's own pairs' only
   /// (@p own, where the list is shared: not the shadow slab's), or all.
   std::vector<PairContact> collect_contacts(bool own) const;
