@@ -84,29 +84,41 @@ void VerletList::save_state(OutArchive& a) const {
 }
 
 void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
-  std::vector<std::uint32_t> pi, pj, wi, ww;
-  std::vector<Vec3> ph, wh;
-  a.get(pi); a.get(pj); a.get(ph);
+  // The pair contacts' three arrays are read field by field into the contacts (a
+  // large run's would otherwise be held twice); the three must be as long, and fit.
+  std::uint64_t nc = 0, again = 0;
+  a.get(nc);
+  if (nc > a.remaining() / (2 * sizeof(std::uint32_t) + sizeof(Vec3)))
+    throw ArchiveError("an array's length (" + std::to_string(nc) + ") does not fit the data that follows");
+  pair_carry_.resize(nc);
+  for (PairContact& c : pair_carry_) a.get(c.i);
+  a.get(again);
+  bool ok = again == nc;
+  for (std::size_t k = 0; ok && k < nc; ++k) a.get(pair_carry_[k].j);
+  if (ok) a.get(again);
+  ok = ok && again == nc;
+  for (std::size_t k = 0; ok && k < nc; ++k) a.get(pair_carry_[k].h);
+  if (!ok) throw ArchiveError("the contact list is inconsistent");
+  std::vector<std::uint32_t> wi, ww;
+  std::vector<Vec3> wh;
   a.get(wi); a.get(ww); a.get(wh);
   a.get(x0_); a.get(y0_); a.get(z0_);
   const std::size_t n = x0_.size();
-  bool ok = y0_.size() == n && z0_.size() == n;
+  ok = y0_.size() == n && z0_.size() == n;
   // Contacts of particles listed, each pair once (in list order), and the wall
   // contacts in strictly increasing (i, w) order.
-  ok = ok && pj.size() == pi.size() && ph.size() == pi.size() && (history_ || pi.empty());
-  for (std::size_t k = 0; ok && k < pi.size(); ++k) ok = pi[k] < pj[k] && pj[k] < n;
-  if (ok) {
-    std::vector<std::uint64_t> keys(pi.size());
-    for (std::size_t k = 0; k < pi.size(); ++k) keys[k] = PairContact{pi[k], pj[k], {}}.key();
-    std::sort(keys.begin(), keys.end());
-    ok = std::adjacent_find(keys.begin(), keys.end()) == keys.end();
-  }
+  ok = ok && (history_ || nc == 0);
+  for (std::size_t k = 0; ok && k < nc; ++k) ok = pair_carry_[k].i < pair_carry_[k].j && pair_carry_[k].j < n;
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
     ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
   if (!ok) throw ArchiveError("the contact list is inconsistent");
-  pair_carry_.resize(pi.size());
-  for (std::size_t k = 0; k < pi.size(); ++k) pair_carry_[k] = {pi[k], pj[k], ph[k]};
+  // Kept in (i, j) order: the build that lists the pairs again finds each particle's
+  // contacts by their row, without a copy.
+  std::sort(pair_carry_.begin(), pair_carry_.end(), [](const PairContact& x, const PairContact& y) { return x.key() < y.key(); });
+  for (std::size_t k = 1; k < pair_carry_.size(); ++k)
+    if (pair_carry_[k - 1].key() == pair_carry_[k].key()) throw ArchiveError("the contact list is inconsistent");
+  carry_sorted_ = true;
   pairs_pending_ = true;
   for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
   hist_.clear();
@@ -120,7 +132,6 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   drift_bound_ = std::numeric_limits<double>::infinity();  // the moves since the build are unknown
   wall_candidates_stale_ = true;  // listed from the build's positions at the next update
 }
-
 
 void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
   // As permute and remap renumber listed pairs: i < j kept, the history seen from i.
@@ -137,6 +148,7 @@ void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
   }
   std::sort(pair_carry_.begin(), pair_carry_.end(),
             [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
+  carry_sorted_ = true;
 }
 
 bool VerletList::needs_rebuild(const ParticleStore& p) const {
@@ -338,39 +350,38 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // carried over too; a loaded one carries the checkpoint's contacts, pair_carry_.) A
   // shared list sets its own pairs' contacts apart, to be sent on once the slabs are
   // dealt out.
-  std::vector<std::uint32_t> carry_first, carry_j;
-  std::vector<Vec3> carry_hist;
-  auto index_carry = [&](auto&& each_contact) {
-    const std::size_t rows = std::max(n, x0_.size());
+  std::vector<std::uint32_t> carry_first;
+  std::vector<PairContact> carry;  // by particle i (a shared list's: until dealt out)
+  const std::size_t rows = std::max(n, x0_.size());
+  auto by_rows = [&](auto&& each_contact) {  // carry, sorted by i, from each contact
+    std::vector<PairContact> sorted;
     carry_first.assign(rows + 1, 0);
-    each_contact([&](std::uint32_t i, std::uint32_t, const Vec3&) { ++carry_first[i + 1]; });
+    each_contact([&](const PairContact& c) { ++carry_first[c.i + 1]; });
     for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
-    carry_j.resize(carry_first[rows]);
-    carry_hist.resize(carry_first[rows]);
+    sorted.resize(carry_first[rows]);
     std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
-    each_contact([&](std::uint32_t i, std::uint32_t j, const Vec3& h) {
-      const std::uint32_t q = fill[i]++;
-      carry_j[q] = j;
-      carry_hist[q] = h;
-    });
+    each_contact([&](const PairContact& c) { sorted[fill[c.i]++] = c; });
+    carry.swap(sorted);
   };
-  auto each_of = [](const std::vector<PairContact>& v) {
-    return [&v](auto&& f) {
-      for (const PairContact& c : v) f(c.i, c.j, c.h);
-    };
+  auto rows_of_carry = [&] {  // carry is sorted by i already: its rows
+    carry_first.assign(rows + 1, 0);
+    for (const PairContact& c : carry) ++carry_first[c.i + 1];
+    for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
   };
-  std::vector<PairContact> carry;  // a shared list's, until dealt out
+  auto from_carry = [&](auto&& f) {
+    for (const PairContact& c : carry) f(c);
+  };
   if (history_) {
-    if (pairs_pending_) carry.swap(pair_carry_);
-    else if (divided) carry = collect_contacts(true);
-    else if (!pi_.empty())
-      index_carry([&](auto&& f) {
+    if (pairs_pending_) {
+      carry.swap(pair_carry_);
+      if (!divided) carry_sorted_ ? rows_of_carry() : by_rows(from_carry);
+    } else if (divided) {
+      carry = collect_contacts(true);
+    } else if (!pi_.empty()) {
+      by_rows([&](auto&& f) {
         for (std::size_t k = 0; k < pi_.size(); ++k)
-          if (touch_[k]) f(pi_[k], pj_[k], hist_[k]);
+          if (touch_[k]) f(PairContact{pi_[k], pj_[k], hist_[k]});
       });
-    if (!divided && !carry.empty()) {
-      index_carry(each_of(carry));
-      std::vector<PairContact>().swap(carry);
     }
   }
   const bool carry_whole = pairs_pending_;  // every process holds every contact
@@ -398,8 +409,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
                 chunk.end());
   if (divided) {
     divide(candidates, slab_of, n, carry, carry_whole);
-    if (history_) index_carry(each_of(carry));
-    std::vector<PairContact>().swap(carry);
+    if (history_) carry_whole && carry_sorted_ ? rows_of_carry() : by_rows(from_carry);
   } else {
     rank_slab_first_.clear();
   }
@@ -437,12 +447,12 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     // both lists): a new pair looks for its j among the few carried pairs of its i.
     std::vector<Vec3> hist(pi.size());
     std::vector<std::uint8_t> touch(pi.size(), 0);
-    if (!carry_j.empty()) {
+    if (!carry.empty()) {
       for (std::size_t k = 0; k < pi.size(); ++k) {
         const std::uint32_t i = pi[k], j = pj[k];
         for (std::uint32_t q = carry_first[i]; q < carry_first[i + 1]; ++q) {
-          if (carry_j[q] != j) continue;
-          hist[k] = carry_hist[q];
+          if (carry[q].j != j) continue;
+          hist[k] = carry[q].h;
           touch[k] = 1;
           break;
         }

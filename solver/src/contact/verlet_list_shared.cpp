@@ -30,6 +30,7 @@ void VerletList::list_held_again() {
   pair_carry_.swap(held_);
   release_contacts();
   pairs_pending_ = true;
+  carry_sorted_ = false;  // in list order
   for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
   hist_.clear();
   touch_.clear();

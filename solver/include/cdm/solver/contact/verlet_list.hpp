@@ -364,6 +364,7 @@ class VerletList {
   bool holding_ = false;
   std::vector<std::uint32_t> rank_slab_first_;  // rank_slab_first
   bool pairs_pending_ = false;          // load_state: the pairs are listed at the next update
+  bool carry_sorted_ = false;           // pair_carry_ is in (i, j) order
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per entry of wall_ids_
