@@ -6,6 +6,9 @@
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 #include "cdm/solver/contact/contact_module.hpp"
@@ -32,6 +35,15 @@ MPI_Datatype mpi_type<std::uint32_t>() { return MPI_UINT32_T; }
 template <>
 MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
 
+/// @p n as an MPI count; a count past int's range (more than 2^31 values in one
+/// message or on one receiver) is refused rather than wrapped.
+int mpi_count(std::size_t n, const char* what) {
+  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error(std::string("cdm: ") + what + ": " + std::to_string(n) +
+                             " values exceed one MPI message's count (2^31 - 1); run on more processes");
+  return static_cast<int>(n);
+}
+
 /// Sends out[r] to rank r (released) and returns what each rank sent, in rank order.
 template <class T>
 std::vector<T> all_to_all(std::vector<std::vector<T>>& out, std::size_t size) {
@@ -41,15 +53,15 @@ std::vector<T> all_to_all(std::vector<std::vector<T>>& out, std::size_t size) {
   for (std::size_t r = 0; r < size; ++r) total += out[r].size();
   send.reserve(total);
   for (std::size_t r = 0; r < size; ++r) {
-    sd[r] = static_cast<int>(send.size());
-    sc[r] = static_cast<int>(out[r].size());
+    sd[r] = mpi_count(send.size(), "the contact list's exchange at a build");
+    sc[r] = mpi_count(out[r].size(), "the contact list's exchange at a build");
     send.insert(send.end(), out[r].begin(), out[r].end());
     std::vector<T>().swap(out[r]);
   }
   mpi_check(MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
   std::size_t got = 0;
   for (std::size_t r = 0; r < size; ++r) {
-    rd[r] = static_cast<int>(got);
+    rd[r] = mpi_count(got, "the contact list's exchange at a build");
     got += static_cast<std::size_t>(rc[r]);
   }
   std::vector<T> in(got);
@@ -82,12 +94,13 @@ std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList
   static_assert(std::is_trivially_copyable_v<Contact>);
   const std::vector<Contact> mine = list.own_contacts();
   const auto size = static_cast<std::size_t>(size_);
-  const int bytes = static_cast<int>(mine.size() * sizeof(Contact));
+  // In bytes (records of 32 B): up to 2^31 bytes in all, 67 million contacts, on rank 0.
+  const int bytes = mpi_count(mine.size() * sizeof(Contact), "the contacts gathered for the output");
   std::vector<int> counts(size), displs(size);
   mpi_check(MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
-    displs[r] = static_cast<int>(total);
+    displs[r] = mpi_count(total, "the contacts gathered for the output");  // a rank's error stops the run (abort_world)
     total += static_cast<std::size_t>(counts[r]);
   }
   std::vector<Contact> all(rank_ == 0 ? total / sizeof(Contact) : 0);

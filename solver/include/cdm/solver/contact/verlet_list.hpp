@@ -280,7 +280,7 @@ class VerletList {
   /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
   /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
   /// @p slab_of each particle's slab), and of @p carry the contacts of those pairs.
-  /// @p whole: every process holds every contact of @p carry (loaded, or list_again),
+  /// @p whole: every process holds every contact of @p carry (loaded, or list_held_again),
   /// else each its own pairs' (collect_contacts).
   /// Each particle's slab as a build cuts them (from the positions it lists).
   struct SlabOf {
