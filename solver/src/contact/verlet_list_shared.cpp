@@ -1,9 +1,9 @@
 // The Verlet list shared among processes (SearchShare): each holds its slabs' pairs and
 // its shadow slab's, and the contacts are gathered only for those who read them whole.
+#include "cdm/solver/contact/verlet_list.hpp"
+
 #include <algorithm>
 #include <stdexcept>
-
-#include "cdm/solver/contact/verlet_list.hpp"
 
 namespace cdm {
 

@@ -277,11 +277,6 @@ class VerletList {
   /// Lists the pairs anew from @p at, the positions of the particles of @p (their own
   /// at a build; x0_ to list again the pairs of a loaded list, which is no new build).
   void list_pairs(const ParticleStore& p, const SearchPoints& at, bool build);
-  /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
-  /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
-  /// @p slab_of each particle's slab), and of @p carry the contacts of those pairs.
-  /// @p whole: every process holds every contact of @p carry (loaded, or list_held_again),
-  /// else each its own pairs' (collect_contacts).
   /// Each particle's slab as a build cuts them (from the positions it lists).
   struct SlabOf {
     const double* c;  // the positions along the cut axis [m]
@@ -291,6 +286,11 @@ class VerletList {
       return count == 1 ? 0 : static_cast<std::uint32_t>(std::min(count - 1, static_cast<std::size_t>((c[i] - lo) / width)));
     }
   };
+  /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
+  /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
+  /// @p slab_of each of the @p n particles' slab), and of @p carry the contacts of those
+  /// pairs. @p whole: every process holds every contact of @p carry (loaded, or
+  /// list_held_again), else each its own pairs' (collect_contacts).
   void divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
               std::vector<PairContact>& carry, bool whole);
   /// The listed pairs in contact, in list order: this process's own pairs' only
@@ -323,7 +323,6 @@ class VerletList {
   /// The wall entries in contact, in (particle, wall) order: the carried ones while
   /// pending, else the listed ones.
   std::vector<WallContact> wall_contacts() const;
-
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
   /// a particle removed).
   void renumber_pair_carry(const std::vector<std::uint32_t>& to);
@@ -359,11 +358,11 @@ class VerletList {
   std::pair<std::size_t, std::size_t> rank_slabs_{0, 0};  // set_rank_slabs
   bool rank_split_ = false;
   SearchShare* share_ = nullptr;  // set_search_share
-  std::vector<PairContact> pair_carry_;  // load_state: the contacts, until the pairs are listed
+  std::vector<PairContact> pair_carry_;  // while pairs_pending_: the contacts to carry
   std::vector<PairContact> held_;        // hold_contacts
   bool holding_ = false;
   std::vector<std::uint32_t> rank_slab_first_;  // rank_slab_first
-  bool pairs_pending_ = false;          // load_state: the pairs are listed at the next update
+  bool pairs_pending_ = false;          // load_state, list_held_again: listed at the next update
   bool carry_sorted_ = false;           // pair_carry_ is in (i, j) order
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
