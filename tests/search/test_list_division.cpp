@@ -1,0 +1,176 @@
+// The Verlet list divided among processes (VerletList::divide through a SearchShare):
+// each holds exactly the one-process list's pairs of its slabs and of its shadow slab, in
+// the same order, and a later build carries each contact's history to every process that
+// lists the pair. The processes are threads here, exchanging through shared memory, so
+// that the division runs without MPI (and under the sanitizers).
+#include <gtest/gtest.h>
+
+#include <barrier>
+#include <random>
+#include <thread>
+
+#include "cdm/solver/contact/verlet_list.hpp"
+
+namespace {
+
+/// @p size processes as threads: sums and exchanges meet at a barrier.
+class ThreadShare {
+ public:
+  explicit ThreadShare(int size)
+      : size_(size), sums_(static_cast<std::size_t>(size)), u32_(static_cast<std::size_t>(size * size)),
+        f64_(static_cast<std::size_t>(size * size)), meet_(size) {}
+
+  class Member final : public cdm::SearchShare {
+   public:
+    Member(ThreadShare& s, int rank) : s_(s), rank_(rank) {}
+    std::pair<std::size_t, std::size_t> rows(std::size_t n) const override {
+      const auto r = static_cast<std::size_t>(rank_), p = static_cast<std::size_t>(s_.size_);
+      return {n * r / p, n * (r + 1) / p};
+    }
+    int share_rank() const override { return rank_; }
+    int share_size() const override { return s_.size_; }
+    void sum(std::vector<std::uint64_t>& v) override {
+      s_.sums_[static_cast<std::size_t>(rank_)] = v;
+      s_.meet_.arrive_and_wait();
+      for (std::size_t k = 0; k < v.size(); ++k) {
+        v[k] = 0;
+        for (const auto& other : s_.sums_) v[k] += other[k];
+      }
+      s_.meet_.arrive_and_wait();
+    }
+    std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) override {
+      return s_.swap(s_.u32_, out, rank_);
+    }
+    std::vector<double> swap_values(std::vector<std::vector<double>>& out) override {
+      return s_.swap(s_.f64_, out, rank_);
+    }
+
+   private:
+    ThreadShare& s_;
+    int rank_;
+  };
+
+ private:
+  template <class T>
+  std::vector<T> swap(std::vector<std::vector<T>>& box, std::vector<std::vector<T>>& out, int rank) {
+    const auto n = static_cast<std::size_t>(size_), me = static_cast<std::size_t>(rank);
+    for (std::size_t r = 0; r < n; ++r) box[me * n + r] = std::move(out[r]);
+    meet_.arrive_and_wait();
+    std::vector<T> in;
+    for (std::size_t s = 0; s < n; ++s) in.insert(in.end(), box[s * n + me].begin(), box[s * n + me].end());
+    meet_.arrive_and_wait();
+    return in;
+  }
+  int size_;
+  std::vector<std::vector<std::uint64_t>> sums_;
+  std::vector<std::vector<std::uint32_t>> u32_;
+  std::vector<std::vector<double>> f64_;
+  std::barrier<> meet_;
+};
+
+cdm::ParticleStore bed(std::size_t n, std::uint64_t seed) {
+  // A box longer along x than its other sides, so that it is cut into many slabs.
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  cdm::ParticleStore p;
+  for (std::size_t i = 0; i < n; ++i)
+    p.add({0.08 * u(rng), 0.01 * u(rng), 0.01 * u(rng)}, {}, 0.4e-3 + 0.2e-3 * u(rng), 2500.0, 0);
+  return p;
+}
+
+/// A tangential history as a function of the pair alone, so that any list can set it.
+cdm::Vec3 history_of(std::uint32_t i, std::uint32_t j) { return {1e-7 * i, -1e-7 * j, 1e-9 * (i + j)}; }
+
+/// Builds @p p's list on @p size threads sharing it, after @p prepare(list, rank) on each.
+template <class Prepare>
+std::vector<cdm::VerletList> build_shared(int size, std::vector<cdm::ParticleStore>& stores, Prepare&& prepare,
+                                          std::vector<cdm::VerletList>* lists_in = nullptr) {
+  ThreadShare share(size);
+  std::vector<ThreadShare::Member> members;
+  for (int r = 0; r < size; ++r) members.emplace_back(share, r);
+  std::vector<cdm::VerletList> lists;
+  if (lists_in) lists = std::move(*lists_in);
+  else
+    for (int r = 0; r < size; ++r) lists.emplace_back(std::vector<cdm::Wall>{}, true, 0.1e-3);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < size; ++r)
+    threads.emplace_back([&, r] {
+      const auto k = static_cast<std::size_t>(r);
+      lists[k].set_search_share(&members[k]);
+      prepare(lists[k], r);
+      lists[k].update(stores[k]);
+    });
+  for (auto& t : threads) t.join();
+  return lists;
+}
+
+/// Each process's list holds the one-process list's pairs of its slabs and shadow slab,
+/// in order, with the same history, and nothing else.
+void expect_divided(cdm::VerletList& whole, std::vector<cdm::VerletList>& parts) {
+  const auto& start = whole.slab_start();
+  const std::size_t nslab = whole.slab_count();
+  ASSERT_GT(nslab, 8u);
+  std::size_t owned = 0;
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    cdm::VerletList& part = parts[r];
+    ASSERT_EQ(part.slab_count(), nslab);
+    const auto [s0, s1] = part.rank_slabs();
+    EXPECT_EQ(s0, part.rank_slab_first()[r]);
+    EXPECT_EQ(s1, part.rank_slab_first()[r + 1]);
+    const std::size_t shadow = part.shadow_slab();
+    for (std::size_t s = 0; s < nslab; ++s) {
+      const bool held = (s >= s0 && s < s1) || s == shadow;
+      const std::size_t n = part.slab_start()[s + 1] - part.slab_start()[s];
+      ASSERT_EQ(n, held ? start[s + 1] - start[s] : 0u) << "process " << r << ", slab " << s;
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t a = start[s] + k, b = part.slab_start()[s] + k;
+        ASSERT_EQ(part.pair_i()[b], whole.pair_i()[a]);
+        ASSERT_EQ(part.pair_j()[b], whole.pair_j()[a]);
+        ASSERT_EQ(part.pair_touch()[b], whole.pair_touch()[a]);
+        const cdm::Vec3 h = part.pair_history()[b], w = whole.pair_history()[a];
+        ASSERT_TRUE(h.x == w.x && h.y == w.y && h.z == w.z);
+      }
+    }
+    owned += start[s1] - start[s0];
+  }
+  EXPECT_EQ(owned, whole.size());  // the processes' own slabs are every slab once
+}
+
+TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowThePairs) {
+  const cdm::ParticleStore p0 = bed(3000, 3);
+  for (int size : {2, 3, 4}) {
+    SCOPED_TRACE(size);
+    cdm::ParticleStore p = p0;
+    cdm::VerletList whole(std::vector<cdm::Wall>{}, true, 0.1e-3);
+    whole.update(p);
+    std::vector<cdm::ParticleStore> stores(static_cast<std::size_t>(size), p);
+    std::vector<cdm::VerletList> parts = build_shared(size, stores, [](cdm::VerletList&, int) {});
+    expect_divided(whole, parts);
+
+    // Every third listed pair in contact, with a history of its own, on each list that
+    // holds it; then the particles move past half the skin, and the lists are built again.
+    auto touch = [](cdm::VerletList& l) {
+      for (std::size_t k = 0; k < l.size(); ++k)
+        if ((l.pair_i()[k] + l.pair_j()[k]) % 3 == 0) {
+          l.pair_touch()[k] = 1;
+          l.pair_history()[k] = history_of(l.pair_i()[k], l.pair_j()[k]);
+        }
+    };
+    touch(whole);
+    for (auto& l : parts) touch(l);
+    auto move = [](cdm::ParticleStore& s) {
+      for (std::size_t i = 0; i < s.size(); ++i) s.x[i] += (i % 2 ? 0.06e-3 : -0.06e-3);
+    };
+    move(p);
+    for (auto& s : stores) move(s);
+    whole.update(p);
+    ASSERT_EQ(whole.builds(), 2u);
+    parts = build_shared(size, stores, [](cdm::VerletList&, int) {}, &parts);
+    std::size_t carried = 0;
+    for (std::size_t k = 0; k < whole.size(); ++k) carried += whole.pair_touch()[k];
+    EXPECT_GT(carried, 100u);  // contacts were carried, and compared below
+    expect_divided(whole, parts);
+  }
+}
+
+}  // namespace
