@@ -64,8 +64,10 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     return 0.0;
   };
   if (own) {
-    for (const auto& [i0, i1] : own->own_runs(p.size()))
+    for (const auto& run : own->own_runs(p.size())) {
+      const std::size_t i0 = run.first, i1 = run.second;  // not bindings: clang cannot capture them
       parallel_max_ranges(i1 - i0, [&](std::size_t a, std::size_t b) { return range(i0 + a, i0 + b); });
+    }
   } else {
     parallel_max_ranges(p.size(), range);
   }

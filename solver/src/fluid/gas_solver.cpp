@@ -17,7 +17,9 @@ namespace {
 template <class F>
 void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, const PlaneShare* share = nullptr) {
   const int n0 = g.samples(s, 0), n1 = g.samples(s, 1), n2 = g.samples(s, 2);
-  const auto [k0, k1] = share ? share->mine(n2) : std::pair{0, n2};
+  // Not bindings: clang cannot share them with an OpenMP region.
+  const std::pair<int, int> mine = share ? share->mine(n2) : std::pair{0, n2};
+  const int k0 = mine.first, k1 = mine.second;
 #pragma omp parallel for schedule(static) if (threads)
   for (int k = k0; k < k1; ++k)
     for (int j = 0; j < n1; ++j)
@@ -207,7 +209,8 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   auto gather_velocity = [&](std::vector<double>* const comp[3]) {
     for (int c = 0; c < dims; ++c) gather_samples(share_, g, static_cast<Staggering>(c), *comp[c]);
   };
-  const auto [own_k0, own_k1] = share_.mine(nz);
+  const std::pair<int, int> mine = share_.mine(nz);  // not bindings: clang cannot share them with OpenMP
+  const int own_k0 = mine.first, own_k1 = mine.second;
 
   // u* holds ε_f^{n+1} u* − Δt/ρ ε_f^{n+1} ∂p^n... without the pressure term yet: divide
   // by ε_f^{n+1} and apply the old pressure gradient, so that us_ is u*.

@@ -170,10 +170,12 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   if (!ranks_) {
     worst = parallel_max_ranges(n, pass);
   } else {  // this rank's particles; the largest drift (or not finite) over all ranks
-    for (const auto& [r0, r1] : ranks_->own_runs(p.size()))
+    for (const auto& run : ranks_->own_runs(p.size())) {
+      const std::size_t r0 = run.first, r1 = run.second;  // not bindings: clang cannot capture them
       worst = std::max(worst, parallel_max_ranges(r1 - r0, [&](std::size_t i0, std::size_t i1) {
                          return pass(r0 + i0, r0 + i1);
                        }));
+    }
     worst = ranks_->max(worst);
   }
   kick_pending_ = false;

@@ -17,7 +17,11 @@ void for_own(RankSplit* ranks, std::size_t n, F&& f) {
     parallel_for(n, f);
     return;
   }
-  for (const auto& [i0, i1] : ranks->own_runs(n)) parallel_for(i1 - i0, [&](std::size_t k) { f(i0 + k); });
+  // Not structured bindings: clang (the fuzz build) cannot capture one in a lambda.
+  for (const auto& run : ranks->own_runs(n)) {
+    const std::size_t i0 = run.first, i1 = run.second;
+    parallel_for(i1 - i0, [&](std::size_t k) { f(i0 + k); });
+  }
 }
 
 /// @p f(first, last) over thread ranges of the particles this rank moves.
@@ -41,8 +45,10 @@ template <class F>
 double max_own(RankSplit* ranks, std::size_t n, F&& f) {
   if (!ranks) return parallel_max(n, f);
   double worst = 0.0;
-  for (const auto& [i0, i1] : ranks->own_runs(n))
+  for (const auto& run : ranks->own_runs(n)) {
+    const std::size_t i0 = run.first, i1 = run.second;
     worst = std::max(worst, parallel_max(i1 - i0, [&](std::size_t k) { return f(i0 + k); }));
+  }
   return ranks->max(worst);
 }
 

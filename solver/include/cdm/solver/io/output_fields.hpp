@@ -20,8 +20,9 @@ class Simulation;
 /// kick earlier, so the two differ by the damping of that velocity change.
 /// Where the MPI processes share the contact list, the copy lists every pair again from
 /// the whole list's contacts, which the caller holds (Simulation::hold_contacts, a
-/// collective call: every process holds them, the writer evaluates); likewise
-/// contact_network(). wall_forces() reads the walls only, whole on every process.
+/// collective call after which rank 0, the writer, holds them; called elsewhere, this
+/// throws std::logic_error); likewise contact_network(). wall_forces() reads the walls
+/// only, whole on every process.
 std::vector<double> contact_forces(const Simulation& sim);
 
 /// The particle–particle contacts at the state the outputs write, evaluated like
