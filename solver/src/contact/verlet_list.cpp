@@ -115,7 +115,7 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   if (!ok) throw ArchiveError("the contact list is inconsistent");
   // Kept in (i, j) order: the build that lists the pairs again finds each particle's
   // contacts by their row, without a copy.
-  std::sort(pair_carry_.begin(), pair_carry_.end(), [](const PairContact& x, const PairContact& y) { return x.key() < y.key(); });
+  std::sort(pair_carry_.begin(), pair_carry_.end(), PairContact::by_key);
   for (std::size_t k = 1; k < pair_carry_.size(); ++k)
     if (pair_carry_[k - 1].key() == pair_carry_[k].key()) throw ArchiveError("the contact list is inconsistent");
   carry_sorted_ = true;
@@ -146,8 +146,7 @@ void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
       c.h = -c.h;
     }
   }
-  std::sort(pair_carry_.begin(), pair_carry_.end(),
-            [](const PairContact& a, const PairContact& b) { return a.key() < b.key(); });
+  std::sort(pair_carry_.begin(), pair_carry_.end(), PairContact::by_key);
   carry_sorted_ = true;
 }
 
@@ -351,40 +350,39 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // shared list sets its own pairs' contacts apart, to be sent on once the slabs are
   // dealt out.
   std::vector<std::uint32_t> carry_first;
-  std::vector<PairContact> carry;  // by particle i (a shared list's: until dealt out)
+  std::vector<PairContact> carry;  // by particle i once indexed (a shared list's: until dealt out)
   const std::size_t rows = std::max(n, x0_.size());
-  auto by_rows = [&](auto&& each_contact) {  // carry, sorted by i, from each contact
-    std::vector<PairContact> sorted;
+  // Row i of the carried contacts is carry[carry_first[i] .. carry_first[i + 1]).
+  auto count_rows = [&](auto&& each_contact) {
     carry_first.assign(rows + 1, 0);
     each_contact([&](const PairContact& c) { ++carry_first[c.i + 1]; });
     for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
-    sorted.resize(carry_first[rows]);
+  };
+  auto sort_rows = [&](auto&& each_contact) {  // carry from each contact, by particle i
+    count_rows(each_contact);
+    std::vector<PairContact> sorted(carry_first[rows]);
     std::vector<std::uint32_t> fill(carry_first.begin(), carry_first.end() - 1);
     each_contact([&](const PairContact& c) { sorted[fill[c.i]++] = c; });
     carry.swap(sorted);
   };
-  auto rows_of_carry = [&] {  // carry is sorted by i already: its rows
-    carry_first.assign(rows + 1, 0);
-    for (const PairContact& c : carry) ++carry_first[c.i + 1];
-    for (std::size_t r = 0; r < rows; ++r) carry_first[r + 1] += carry_first[r];
-  };
-  auto from_carry = [&](auto&& f) {
-    for (const PairContact& c : carry) f(c);
+  const bool carry_whole = pairs_pending_;  // every process holds every contact
+  auto index_carry = [&] {                  // the carried vector's rows (loaded ones are in (i, j) order)
+    auto each = [&](auto&& f) {
+      for (const PairContact& c : carry) f(c);
+    };
+    if (carry_whole && carry_sorted_) count_rows(each);
+    else sort_rows(each);
   };
   if (history_) {
-    if (pairs_pending_) {
-      carry.swap(pair_carry_);
-      if (!divided) carry_sorted_ ? rows_of_carry() : by_rows(from_carry);
-    } else if (divided) {
-      carry = collect_contacts(true);
-    } else if (!pi_.empty()) {
-      by_rows([&](auto&& f) {
+    if (pairs_pending_) carry.swap(pair_carry_);
+    else if (divided) carry = collect_contacts(true);
+    else if (!pi_.empty())
+      sort_rows([&](auto&& f) {
         for (std::size_t k = 0; k < pi_.size(); ++k)
           if (touch_[k]) f(PairContact{pi_[k], pj_[k], hist_[k]});
       });
-    }
+    if (carry_whole && !divided) index_carry();
   }
-  const bool carry_whole = pairs_pending_;  // every process holds every contact
   std::vector<PairContact>().swap(pair_carry_);
   pairs_pending_ = false;
   const std::size_t last_size = pi_.size();
@@ -409,7 +407,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
                 chunk.end());
   if (divided) {
     divide(candidates, slab_of, n, carry, carry_whole);
-    if (history_) carry_whole && carry_sorted_ ? rows_of_carry() : by_rows(from_carry);
+    if (history_) index_carry();
   } else {
     rank_slab_first_.clear();
   }

@@ -235,6 +235,7 @@ class VerletList {
     std::uint32_t i, j;  // particles
     Vec3 h;              // tangential displacement [m]
     std::uint64_t key() const { return (std::uint64_t{i} << 32) | j; }
+    static bool by_key(const PairContact& a, const PairContact& b) { return a.key() < b.key(); }
   };
   /// The contacts of this process's own pairs (its slabs', not the shadow slab's, where
   /// the processes share the list; else all), in list order; the loaded ones, all of
