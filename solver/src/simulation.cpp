@@ -101,10 +101,6 @@ void Simulation::split_among_ranks() {
 
 int Simulation::ranks() const { return world_size_; }
 
-void Simulation::synchronise_ranks(bool for_build) const {
-  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list(), for_build);
-}
-
 std::vector<std::string> Simulation::module_names() const {
   std::vector<std::string> names;
   for (const auto& m : modules_) names.push_back(m->name());
@@ -194,24 +190,6 @@ RunGuards Simulation::guards() const { return {spec_, particles_, gas_.get(), co
 
 void Simulation::check_state(double nonfinite) const {
   guards().check(time_, steps_, nonfinite);
-}
-
-void Simulation::complete_step() const {
-  const double bad = integrator_->complete();
-  synchronise_ranks();  // the state is read: every rank gets all of it
-  if (bad != 0.0) check_state(1.0);
-}
-
-void Simulation::complete_for_gas_step() {
-  if (!ranks_ || implicit_drag_) return complete_step();  // the implicit drag reads the whole state
-  // The explicit exchange reads the positions and impulses: once per gas step each rank
-  // deposits its own particles; every step, this step's deposit gathered them already.
-  if (integrator_->complete() != 0.0) fail_not_finite();
-}
-
-void Simulation::fail_not_finite() const {
-  synchronise_ranks();  // names the particles, whichever rank moved them
-  check_state(1.0);
 }
 
 const Simulation::CouplingBalance& Simulation::coupling_balance() const {

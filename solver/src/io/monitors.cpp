@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "cdm/solver/io/counted_sums.hpp"
 #include "cdm/solver/io/layers.hpp"
 #include "cdm/solver/io/output_fields.hpp"
 #include "cdm/solver/simulation.hpp"
@@ -25,13 +26,11 @@ double bed_height(const MonitorSpec& m, const Simulation& sim) {
   const int a = m.axis, o1 = (a + 1) % 3, o2 = (a + 2) % 3;
   const double lo = g.lo(a), area = g.length(o1) * g.length(o2);
   const int layers = std::max(1, static_cast<int>(std::ceil(g.length(a) / m.bin - 1e-9)));
-  std::vector<double> solid(static_cast<std::size_t>(layers), 0.0);
-  const ParticleStore& p = sim.particles();
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const ParticleStore& p = sim.local_particles();
+  const std::vector<double> solid = counted_sums(sim, static_cast<std::size_t>(layers), [&](std::size_t i, auto&& add) {
     const int k = static_cast<int>(std::floor((coordinate(p.position(i), a) - lo) / m.bin));
-    if (k < 0 || k >= layers) continue;
-    solid[static_cast<std::size_t>(k)] += p.volume(i);
-  }
+    if (k >= 0 && k < layers) add(static_cast<std::size_t>(k), p.volume(i));
+  });
   for (int k = layers - 1; k >= 0; --k) {
     const double thickness = std::min(m.bin, g.length(a) - k * m.bin);
     if (solid[static_cast<std::size_t>(k)] / (thickness * area) >= m.threshold) return k * m.bin + thickness;
@@ -40,12 +39,11 @@ double bed_height(const MonitorSpec& m, const Simulation& sim) {
 }
 
 double mass_flow(const MonitorSpec& m, const Simulation& sim) {
-  const ParticleStore& p = sim.particles();
-  double flux = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (std::abs(coordinate(p.position(i), m.axis) - m.position) > 0.5 * m.bin) continue;
-    flux += p.mass[i] * coordinate(p.velocity(i), m.axis);
-  }
+  const ParticleStore& p = sim.local_particles();
+  const double flux = counted_sums(sim, 1, [&](std::size_t i, auto&& add) {
+    if (std::abs(coordinate(p.position(i), m.axis) - m.position) <= 0.5 * m.bin)
+      add(0, p.mass[i] * coordinate(p.velocity(i), m.axis));
+  })[0];
   return flux / m.bin;
 }
 

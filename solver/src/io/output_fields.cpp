@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include "cdm/solver/io/counted_sums.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -26,8 +27,8 @@ ContactModule probe_of(const Simulation& sim, bool pairs = true) {
 /// throws: a copy of the store would cost its whole size (about 150 B a particle) at
 /// every output. The observers hold the simulation const; its store is not, and only
 /// these six arrays change hands.
-std::array<std::vector<double>, 6> probe_forces(const Simulation& sim, ContactModule& probe) {
-  ParticleStore& p = const_cast<ParticleStore&>(sim.particles());
+std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, ContactModule& probe) {
+  ParticleStore& p = const_cast<ParticleStore&>(held);
   const std::array<std::vector<double>*, 6> run = {&p.fx, &p.fy, &p.fz, &p.tx, &p.ty, &p.tz};
   std::array<std::vector<double>, 6> out;
   for (std::size_t a = 0; a < 6; ++a) out[a].assign(run[a]->size(), 0.0);
@@ -50,7 +51,7 @@ std::vector<double> contact_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
   const ParticleStore& p = sim.particles();
   ContactModule probe = probe_of(sim);
-  const std::array<std::vector<double>, 6> fc = probe_forces(sim, probe);
+  const std::array<std::vector<double>, 6> fc = probe_forces(p, probe);
   std::vector<double> f(3 * p.size());
   for (std::size_t k = 0; k < p.size(); ++k) {
     const std::size_t s = p.slot_of(k);
@@ -65,7 +66,7 @@ ContactNetwork contact_network(const Simulation& sim) {
   const ParticleStore& p = sim.particles();
   ContactModule probe = probe_of(sim);
   probe.set_recording(true);
-  probe_forces(sim, probe);
+  probe_forces(p, probe);
   const VerletList& list = probe.list();
   const std::vector<double>& fn = probe.pair_normal_force();
   const std::vector<double>& fv = probe.pair_force();
@@ -86,23 +87,24 @@ ContactNetwork contact_network(const Simulation& sim) {
 
 std::vector<double> wall_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
-  const ParticleStore& p = sim.particles();
+  // Each process evaluates the wall contacts on the state it holds and sums its own
+  // particles' forces (Simulation::counted_runs); the sums are added up.
+  const ParticleStore& p = sim.local_particles();
   ContactModule probe = probe_of(sim, false);
   probe.set_recording(true);
-  probe_forces(sim, probe);
+  probe_forces(p, probe);
   const VerletList& list = probe.list();
   const std::vector<double>& fn = probe.wall_normal_force();
   const std::vector<double>& fv = probe.wall_force();
-  std::vector<double> f(3 * probe.walls().size(), 0.0);
-  for (std::size_t k = 0; k < p.size(); ++k) {  // in identity order: the same on any ranks
-    const auto [q0, q1] = list.wall_entries(p.slot_of(k));
+  // A particle's entries name each wall once: one term per particle in each sum.
+  return counted_sums(sim, 3 * probe.walls().size(), [&](std::size_t i, auto&& add) {
+    const auto [q0, q1] = list.wall_entries(static_cast<std::uint32_t>(i));
     for (std::uint32_t q = q0; q < q1; ++q) {
       if (fn[q] < 0.0) continue;
       const std::size_t w = list.wall_ids()[q];
-      for (std::size_t a = 0; a < 3; ++a) f[3 * w + a] += fv[3 * q + a];
+      for (std::size_t a = 0; a < 3; ++a) add(3 * w + a, fv[3 * q + a]);
     }
-  }
-  return f;
+  });
 }
 
 std::vector<double> solids_velocity(const Simulation& sim) {

@@ -1,5 +1,6 @@
 #include "cdm/solver/io/population_table.hpp"
 
+#include "cdm/solver/io/counted_sums.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -45,12 +46,10 @@ void PopulationTableObserver::operator()(const Simulation& sim) {
       r.push_back(t.mass);
     }
   }
-  // The mass in the domain summed by identity, whatever order the store keeps.
-  const ParticleStore& p = sim.particles();
-  double mass = 0.0;
-  for (std::size_t k = 0; k < p.size(); ++k) mass += p.mass[p.slot_of(k)];
+  // The mass in the domain, each process its own particles', added up.
+  const ParticleStore& p = sim.local_particles();
   r.push_back(static_cast<double>(p.size()));
-  r.push_back(mass);
+  r.push_back(counted_sums(sim, 1, [&](std::size_t i, auto&& add) { add(0, p.mass[i]); })[0]);
   table_.row(r);
   if (sim.steps() == sim.total_steps()) table_.flush();
 }

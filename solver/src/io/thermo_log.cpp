@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/io/counted_sums.hpp"
 #include "cdm/solver/io/layers.hpp"
 #include "cdm/solver/simulation.hpp"
 
@@ -25,45 +26,62 @@ int flow_axis(const Simulation& sim) {
 
 ThermoSample thermo_sample(const Simulation& sim) {
   ThermoSample s;
-  const ParticleStore& p = sim.particles();
+  // Each process its own particles and pairs (where they share them), added up.
+  const ParticleStore& p = sim.local_particles();
   s.time = sim.time();
   s.step = sim.steps();
   s.particles = p.size();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.inv_mass[i] > 0.0) s.kinetic_translational += 0.5 * p.mass[i] * dot(p.velocity(i), p.velocity(i));
+  const std::vector<double> ke = counted_sums(sim, 2, [&](std::size_t i, auto&& add) {
+    if (p.inv_mass[i] > 0.0) add(0, 0.5 * p.mass[i] * dot(p.velocity(i), p.velocity(i)));
     if (p.has_rotation() && p.inv_inertia[i] > 0.0)
-      s.kinetic_rotational += 0.5 / p.inv_inertia[i] * dot(p.angular_velocity(i), p.angular_velocity(i));
-  }
+      add(1, 0.5 / p.inv_inertia[i] * dot(p.angular_velocity(i), p.angular_velocity(i)));
+  });
+  s.kinetic_translational = ke[0];
+  s.kinetic_rotational = ke[1];
   if (const ContactModule* c = sim.contact()) {
-    // Each process its own pairs (where they share the list), added up.
     const VerletList& list = c->list();
     const PeriodicBox& box = list.periodic_box();
     const auto [k0, k1] = list.own_pairs();
-    std::uint64_t pairs = 0;
+    std::uint64_t contacts = 0;
     double worst = 0.0;
+    auto touch = [&](double overlap, double r) {
+      if (overlap <= 0.0) return;
+      ++contacts;
+      worst = std::max(worst, overlap / r);
+    };
     for (std::size_t n = k0; n < k1; ++n) {
       const std::size_t i = list.pair_i()[n], j = list.pair_j()[n];
       const Vec3 d = box.min_image(p.position(j) - p.position(i));
-      const double overlap = p.radius[i] + p.radius[j] - norm(d);
-      if (overlap <= 0.0) continue;
-      ++pairs;
-      worst = std::max(worst, overlap / std::min(p.radius[i], p.radius[j]));
+      touch(p.radius[i] + p.radius[j] - norm(d), std::min(p.radius[i], p.radius[j]));
     }
-    s.contacts += sim.rank_sum(pairs);
-    s.max_overlap_ratio = std::max(s.max_overlap_ratio, sim.rank_max(worst));
-    for (const Wall& w : c->walls())
-      for (std::size_t i = 0; i < p.size(); ++i) {
-        const double overlap = p.radius[i] - w.gap(p.position(i), p.radius[i]).gap;
-        if (overlap <= 0.0) continue;
-        ++s.contacts;
-        s.max_overlap_ratio = std::max(s.max_overlap_ratio, overlap / p.radius[i]);
-      }
-    // Mesh contacts as the last force evaluation found them (one per touching region).
-    if (const MeshContacts* m = c->meshes())
-      for (const MeshContacts::Contact& mc : m->contacts()) {
-        ++s.contacts;
-        s.max_overlap_ratio = std::max(s.max_overlap_ratio, mc.overlap / p.radius[mc.particle]);
-      }
+    const auto runs = sim.counted_runs();
+    const std::vector<Wall>& walls = c->walls();
+    auto wall_touch = [&](std::size_t i, std::size_t w) {
+      touch(p.radius[i] - walls[w].gap(p.position(i), p.radius[i]).gap, p.radius[i]);
+    };
+    if (list.listed(p.size()) && list.wall_entries_current()) {
+      // Only the list's wall candidates can touch a wall before the next build.
+      const std::vector<std::uint32_t>& cand = list.wall_candidates();
+      for (const auto& run : runs)
+        for (auto k = static_cast<std::size_t>(std::lower_bound(cand.begin(), cand.end(), run.first) - cand.begin());
+             k < cand.size() && cand[k] < run.second; ++k)
+          for (std::uint32_t q = list.wall_begin()[k]; q < list.wall_begin()[k + 1]; ++q)
+            wall_touch(cand[k], list.wall_ids()[q]);
+    } else {
+      for (const auto& run : runs)
+        for (std::size_t i = run.first; i < run.second; ++i)
+          for (std::size_t w = 0; w < walls.size(); ++w) wall_touch(i, w);
+    }
+    // Mesh contacts as the last force evaluation found them (one per touching region),
+    // of the counted particles: a process's list may hold others' since the last gather.
+    if (const MeshContacts* m = c->meshes()) {
+      std::vector<std::uint8_t> counted(p.size(), 0);
+      for (const auto& run : runs) std::fill(counted.begin() + run.first, counted.begin() + run.second, 1);
+      for (const MeshContacts::Contact& mc : m->contacts())
+        if (counted[mc.particle]) touch(mc.overlap, p.radius[mc.particle]);
+    }
+    s.contacts = sim.rank_sum(contacts);
+    s.max_overlap_ratio = sim.rank_max(worst);
   }
   if (const fluid::GasField* gas = sim.gas(); gas && gas->has_pressure()) {
     s.has_gas = true;

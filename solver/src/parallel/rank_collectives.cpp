@@ -116,6 +116,11 @@ double RankSplit::max(double x) const {
   return out;
 }
 
+void RankSplit::max(std::vector<double>& v) const {
+  mpi_check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD),
+            "MPI_Allreduce");
+}
+
 void RankSplit::add_up(ExactSums& s) const {
   mpi_check(MPI_Allreduce(MPI_IN_PLACE, s.data(), static_cast<int>(s.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
             "MPI_Allreduce");
@@ -151,6 +156,7 @@ std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::u
 std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) { return out.at(0); }
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) { return list.own_contacts(); }
 double RankSplit::max(double x) const { return x; }
+void RankSplit::max(std::vector<double>&) const {}
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
 void RankSplit::add_up(ExactSums&) const {}

@@ -23,16 +23,19 @@ class ExactSums {
   /// Start @p n sums, all zero, of terms of magnitude at most @p bound, the magnitudes of
   /// any one sum's terms adding up to at most @p sum_bound (both finite, ≥ 0).
   void reset(std::size_t n, double bound, double sum_bound) {
+    unit_ = unit_for(bound, sum_bound);
+    scale_ = 1.0 / unit_;  // a power of two: exact
+    acc_.assign(n, 0);
+  }
+  /// The unit of sums of terms of at most @p bound adding up to at most @p sum_bound.
+  static double unit_for(double bound, double sum_bound) {
     int e = 0, es = 0;
     std::frexp(bound, &e);  // bound < 2^e
     std::frexp(sum_bound, &es);
     // A unit of 2^-62 of the sums' bound, so that no sum can overflow (each term is
     // rounded toward zero); terms below 2^-960 (far below any physical quantity here)
     // round to zero, the scale staying a finite double.
-    const int exponent = std::max({es, e, -960}) - 62;
-    scale_ = std::ldexp(1.0, -exponent);
-    unit_ = std::ldexp(1.0, exponent);
-    acc_.assign(n, 0);
+    return std::ldexp(1.0, std::max({es, e, -960}) - 62);
   }
   /// Add @p v (|v| ≤ the bound) to sum @p k.
   void add(std::size_t k, double v) { add_scaled(k, v * scale_); }

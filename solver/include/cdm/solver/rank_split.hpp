@@ -25,8 +25,11 @@
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
-/// whole state (each rank's own particles and wall history) whenever the state is read
-/// (output, checkpoints, the implicit drag's gas step, the end); the pairs' history stays
+/// whole state (each rank's own particles and wall history) whenever the whole state is
+/// read (the particle table, VTK frames, checkpoints, the implicit drag's gas step,
+/// insertions and outlets, the end); what sums over the particles (the run log, the
+/// monitors, the outlets' table) reads each rank's own instead, added up
+/// (Simulation::counted_runs, counted_sums.hpp). The pairs' history stays
 /// with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
 /// list: the checkpoint and the contact-force and contact-network outputs. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
@@ -169,6 +172,8 @@ class RankSplit final : public SearchShare {
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
+  /// Each element of @p v becomes its largest over the ranks.
+  void max(std::vector<double>& v) const;
   /// The worst overlap over the ranks (the one-rank choice among ties: contact::worse_overlap)
   /// and the sum of the active contacts.
   void reduce_contacts(OverlapRecord& worst, std::size_t& active) const;

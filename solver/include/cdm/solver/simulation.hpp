@@ -16,6 +16,7 @@
 #include "cdm/solver/coupling/two_way_exchange.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/integrators/integrator.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/population.hpp"
@@ -62,6 +63,24 @@ class Simulation : private integrators::StepHost {
     return s[0];
   }
   double rank_max(double x) const { return ranks_ ? ranks_->max(x) : x; }
+  void rank_max(std::vector<double>& v) const {
+    if (ranks_) ranks_->max(v);
+  }
+  /// Every process gets the sums of @p s over the processes (collective when several).
+  void add_up(ExactSums& s) const {
+    if (ranks_) ranks_->add_up(s);
+  }
+  /// The particles as this process holds them at time(), without gathering the others'
+  /// (the step completed as for particles()): the particles of counted_runs() are current
+  /// there; on several processes the others' may be stale. For what is summed over the
+  /// particles, each process its own part, and added up (counted_sums.hpp).
+  const ParticleStore& local_particles() const;
+  /// The runs of slots [first, last) whose terms this process adds to a sum over the
+  /// particles, so that over the processes each particle counts once: every particle on
+  /// one process; among processes sharing the particles, this one's own; where each moves
+  /// every particle (until the list deals the slabs out), all of them on rank 0 and none
+  /// on the others.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> counted_runs() const;
   /// Whether the processes share the contact list, each holding its own slabs' pairs.
   bool shares_list() const { return ranks_ != nullptr; }
   /// For a checkpoint or a frame with contact forces, on every process (a collective

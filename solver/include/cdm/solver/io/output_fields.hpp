@@ -22,7 +22,7 @@ class Simulation;
 /// the whole list's contacts, which the caller holds (Simulation::hold_contacts, a
 /// collective call after which rank 0, the writer, holds them; called elsewhere, this
 /// throws std::logic_error); likewise contact_network(). wall_forces() reads the walls
-/// only, whole on every process.
+/// only, each process its own particles'.
 std::vector<double> contact_forces(const Simulation& sim);
 
 /// The particle–particle contacts at the state the outputs write, evaluated like
@@ -37,8 +37,9 @@ struct ContactNetwork {
 ContactNetwork contact_network(const Simulation& sim);
 
 /// The force each of the scene's [[walls]] exerts on the particles [N], x y z per wall in
-/// scene order, evaluated like contact_forces() and summed over the particles in identity
-/// order (the same on any number of threads and processes); empty without contacts.
+/// scene order, evaluated like contact_forces() and summed over the particles
+/// (counted_sums.hpp: the same on any number of threads and processes); empty without
+/// contacts. A collective call when several processes share the particles.
 std::vector<double> wall_forces(const Simulation& sim);
 
 /// The solids velocity [m/s] in each gas cell: the volume-weighted mean velocity of the

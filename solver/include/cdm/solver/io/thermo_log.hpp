@@ -27,6 +27,9 @@ struct ThermoSample {
   double max_courant = 0.0;  ///< largest |u| Δt_gas / h over the faces [-]
 };
 
+/// The sample at sim's time(): each process sums its own particles and pairs, added up
+/// (counted_sums.hpp), without gathering the state. A collective call when several
+/// processes share the particles.
 ThermoSample thermo_sample(const Simulation& sim);
 
 /// The flow axis of a solved or prescribed gas for pressure_drop (see ThermoSample).

@@ -1,0 +1,47 @@
+#include <utility>
+
+#include "cdm/solver/simulation.hpp"
+
+// How the particles' state is read: whole on every process (complete_step), or each
+// process its own part (local_particles, counted_runs).
+
+namespace cdm {
+
+void Simulation::synchronise_ranks(bool for_build) const {
+  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_->list(), for_build);
+}
+
+void Simulation::complete_step() const {
+  const double bad = integrator_->complete();
+  synchronise_ranks();  // the state is read: every rank gets all of it
+  if (bad != 0.0) check_state(1.0);
+}
+
+void Simulation::complete_for_gas_step() {
+  if (!ranks_ || implicit_drag_) return complete_step();  // the implicit drag reads the whole state
+  // The explicit exchange reads the positions and impulses: once per gas step each rank
+  // deposits its own particles; every step, this step's deposit gathered them already.
+  if (integrator_->complete() != 0.0) fail_not_finite();
+}
+
+void Simulation::fail_not_finite() const {
+  synchronise_ranks();  // names the particles, whichever rank moved them
+  check_state(1.0);
+}
+
+const ParticleStore& Simulation::local_particles() const {
+  if (!ranks_) return particles();
+  // Each process completes its own particles' step; the check is reduced over them all.
+  if (integrator_->complete() != 0.0) fail_not_finite();
+  return particles_;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() const {
+  const auto n = static_cast<std::uint32_t>(particles_.size());
+  if (!ranks_) return {{0, n}};
+  if (ranks_->partitioned()) return ranks_->own_runs(n);
+  if (ranks_->share_rank() == 0) return {{0, n}};
+  return {};
+}
+
+}  // namespace cdm
