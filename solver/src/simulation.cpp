@@ -279,12 +279,11 @@ void Simulation::gas_step() {
   gs.clear_force();
   if (exchange_->two_way()) {
     // Gathered over the gas step (evaluated once per gas step, or for the implicit drag):
-    // the impulses deposited where the particles are now; once per gas step, with ε_g
-    // from the same stencils.
-    const bool together = lagged() && !implicit_drag_;
+    // the impulses deposited where the particles are now, with ε_g from the same
+    // stencils, each rank its own particles.
+    const bool together = lagged() || implicit_drag_;
     if (together) exchange_->deposit_impulses_and_void_fraction(particles_, eps_work_, time_, ranks_.get());
-    else if (implicit_drag_) exchange_->deposit_impulses(particles_);
-    if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs);
+    if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs, ranks_.get());
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
     if (!together) exchange_->deposit_void_fraction(particles_, eps_work_, time_);
@@ -292,7 +291,7 @@ void Simulation::gas_step() {
     eps_work_ = gas_->eps_g;
   }
   gs.step(dtg, eps_work_);
-  if (implicit_drag_) exchange_->add_to_balance(implicit_drag_->give_back(particles_, *gas_, gs, dtg));
+  if (implicit_drag_) exchange_->add_to_balance(implicit_drag_->give_back(particles_, *gas_, gs, dtg, ranks_.get()));
   gas_clock_.due = true;
   guards().check_gas(gs, dtg, time_);
 }

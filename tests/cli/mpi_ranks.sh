@@ -11,7 +11,7 @@
 # paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
-# on 3), the fluidisation bed with the cell-average drag on 2, and the Mueller bed with the gas taking the drag implicitly on 2; the run logs, monitors and outlet tables are summed by each process over its own particles; a scene the shared step does not cover yet (a gas without contacts) runs
+# on 3), the fluidisation bed with the cell-average drag on 2, and the Mueller bed with the gas taking the drag implicitly on 3; the run logs, monitors and outlet tables are summed by each process over its own particles; a scene the shared step does not cover yet (a gas without contacts) runs
 # whole on each process but for its gas step, says so, and gives one process's results. The gas
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
@@ -80,6 +80,10 @@ done
 # Logged every 1e-5 s (about every 6 steps; each process sums its own particles and
 # pairs for a line, without a gather): the chute on 2 processes.
 shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
+# VTK frames every 1e-5 s (about every 6 steps; each frame gathers the whole state), so
+# that list builds fall on steps that follow a gather: a shallower chute on 2 processes.
+shared "chute gathered often" 2 "${chute[@]}" --set 'lattices[1].count=[20,10,5]' --set integrator.end_time=0.004 \
+  --set output.particles=false --set output.vtk=true --set output.interval=1.0e-5
 
 # Gathered in rounds of 600 values (CDM_MPI_ROUND_VALUES): the flowing chute's state in
 # rounds of a few particles, and at each build the history of its pairs in contact in
@@ -156,10 +160,10 @@ shared "fluidisation once per gas step" 3 "${fluid[@]}" --set 'coupling.drag_eva
 # The paper's cell-average drag (each particle sees its cell's mean solids velocity, so
 # every rank's particles are gathered first): the fluidisation bed on 2 processes.
 shared "cell-average drag" 2 "${fluid[@]}" --set 'coupling={mode="two_way", method="cell_average"}'
-# The gas taking the drag implicitly (its gas step reads the whole state, gathered at
-# every gas step, so that list builds fall on steps that follow a gather): the Mueller
-# bed's first 3000 steps, falling into place, on 2 processes.
-shared "implicit gas drag" 2 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
+# The gas taking the drag implicitly (each process deposits its own particles' K and K v
+# and kicks its own particles after the gas step, without a gather): the Mueller bed's
+# first 3000 steps, falling into place, on 3 processes.
+shared "implicit gas drag" 3 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
   --set 'drag.update="exponential"' --set 'coupling.gas_drag="implicit"'
 
 # Not covered yet (no contacts): each process runs the whole scene but the gas step's
@@ -215,4 +219,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo, a chute logged often and the implicit gas drag on 2, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"

@@ -1,6 +1,10 @@
 #include "cdm/solver/coupling/implicit_drag.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include "cdm/solver/exact_sums.hpp"
+#include "cdm/solver/own_particles.hpp"
 
 namespace cdm::coupling {
 
@@ -33,16 +37,37 @@ void for_each_cell_faces(const fluid::StaggeredGrid& g, F&& f) {
 
 }  // namespace
 
-void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchange, fluid::GasSolver& gs) {
+void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchange, fluid::GasSolver& gs,
+                           RankSplit* ranks) {
   const fluid::StaggeredGrid& g = grid_;
-  std::fill(k_cell_.begin(), k_cell_.end(), 0.0);
-  for (auto& v : kv_) std::fill(v.begin(), v.end(), 0.0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double k = p.drag_k[i], kx = k * p.vx[i], ky = k * p.vy[i], kz = k * p.vz[i];
+  const std::size_t n = p.size(), nc = g.padded_size();
+  // Each rank deposits its own particles (all of them before the particles are dealt
+  // out) in sums that add up to the same cells on any number of ranks; each particle's
+  // weights add up to one, so a sum's terms add up to at most n times the largest.
+  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
+  const double kmax = k_max_ = max_own(own, n, [&](std::size_t i) { return std::abs(p.drag_k[i]); });
+  const double kvmax = max_own(own, n, [&](std::size_t i) {
+    return std::abs(p.drag_k[i]) * std::max({std::abs(p.vx[i]), std::abs(p.vy[i]), std::abs(p.vz[i])});
+  });
+  ExactSums ks, kvs;
+  ks.reset(nc, kmax, static_cast<double>(n) * kmax);
+  kvs.reset(3 * nc, kvmax, static_cast<double>(n) * kvmax);
+  const double sk = ks.scale(), skv = kvs.scale();
+  for_own_in_order(own, n, [&](std::size_t i) {
+    const double k = p.drag_k[i] * sk, kx = p.drag_k[i] * p.vx[i] * skv, ky = p.drag_k[i] * p.vy[i] * skv,
+                 kz = p.drag_k[i] * p.vz[i] * skv;
     deposition_.for_each_weight(p.position(i), [&](std::size_t c, double w) {
-      k_cell_[c] += w * k;
-      kv_[0][c] += w * kx; kv_[1][c] += w * ky; kv_[2][c] += w * kz;
+      ks.add_scaled(c, w * k);
+      kvs.add_scaled(c, w * kx); kvs.add_scaled(nc + c, w * ky); kvs.add_scaled(2 * nc + c, w * kz);
     });
+  });
+  if (own) {
+    own->add_up(ks);
+    own->add_up(kvs);
+  }
+  for (std::size_t c = 0; c < nc; ++c) {
+    k_cell_[c] = ks.value(c);
+    for (std::size_t a = 0; a < 3; ++a) kv_[a][c] = kvs.value(a * nc + c);
   }
   double* gathered[3] = {&gathered_.x, &gathered_.y, &gathered_.z};
   for (int c = 0; c < 3; ++c) {
@@ -86,7 +111,7 @@ void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchang
 }
 
 CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField& gas, const fluid::GasSolver& gs,
-                                        double dtg) {
+                                        double dtg, RankSplit* ranks) {
   const fluid::StaggeredGrid& g = grid_;
   const std::vector<double>* u1[3] = {&gas.u, &gas.v, &gas.w};
   CouplingBalance b;
@@ -119,15 +144,27 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
   // The exchange recorded the gathered reaction −J as the gas's: replace it by the above.
   b.gas_cells -= gathered_;
   b.gas_faces -= gathered_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  // Each rank kicks its own particles; what they receive is summed as the deposits are,
+  // each kick at most the largest K times the largest difference per unit K.
+  const std::size_t n = p.size();
+  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
+  double dmax = 0.0;
+  for (const auto& v : diff_)
+    for (double d : v) dmax = std::max(dmax, std::abs(d));
+  const double jmax = k_max_ * dmax;
+  ExactSums sum;
+  sum.reset(3, jmax, static_cast<double>(n) * jmax);
+  for_own_in_order(own, n, [&](std::size_t i) {
     Vec3 d;
     deposition_.for_each_weight(p.position(i), [&](std::size_t c, double w) {
       d.x += w * diff_[0][c]; d.y += w * diff_[1][c]; d.z += w * diff_[2][c];
     });
     const Vec3 j = p.drag_k[i] * d;
     p.vx[i] += p.inv_mass[i] * j.x; p.vy[i] += p.inv_mass[i] * j.y; p.vz[i] += p.inv_mass[i] * j.z;
-    b.particles += j;
-  }
+    sum.add(0, j.x); sum.add(1, j.y); sum.add(2, j.z);
+  });
+  if (own) own->add_up(sum);
+  b.particles += Vec3{sum.value(0), sum.value(1), sum.value(2)};
   return b;
 }
 

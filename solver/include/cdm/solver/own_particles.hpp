@@ -24,6 +24,17 @@ void for_own(RankSplit* ranks, std::size_t n, F&& f) {
   }
 }
 
+/// @p f(i) for each particle of @p n this rank moves, in slot order on the calling thread.
+template <class F>
+void for_own_in_order(RankSplit* ranks, std::size_t n, F&& f) {
+  if (!ranks) {
+    for (std::size_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+  for (const auto& run : ranks->own_runs(n))
+    for (std::size_t i = run.first; i < run.second; ++i) f(i);
+}
+
 /// @p f(first, last) over thread ranges of the particles this rank moves.
 template <class F>
 void for_own_ranges(RankSplit* ranks, std::size_t n, F&& f) {

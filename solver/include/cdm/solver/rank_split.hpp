@@ -26,10 +26,10 @@
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles and wall history) whenever the whole state is
-/// read (the particle table, VTK frames, checkpoints, the implicit drag's gas step,
-/// insertions and outlets, the end); what sums over the particles (the run log, the
-/// monitors, the outlets' table) reads each rank's own instead, added up
-/// (Simulation::counted_runs, counted_sums.hpp). The pairs' history stays
+/// read (the particle table, VTK frames, checkpoints, insertions and outlets, the end);
+/// what sums over the particles (the run log, the monitors, the outlets' table) reads
+/// each rank's own instead, added up (Simulation::counted_runs, counted_sums.hpp). The
+/// pairs' history stays
 /// with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
 /// list: the checkpoint and the contact-force and contact-network outputs. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
@@ -50,7 +50,9 @@
 /// (ForceModule::share_among). Once per gas step each rank deposits its own particles'
 /// impulses and volumes, in sums that do not depend on the order of their terms
 /// (exact_sums.hpp), added up over the ranks (add_up()): the gas gets the same cells on
-/// any number of ranks without a gather.
+/// any number of ranks without a gather. The implicit gas drag likewise deposits each
+/// rank's own particles' K and K v, and each rank kicks its own particles after the gas
+/// step (implicit_drag.hpp).
 /// Deposited at every step, the impulses are deposited by every rank from the gathered
 /// positions and impulses, in the one-rank order.
 ///

@@ -42,11 +42,17 @@ class ImplicitDrag {
   /// Before the gas step, with the particles' reaction of the step still gathered in
   /// @p exchange: β and β V_s on the faces of @p gs (its drag_* and drag_target_*) from
   /// the particles' drag coefficients K (ParticleStore::drag_k), velocities and positions.
-  void prepare(const ParticleStore& p, const TwoWayExchange& exchange, fluid::GasSolver& gs);
+  /// Among MPI ranks (@p ranks) each deposits its own particles, in sums whose result
+  /// does not depend on their order (exact_sums.hpp), added up: the same cells on any
+  /// number of ranks, without gathering the particles (a collective call).
+  void prepare(const ParticleStore& p, const TwoWayExchange& exchange, fluid::GasSolver& gs,
+               RankSplit* ranks = nullptr);
   /// After the gas step of @p dtg: the particles receive the difference between what the
-  /// gas took and their own impulse; returns, to add to the exchange's balance, the
-  /// particles' kick and the gas's momentum less the −J the exchange recorded [N s].
-  CouplingBalance give_back(ParticleStore& p, const fluid::GasField& gas, const fluid::GasSolver& gs, double dtg);
+  /// gas took and their own impulse (each rank its own particles); returns, to add to the
+  /// exchange's balance, the particles' kick (summed as prepare's deposits are) and the
+  /// gas's momentum less the −J the exchange recorded [N s].
+  CouplingBalance give_back(ParticleStore& p, const fluid::GasField& gas, const fluid::GasSolver& gs, double dtg,
+                            RankSplit* ranks = nullptr);
 
   /// The difference kept for the next gas step (cells without particles) [N s], and
   /// its checkpoint.
@@ -62,6 +68,7 @@ class ImplicitDrag {
   std::vector<double> diff_[3];  // −J_c (the reaction gathered), then the difference per cell [N s]
   std::vector<double> pending_[3];  // differences of cells without particles, for the next step [N s]
   Vec3 gathered_;                   // Σ −J_c of the step [N s]
+  double k_max_ = 0.0;              // the largest K at prepare() [kg/s]
 };
 
 }  // namespace cdm::coupling
