@@ -134,6 +134,12 @@ fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.0
      --set output.interval=0.01)
 shared "bed fed from above" 2 "${fed[@]}"
 
+# Beads that cross to another process while they touch a triangle mesh (a build gathers
+# the positions only; each bead's mesh contacts, their tangential history, go with it to
+# its new owner): the mesh pile rolling on its box's floor, on 2 processes.
+shared "mesh pile" 2 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
+  --set output.interval=0.005 --set output.log_interval=0.001
+
 # Triangle meshes (each rank finds its own particles' contacts; the lists are joined at
 # every gather) and an outlet: the silo, logged every step, on 2 processes.
 shared "silo" 2 "$src/examples/silo/silo.toml" --max-steps 9000 --set output.log_interval=8.0e-6 --set output.interval=10
@@ -219,4 +225,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"

@@ -34,6 +34,8 @@ template <>
 MPI_Datatype mpi_type<std::uint32_t>() { return MPI_UINT32_T; }
 template <>
 MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+template <>
+MPI_Datatype mpi_type<std::uint8_t>() { return MPI_BYTE; }
 
 /// @p n as an MPI count; a count past int's range (more than 2^31 values in one
 /// message or on one receiver) is refused rather than wrapped.
@@ -78,6 +80,10 @@ void RankSplit::sum(std::vector<std::uint64_t>& v) {
 }
 
 std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::uint32_t>>& out) {
+  return all_to_all(out, static_cast<std::size_t>(size_));
+}
+
+std::vector<std::uint8_t> RankSplit::swap_bytes(std::vector<std::vector<std::uint8_t>>& out) {
   return all_to_all(out, static_cast<std::size_t>(size_));
 }
 
@@ -154,6 +160,7 @@ std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { retur
 void RankSplit::sum(std::vector<std::uint64_t>&) {}
 std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::uint32_t>>& out) { return out.at(0); }
 std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) { return out.at(0); }
+std::vector<std::uint8_t> RankSplit::swap_bytes(std::vector<std::vector<std::uint8_t>>& out) { return out.at(0); }
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) { return list.own_contacts(); }
 double RankSplit::max(double x) const { return x; }
 void RankSplit::max(std::vector<double>&) const {}

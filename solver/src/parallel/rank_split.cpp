@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <type_traits>
 
@@ -252,9 +253,9 @@ void RankSplit::boundary_torques(ParticleStore& p, int pass) {
 
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
   if (!stale_ || (moving_ && for_build)) return;
-  // A build reads the positions; the rest of the state moves with the particles that
-  // change owner (assign). The mesh contacts are joined only here.
-  const bool positions_only = for_build && !meshes_;
+  // A build reads the positions; the rest of the state (the mesh contacts too) moves with
+  // the particles that change owner (assign). The mesh contacts are joined only here.
+  const bool positions_only = for_build;
   if (positions_only) {
     share_particles({&p.x, &p.y, &p.z}, {});
   } else {
@@ -279,6 +280,35 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
     if (!in[r].empty()) recvs.push_back({&in[r], static_cast<int>(r)});
   }
   exchange(dynamic_arrays(p, true), sends, recvs, 17, legs_, wall_rows(list, p.size()));
+  if (meshes_) migrate_mesh_contacts(before);
+}
+
+void RankSplit::migrate_mesh_contacts(const std::vector<int>& before) {
+  // Each particle that changed owner takes its mesh contacts (their history) along. The
+  // list keeps this rank's own particles' only: it may hold the others' since a gather.
+  using Contact = MeshContacts::Contact;
+  static_assert(std::is_trivially_copyable_v<Contact>);
+  std::vector<Contact>& list = meshes_->contacts();
+  std::vector<std::vector<std::uint8_t>> out(static_cast<std::size_t>(size_));
+  std::vector<Contact> kept;
+  for (const Contact& c : list) {
+    if (before[c.particle] != rank_) continue;
+    const int is = owner_[c.particle];
+    if (is == rank_) {
+      kept.push_back(c);
+      continue;
+    }
+    std::vector<std::uint8_t>& o = out[static_cast<std::size_t>(is)];
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(&c);
+    o.insert(o.end(), bytes, bytes + sizeof(Contact));
+  }
+  const std::vector<std::uint8_t> in = swap_bytes(out);
+  const std::size_t mine = kept.size(), got = in.size() / sizeof(Contact);
+  kept.resize(mine + got);
+  if (got) std::memcpy(static_cast<void*>(kept.data() + mine), in.data(), got * sizeof(Contact));
+  // In particle order; a particle's contacts, all from one rank, stay in their order.
+  std::stable_sort(kept.begin(), kept.end(), [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  list.swap(kept);
 }
 
 std::size_t RankSplit::round_values() {

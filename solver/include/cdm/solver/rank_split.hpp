@@ -37,9 +37,7 @@
 /// per slab summed over the ranks, and each pair, and each pair contact's history, goes
 /// to the ranks that hold its slab (VerletList::divide). assign() then sends each particle whose slab now
 /// belongs to another rank with its whole state (the arrays below, its row of wall
-/// history) from its old owner to its new one, then the ghosts. With triangle meshes,
-/// whose contact lists are joined only when the state is gathered, the whole state is
-/// gathered before a build. Each
+/// history, its mesh contacts) from its old owner to its new one, then the ghosts. Each
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas; the gas step's loops are
 /// divided by planes (plane_share.hpp) and its multigrid pressure solve likewise
@@ -65,7 +63,8 @@
 /// particles travel between the two ranks in the one-rank order.
 ///
 /// Against triangle meshes each rank finds and resolves its own particles' contacts; the
-/// contact lists are joined, in particle order, whenever the state is gathered.
+/// contact lists are joined, in particle order, whenever the whole state is gathered, and
+/// a particle's contacts go with it to its new owner at assign().
 ///
 /// Limits: memory is divided for the pair list only (each rank holds all the particles
 /// and the gas), the gas step's smaller loops (ghost layers, the pressure's update, the
@@ -159,8 +158,7 @@ class RankSplit final : public SearchShare {
   /// Every rank gets the whole state: every particle's and the wall history of the
   /// particles (not the pairs', which stay divided). A no-op while nothing is stale.
   /// @p for_build: the list is built next, which reads the positions only, so only those
-  /// are sent (all of the state with meshes); assign() then moves the rest with the
-  /// particles that change owner.
+  /// are sent; assign() then moves the rest with the particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
@@ -253,6 +251,10 @@ class RankSplit final : public SearchShare {
   void own_from_owners();
   /// The particles whose owner was @p before and is owner_ now travel with their state.
   void migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before);
+  /// migrate()'s mesh contacts: each moving particle's go with it.
+  void migrate_mesh_contacts(const std::vector<int>& before);
+  /// Sends out[r] to rank r (released) and returns what each rank sent, in rank order.
+  std::vector<std::uint8_t> swap_bytes(std::vector<std::vector<std::uint8_t>>& out);
   /// Every rank gets each rank's particles' values of @p arrays and, after them, their
   /// @p rows.
   void share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows);
