@@ -260,7 +260,8 @@ void MeshContacts::find_among(Vec3 xw, double r, std::uint32_t particle, const s
   }
 }
 
-void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool threads, double time) {
+void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool threads, double time,
+                                   const std::vector<std::pair<std::uint32_t, std::uint32_t>>* runs) {
   const std::size_t n = p.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p.radius[i]);
@@ -277,9 +278,17 @@ void MeshContacts::list_candidates(const ParticleStore& p, double margin, bool t
     }
   };
   cand_.clear();
-  in_particle_order(0, n, threads, range, cand_);
+  // Only the particles update() finds contacts for (runs in slot order): the others none.
+  if (!runs) {
+    in_particle_order(0, n, threads, range, cand_);
+  } else {
+    for (const auto& [i0, i1] : *runs) in_particle_order(i0, i1, threads, range, cand_);
+  }
   for (std::size_t i = 0; i < n; ++i) cand_start_[i + 1] += cand_start_[i];
   listed_ = true;
+  listed_all_ = runs == nullptr;
+  if (runs) listed_runs_ = *runs;
+  else listed_runs_.clear();
 }
 
 void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t builds, double margin, double time,
@@ -295,7 +304,9 @@ void MeshContacts::update(const ParticleStore& p, bool threads, std::size_t buil
   // The candidates hold while no particle has moved more than the margin since they
   // were listed: listed again whenever the Verlet list was built (it is built before any
   // particle moves half its skin, the margin here).
-  if (!listed_ || shifted || builds != builds_ || cand_start_.size() != n + 1) list_candidates(p, margin, threads, time);
+  const bool same_runs = runs ? !listed_all_ && listed_runs_ == *runs : listed_all_;
+  if (!listed_ || shifted || builds != builds_ || cand_start_.size() != n + 1 || !same_runs)
+    list_candidates(p, margin, threads, time, runs);
   builds_ = builds;
   std::swap(prev_, contacts_);
   contacts_.clear();

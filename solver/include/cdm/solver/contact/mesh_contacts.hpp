@@ -138,7 +138,8 @@ class MeshContacts {
   /// The triangles the cell holding @p x lists (none outside the grid).
   std::pair<const std::uint32_t*, const std::uint32_t*> cell_triangles(Vec3 x) const;
   double distance(Vec3 x, std::uint32_t t) const;  // from x to triangle t [m]
-  void list_candidates(const ParticleStore& p, double margin, bool threads, double time);
+  void list_candidates(const ParticleStore& p, double margin, bool threads, double time,
+                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>* runs);
   bool contains(std::uint32_t t, MeshFeature f, std::uint32_t id) const;
   std::uint64_t fingerprint() const;
 
@@ -158,6 +159,9 @@ class MeshContacts {
   std::vector<std::uint32_t> cand_start_, cand_;
   bool listed_ = false;
   std::size_t builds_ = 0;
+  // The runs of particles listed (update()'s runs; empty with listed_all_: every one).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> listed_runs_;
+  bool listed_all_ = true;
   double listed_time_ = 0.0, listed_reach_ = 0.0;  // when the candidates were listed, and rmax + margin
   // Per mesh: whether it moves, the inverse of its motion (world → body frame), and the
   // largest distance of its vertices from its rotation axis [m].
