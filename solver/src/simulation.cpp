@@ -291,9 +291,9 @@ void Simulation::gas_step() {
     eps_work_ = gas_->eps_g;
   }
   gs.step(dtg, eps_work_);
+  guards().check_gas(gs, dtg, time_);  // before the implicit drag's kick reads the new gas
   if (implicit_drag_) exchange_->add_to_balance(implicit_drag_->give_back(particles_, *gas_, gs, dtg, ranks_.get()));
   gas_clock_.due = true;
-  guards().check_gas(gs, dtg, time_);
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& observer, const std::function<bool()>& stop) {

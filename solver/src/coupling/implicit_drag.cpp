@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/own_particles.hpp"
+#include "cdm/solver/run_guards.hpp"
 
 namespace cdm::coupling {
 
@@ -152,6 +154,10 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
   for (const auto& v : diff_)
     for (double d : v) dmax = std::max(dmax, std::abs(d));
   const double jmax = k_max_ * dmax;
+  if (!std::isfinite(jmax))
+    throw SimulationError("the implicit gas drag's kick on the particles is not finite (the largest drag coefficient " +
+                          std::to_string(k_max_) + " kg/s, the largest difference per unit of it " +
+                          std::to_string(dmax) + " m): a cell's drag coefficient too small to divide by");
   ExactSums sum;
   sum.reset(3, jmax, static_cast<double>(n) * jmax);
   for_own_in_order(own, n, [&](std::size_t i) {
