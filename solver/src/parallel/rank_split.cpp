@@ -307,7 +307,7 @@ void RankSplit::migrate_mesh_contacts(const std::vector<int>& before) {
   kept.resize(mine + got);
   if (got) std::memcpy(static_cast<void*>(kept.data() + mine), in.data(), got * sizeof(Contact));
   // In particle order; a particle's contacts, all from one rank, stay in their order.
-  std::stable_sort(kept.begin(), kept.end(), [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  std::stable_sort(kept.begin(), kept.end(), Contact::by_particle);
   list.swap(kept);
 }
 
@@ -391,8 +391,7 @@ void RankSplit::share_mesh_contacts() {
   mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
                            MPI_COMM_WORLD),
             "MPI_Allgatherv");
-  std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(),
-                   [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
+  std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(), Contact::by_particle);
   list.swap(mesh_recv_);
 }
 

@@ -78,6 +78,8 @@ class MeshContacts {
     double lever = 0.0;          // centre to the contact point [m]
     Vec3 delta_t;                // tangential history [m]
     std::uint8_t touching = 0;   // 0: the contact starts now
+    /// The list's order: by particle (a particle's contacts in the order found).
+    static bool by_particle(const Contact& a, const Contact& b) { return a.particle < b.particle; }
   };
 
   /// The contacts at the particles' current positions, history carried from the last
