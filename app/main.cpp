@@ -160,7 +160,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     cdm::restore_checkpoint(*ck, sim, restart);
     ck->release_state();  // only its output marks are read from here on
   }
-  std::cout << "cdm run: " << scene << ": " << sim.particles().size() << " particles, modules:";
+  std::cout << "cdm run: " << scene << ": " << sim.particle_count() << " particles, modules:";
   for (const auto& m : sim.module_names()) std::cout << ' ' << m;
   std::cout << "; integrator " << cdm::to_string(spec.integrator) << ", dt = " << spec.dt << " s";
   if (spec.t_col_min > 0) std::cout << " (t_col/" << spec.t_col_min / spec.dt << ")";
@@ -219,8 +219,8 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     marks.monitors = monitors.sync();
     if (population) marks.population = population->sync();
     const auto held = s.hold_contacts();  // the contact list's, from every rank
+    s.written_particles();                // the state at the checkpoint's step, to rank 0
     if (writes) cdm::write_checkpoint(ckpt, s, origin, marks);
-    else s.particles();  // the state at the checkpoint's step, gathered as rank 0's is
   };
   Progress progress(!quiet && isatty(STDERR_FILENO));
   progress.start_at(sim.steps());
@@ -256,7 +256,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
       [&] { return sim.any_rank(g_signal.load() != 0) || sim.steps() >= stop_at; });
   const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   progress.end_line();
-  const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particles().size());
+  const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particle_count());
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
                                                   std::to_string(omp_get_max_threads()) + " thread(s)" +
                                                   (sim.unshared().empty() ? ""
@@ -264,7 +264,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
                                                                 : ", each the whole scene")
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
-              loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particles().size(),
+              loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particle_count(),
               where.c_str(), loop_s > 0 ? psteps / loop_s : 0.0, sim.time());
   const int sig = g_signal.load();
   if (sig != 0 || sim.steps() < sim.total_steps() || spec.checkpoint_interval > 0) {

@@ -129,7 +129,8 @@ long long output_sample(const Simulation& sim, double interval) {
 void ParticleTableObserver::operator()(const Simulation& sim) {
   if (!schedule_.due(sim)) return;
   const bool last = sim.steps() == sim.total_steps();
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
+  if (!table_.writes()) return;  // a process that does not write
   std::vector<double> r(rot_ ? 13 : 10);
   for (std::size_t k = 0; k < p.size(); ++k) {  // by identity, whatever order the store keeps
     const std::size_t i = p.slot_of(k);

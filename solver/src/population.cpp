@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/placement.hpp"
@@ -27,24 +28,32 @@ Population::Population(const SceneSpec& spec)
 
 bool Population::any_leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const {
   if (spec_.outlets.empty()) return false;
-  return parallel_max(i1 - i0, [&](std::size_t k) { return leaving(p.position(i0 + k)) ? 1.0 : 0.0; }) != 0.0;
+  const auto none = static_cast<std::uint32_t>(spec_.outlets.size());
+  return parallel_max(i1 - i0, [&](std::size_t k) { return outlet_of(p.position(i0 + k)) != none ? 1.0 : 0.0; }) != 0.0;
 }
 
-std::vector<std::uint32_t> Population::remove(ParticleStore& p, const std::function<void(std::size_t)>& before_removal) {
+std::vector<Population::Leaving> Population::leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const {
+  std::vector<Leaving> out;
+  const auto none = static_cast<std::uint32_t>(spec_.outlets.size());
+  for (std::size_t i = i0; i < i1; ++i)
+    if (const std::uint32_t o = outlet_of(p.position(i)); o != none) out.push_back({static_cast<std::uint32_t>(i), o});
+  return out;
+}
+
+std::vector<std::uint32_t> Population::remove(ParticleStore& p, const std::vector<Leaving>& gone) {
   std::vector<std::uint32_t> from;
-  from.reserve(p.size());
+  from.reserve(p.size() - std::min(p.size(), gone.size()));
+  std::size_t g = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 x = p.position(i);
-    std::size_t o = 0;
-    while (o < spec_.outlets.size() && !spec_.outlets[o].removes(x)) ++o;
-    if (o == spec_.outlets.size()) {
+    if (g == gone.size() || gone[g].slot != i) {
       from.push_back(static_cast<std::uint32_t>(i));
-    } else {
-      if (before_removal) before_removal(i);
-      ++removed_[o].count;
-      removed_[o].mass += p.mass[i];
+      continue;
     }
+    Tally& t = removed_[gone[g++].outlet];
+    ++t.count;
+    t.mass += p.mass[i];
   }
+  if (g != gone.size()) throw std::logic_error("Population::remove: the slots removed are not in order");
   p.keep(from);
   return from;
 }

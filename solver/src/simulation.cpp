@@ -130,38 +130,6 @@ void Simulation::remap(const std::vector<std::uint32_t>& from) {
   integrator_->masses_changed();
 }
 
-void Simulation::update_population() {
-  Population& pop = *population_;
-  // Among ranks each looks at its own particles, and all take part if any has one leaving.
-  const bool leaving =
-      ranks_ ? ranks_->any_own(particles_.size(), [&](std::size_t i0, std::size_t i1) { return pop.any_leaving(particles_, i0, i1); })
-             : pop.any_leaving(particles_, 0, particles_.size());
-  const bool due = pop.insertion_due(time_);
-  if (!leaving && !due) return;
-  complete_step();  // the state at the step's end, velocities included
-  if (leaving) {
-    // What the leaving particles' drag gave the gas since their impulses were last
-    // deposited (at the last step, or over the gas step so far) goes to the gas now.
-    std::function<void(std::size_t)> deposit;
-    if (exchange_ && exchange_->two_way() && !particles_.jx.empty())
-      deposit = [&](std::size_t i) { exchange_->deposit_impulse_of_leaving(particles_, i); };
-    remap(pop.remove(particles_, deposit));
-    // The identities shifted: messages name particles by number, not by scene key.
-    spec_.groups.clear();
-  }
-  if (due) {
-    const std::size_t n0 = particles_.size();
-    if (pop.insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) > 0) {
-      std::vector<std::uint32_t> from(particles_.size(), new_particle);
-      for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
-      remap(from);
-    }
-  }
-  // Every rank changed the whole state alike; the slots moved, so each moves all the
-  // particles until the list, built again at the next step, deals the slabs out anew.
-  if (ranks_) ranks_->unassign();
-}
-
 void Simulation::compute_forces(double t, integrators::ForceStart start) {
   if (contact_) contact_->set_time(t);
   if (ranks_) {
@@ -303,12 +271,12 @@ void Simulation::run(const std::function<void(const Simulation&)>& observer, con
     if (observer) observer(*this);
     if (stop && stop()) break;
   }
-  complete_step();
+  local_particles();  // the last step completed; a reader of the whole state gathers it
 }
 
 void Simulation::save_state(OutArchive& a) const {
-  complete_step();  // a checkpoint holds the state at time()
-  const ParticleStore& p = particles_;
+  // A checkpoint holds the state at time(), written by process 0 (written_particles).
+  const ParticleStore& p = written_particles();
   a.put(static_cast<std::uint64_t>(p.size()));
   a.put(steps_);
   a.put(time_);
@@ -339,39 +307,6 @@ void Simulation::save_state(OutArchive& a) const {
     exchange_->save_state(a);
     if (implicit_drag_) implicit_drag_->save_state(a);
   }
-}
-
-void Simulation::save_population(OutArchive& a) const {
-  a.put(static_cast<std::uint8_t>(population_ ? 1 : 0));
-  if (!population_) return;
-  const ParticleStore& p = particles_;
-  a.put(p.radius); a.put(p.mass); a.put(p.inv_mass); a.put(p.inv_inertia); a.put(p.material);
-  population_->save_state(a);
-}
-
-bool Simulation::load_population(InArchive& a, std::uint64_t n) {
-  std::uint8_t has = 0;
-  a.get(has);
-  if ((has != 0) != static_cast<bool>(population_)) throw ArchiveError("its insertions and outlets differ from the scene's");
-  if (!population_) return false;
-  ParticleStore& p = particles_;
-  auto arr = [&](auto& v, std::size_t want) {
-    a.get(v, want);
-    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
-  };
-  arr(p.radius, n); arr(p.mass, n); arr(p.inv_mass, n);
-  arr(p.inv_inertia, p.has_rotation() ? n : 0);
-  arr(p.material, n);
-  for (std::size_t i = 0; i < n; ++i)
-    if (p.material[i] < 0 || static_cast<std::size_t>(p.material[i]) >= spec_.materials.size() ||
-        !(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
-      throw ArchiveError("particle " + std::to_string(i) + "'s radius, mass or material is not valid");
-  // The store holds n particles from here: the arrays read next are sized to it.
-  for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);
-  population_->load_state(a);
-  for (const auto& r : population_->removed())
-    if (r.count) spec_.groups.clear();  // as after the removal (update_population)
-  return true;
 }
 
 void Simulation::load_state(InArchive& a) {

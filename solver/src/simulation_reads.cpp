@@ -2,8 +2,9 @@
 
 #include "cdm/solver/simulation.hpp"
 
-// How the particles' state is read: whole on every process (complete_step), or each
-// process its own part (local_particles, counted_runs).
+// How the particles' state is read: whole on every process (complete_step), whole on
+// the writing process (written_particles), or each process its own part
+// (local_particles, counted_runs).
 
 namespace cdm {
 
@@ -34,6 +35,14 @@ const ParticleStore& Simulation::local_particles() const {
   if (!ranks_) return particles();
   // Each process completes its own particles' step; the check is reduced over them all.
   if (integrator_->complete() != 0.0) fail_not_finite();
+  return particles_;
+}
+
+const ParticleStore& Simulation::written_particles() const {
+  if (!ranks_) return particles();
+  const double bad = integrator_->complete();
+  ranks_->gather_to_writer(const_cast<ParticleStore&>(particles_), contact_->list());
+  if (bad != 0.0) fail_not_finite();
   return particles_;
 }
 

@@ -134,6 +134,13 @@ fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.0
      --set output.interval=0.01)
 shared "bed fed from above" 2 "${fed[@]}"
 
+# Outlets among processes (each finds its own particles in them, every process removes
+# them all alike, and with a gas deposits what their drag gave it so far, in slot order):
+# the fluidisation bed falling through one box outlet halfway up, then draining into one
+# in a corner of the distributor, on 3 processes.
+shared "outlets" 3 "${fluid[@]}" --set output.vtk=false \
+  --set 'outlets=[{name="middle",type="box",lower=[0.0,0.03,0.0],upper=[0.003,0.033,0.005]},{name="drain",type="box",lower=[0.0,0.0,0.0],upper=[0.004,0.004,0.005]}]'
+
 # Beads that cross to another process while they touch a triangle mesh (a build gathers
 # the positions only; each bead's mesh contacts, their tangential history, go with it to
 # its new owner): the mesh pile rolling on its box's floor, on 2 processes.

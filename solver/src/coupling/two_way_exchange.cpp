@@ -19,13 +19,11 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
   imp_y_ = imp_z_ = imp_x_;
 }
 
-void TwoWayExchange::deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at) {
-  const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
-  particle_impulse_ += Vec3{jx, jy, jz};
+void TwoWayExchange::deposit_impulse(Vec3 j, Vec3 at) {
+  particle_impulse_ += j;
   deposition_->for_each_weight(at, [&](std::size_t c, double w) {
-    imp_x_[c] -= w * jx; imp_y_[c] -= w * jy; imp_z_[c] -= w * jz;
+    imp_x_[c] -= w * j.x; imp_y_[c] -= w * j.y; imp_z_[c] -= w * j.z;
   });
-  p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
 }
 
 void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const {
@@ -148,15 +146,17 @@ void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<doub
 }
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) deposit_impulse(p, i, p.position(i));
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    deposit_impulse({p.jx[i], p.jy[i], p.jz[i]}, p.position(i));
+    p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
+  }
 }
 
-void TwoWayExchange::deposit_impulse_of_leaving(ParticleStore& p, std::size_t i) {
-  const Vec3 x = p.position(i);
+void TwoWayExchange::deposit_impulse_of_leaving(Vec3 x, Vec3 j) {
   double at[3] = {x.x, x.y, x.z};
   for (int a = 0; a < grid_.dims(); ++a)
     if (!grid_.spec().periodic(a)) at[a] = std::clamp(at[a], grid_.lo(a), grid_.lo(a) + grid_.length(a));
-  deposit_impulse(p, i, {at[0], at[1], at[2]});
+  deposit_impulse(j, {at[0], at[1], at[2]});
 }
 
 void TwoWayExchange::add_to_balance(const CouplingBalance& b) {

@@ -49,7 +49,7 @@ std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, Conta
 
 std::vector<double> contact_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   ContactModule probe = probe_of(sim);
   const std::array<std::vector<double>, 6> fc = probe_forces(p, probe);
   std::vector<double> f(3 * p.size());
@@ -63,7 +63,7 @@ std::vector<double> contact_forces(const Simulation& sim) {
 ContactNetwork contact_network(const Simulation& sim) {
   ContactNetwork net;
   if (!sim.contact()) return net;
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   ContactModule probe = probe_of(sim);
   probe.set_recording(true);
   probe_forces(p, probe);
@@ -109,7 +109,7 @@ std::vector<double> wall_forces(const Simulation& sim) {
 
 std::vector<double> solids_velocity(const Simulation& sim) {
   const fluid::StaggeredGrid& g = sim.gas()->grid();
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   const int n[3] = {g.n(0), g.n(1), g.n(2)};
   const std::size_t nc = g.cell_count();
   std::vector<double> mv(3 * nc, 0.0), vol(nc, 0.0);

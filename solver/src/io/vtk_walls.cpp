@@ -47,7 +47,7 @@ void extent(const Simulation& sim, double t, Vec3& lo, Vec3& hi) {
     lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
     hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
   };
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   for (std::size_t i = 0; i < p.size(); ++i) take(p.position(i));
   if (sim.gas()) {
     const fluid::StaggeredGrid& g = sim.gas()->grid();

@@ -53,7 +53,7 @@ void particle_points(vtk::XmlFile& f, const ParticleStore& p) {
 }  // namespace
 
 void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   const std::size_t n = p.size();
   // Points in identity order (p.slot_of), whatever order the store keeps them in.
   vtk::XmlFile f(encoding, "PolyData");
@@ -92,7 +92,7 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
 }
 
 void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const ParticleStore& p = sim.particles();
+  const ParticleStore& p = sim.written_particles();
   const std::size_t n = p.size();
   const ContactNetwork net = contact_network(sim);
   const std::size_t nc = net.overlap.size();
@@ -155,7 +155,7 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
       ijk(c, i, j, k);
       v[0] = gas.eps_g[g.at(i, j, k)];
     }));
-  if (sim.particles().size()) f.array("solids_velocity", 3, solids_velocity(sim));
+  if (sim.particle_count()) f.array("solids_velocity", 3, solids_velocity(sim));
   f.close("</CellData>");
   f.close("</Piece>");
   f.write(path);
@@ -225,8 +225,8 @@ void VtkObserver::operator()(const Simulation& sim) {
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;
   const auto held = sim.hold_contacts();  // for the contact forces and network, from every rank
-  if (dir_.empty()) sim.particles();  // the frame's state, gathered as where it is written
-  else write(sim, k);
+  sim.written_particles();                // the frame's state, gathered where it is written
+  if (!dir_.empty()) write(sim, k);
 }
 
 void VtkObserver::write(const Simulation& sim, long long k) {

@@ -132,6 +132,38 @@ void RankSplit::add_up(ExactSums& s) const {
             "MPI_Allreduce");
 }
 
+void RankSplit::share_records(std::vector<std::uint64_t>& keys, std::vector<double>& values, std::size_t per) const {
+  const auto size = static_cast<std::size_t>(size_);
+  const int mine = mpi_count(keys.size(), "the records shared");
+  std::vector<int> counts(size), displs(size), vcounts(size), vdispls(size);
+  mpi_check(MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    displs[r] = mpi_count(total, "the records shared");
+    vdispls[r] = mpi_count(total * per, "the records shared");
+    vcounts[r] = mpi_count(static_cast<std::size_t>(counts[r]) * per, "the records shared");
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<std::uint64_t> all(total);
+  std::vector<double> all_values(total * per);
+  mpi_check(MPI_Allgatherv(keys.data(), mine, MPI_UINT64_T, all.data(), counts.data(), displs.data(), MPI_UINT64_T,
+                           MPI_COMM_WORLD),
+            "MPI_Allgatherv");
+  mpi_check(MPI_Allgatherv(values.data(), mpi_count(values.size(), "the records shared"), MPI_DOUBLE,
+                           all_values.data(), vcounts.data(), vdispls.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+            "MPI_Allgatherv");
+  std::vector<std::size_t> order(total);
+  for (std::size_t k = 0; k < total; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[a] < all[b]; });
+  keys.resize(total);
+  values.resize(total * per);
+  for (std::size_t k = 0; k < total; ++k) {
+    keys[k] = all[order[k]];
+    std::copy_n(all_values.begin() + static_cast<std::ptrdiff_t>(order[k] * per), per,
+                values.begin() + static_cast<std::ptrdiff_t>(k * per));
+  }
+}
+
 bool RankSplit::any(bool flag) const {
   int in = flag ? 1 : 0, out = 0;
   mpi_check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
@@ -167,6 +199,7 @@ void RankSplit::max(std::vector<double>&) const {}
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
 void RankSplit::add_up(ExactSums&) const {}
+void RankSplit::share_records(std::vector<std::uint64_t>&, std::vector<double>&, std::size_t) const {}
 
 #endif
 

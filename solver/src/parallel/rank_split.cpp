@@ -90,7 +90,7 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   list.set_rank_slabs(s0, s1);
   assigned_ = true;
   builds_ = list.builds();
-  moving_ = false;
+  moving_ = written_ = false;
   stale_ = !before.empty();  // else every rank holds the whole state
   if (stale_) {
     migrate(p, list, before);
@@ -118,6 +118,26 @@ void RankSplit::permute(const std::vector<std::uint32_t>& from) {
   for (std::size_t i = 0; i < from.size(); ++i) o[i] = owner_[from[i]];
   owner_.swap(o);
   own_from_owners();  // the boundary slabs' lists follow at the next assign()
+}
+
+void RankSplit::keep(const std::vector<std::uint32_t>& from) {
+  if (!assigned_) return;
+  const std::size_t n_old = owner_.size();
+  std::vector<std::uint32_t> to(n_old, new_particle);
+  std::vector<int> o(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    o[i] = owner_[from[i]];
+    to[from[i]] = static_cast<std::uint32_t>(i);
+  }
+  owner_.swap(o);
+  own_from_owners();
+  for (auto* slab : {&lower_, &upper_, &top_, &under_}) {
+    std::size_t kept = 0;
+    for (const std::uint32_t i : *slab)
+      if (to[i] != new_particle) (*slab)[kept++] = to[i];
+    slab->resize(kept);
+  }
+  written_ = false;
 }
 
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
@@ -265,6 +285,13 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   stale_ = moving_ = positions_only;
 }
 
+void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
+  if (!stale_ || written_) return;
+  share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()), true);
+  if (meshes_) share_mesh_contacts(true);
+  written_ = true;
+}
+
 void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before) {
   const auto size = static_cast<std::size_t>(size_);
   std::vector<std::vector<std::uint32_t>> out(size), in(size);
@@ -320,7 +347,8 @@ std::size_t RankSplit::round_values() {
   return n;
 }
 
-void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows) {
+void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows,
+                                bool to_writer) {
   const std::size_t per = arrays.size() + rows.count;
   const auto size = static_cast<std::size_t>(size_);
   const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
@@ -351,10 +379,18 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
       displs[r] = static_cast<int>(total);
       total += (k1 - k0) * per;
     }
-    recv_.resize(total);
-    mpi_check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
-                             displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
-              "MPI_Allgatherv");
+    if (to_writer) {
+      if (rank_ == 0) recv_.resize(total);
+      mpi_check(MPI_Gatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                            displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+                "MPI_Gatherv");
+      if (rank_ != 0) continue;
+    } else {
+      recv_.resize(total);
+      mpi_check(MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, recv_.data(), counts.data(),
+                               displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+                "MPI_Allgatherv");
+    }
     at = 0;
     for (const auto& own : rank_particles_) {
       const auto [k0, k1] = part(own);
@@ -368,7 +404,7 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
   }
 }
 
-void RankSplit::share_mesh_contacts() {
+void RankSplit::share_mesh_contacts(bool to_writer) {
   // Each rank's own particles' contacts, in particle order (the list holds all of them
   // where no evaluation followed the last gather, so the others' are dropped first);
   // joined and put in particle order (each particle's, from one rank, stay in triangle
@@ -381,16 +417,26 @@ void RankSplit::share_mesh_contacts() {
   const auto size = static_cast<std::size_t>(size_);
   const int bytes = static_cast<int>(list.size() * sizeof(Contact));
   std::vector<int> counts(size), displs(size);
-  mpi_check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  if (to_writer)
+    mpi_check(MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+  else
+    mpi_check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
   std::size_t total = 0;
   for (std::size_t r = 0; r < size; ++r) {
     displs[r] = static_cast<int>(total);
     total += static_cast<std::size_t>(counts[r]);
   }
   mesh_recv_.resize(total / sizeof(Contact));
-  mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
-                           MPI_COMM_WORLD),
-            "MPI_Allgatherv");
+  if (to_writer) {
+    mpi_check(MPI_Gatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE, 0,
+                          MPI_COMM_WORLD),
+              "MPI_Gatherv");
+    if (rank_ != 0) return;  // the others keep their own particles' contacts
+  } else {
+    mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
+                             MPI_COMM_WORLD),
+              "MPI_Allgatherv");
+  }
   std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(), Contact::by_particle);
   list.swap(mesh_recv_);
 }
@@ -407,6 +453,7 @@ void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSp
 void RankSplit::boundary_torques(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::gather_to_writer(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<int>&) { throw std::logic_error("RankSplit without MPI"); }
 

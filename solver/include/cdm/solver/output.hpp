@@ -28,6 +28,8 @@ class TableWriter {
   /// Print the columns marked true as integers (their values are whole numbers).
   void set_integer_columns(std::vector<bool> integer) { integer_ = std::move(integer); }
   void row(const std::vector<double>& values);
+  /// Whether the rows go to a file (false for an empty path, or once closed).
+  bool writes() const { return f_ != nullptr; }
   void flush();
   /// Flush and fsync the rows written so far; returns the table's length in bytes.
   std::uint64_t sync();

@@ -32,18 +32,23 @@ class Population {
 
   /// Whether the centre of some particle of slots [@p i0, @p i1) is in an outlet.
   bool any_leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const;
-  /// Whether a centre at @p x is in an outlet (remove() takes it).
-  bool leaving(Vec3 x) const {
-    for (const auto& o : spec_.outlets)
-      if (o.removes(x)) return true;
-    return false;
+  /// The outlet that takes a centre at @p x: the first in scene order that holds it, or
+  /// the outlet count when none does.
+  std::uint32_t outlet_of(Vec3 x) const {
+    std::uint32_t o = 0;
+    while (o < spec_.outlets.size() && !spec_.outlets[o].removes(x)) ++o;
+    return o;
   }
-  /// Remove the particles in the outlets (a particle in several counts for the first in
-  /// scene order), recording their number and mass per outlet. The store is compacted
-  /// in order; returns, for each slot left, the slot it held before (ParticleStore::keep).
-  /// @p before_removal(i) is called for each slot i removed, before the store changes.
-  std::vector<std::uint32_t> remove(ParticleStore& p,
-                                    const std::function<void(std::size_t)>& before_removal = {});
+  /// A particle in an outlet: its slot, and the outlet that takes it (outlet_of).
+  struct Leaving {
+    std::uint32_t slot = 0, outlet = 0;
+  };
+  /// The particles of slots [@p i0, @p i1) in an outlet, in slot order.
+  std::vector<Leaving> leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const;
+  /// Remove the particles @p gone (in slot order, each slot once), recording their
+  /// number and mass per outlet. The store is compacted in order; returns, for each slot
+  /// left, the slot it held before (ParticleStore::keep).
+  std::vector<std::uint32_t> remove(ParticleStore& p, const std::vector<Leaving>& gone);
   /// Whether an insertion event is due at time @p t.
   bool insertion_due(double t) const;
   /// Run the insertion events due at @p t: the particles are appended to the store at

@@ -25,12 +25,12 @@
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
-/// whole state (each rank's own particles and wall history) whenever the whole state is
-/// read (the particle table, VTK frames, checkpoints, insertions and outlets, the end);
-/// what sums over the particles (the run log, the monitors, the outlets' table) reads
-/// each rank's own instead, added up (Simulation::counted_runs, counted_sums.hpp). The
-/// pairs' history stays
-/// with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
+/// whole state (each rank's own particles and wall history) whenever every rank changes
+/// or reads it whole (insertions, a build's positions); what rank 0 alone writes whole
+/// (the particle table, VTK frames, checkpoints) is gathered to rank 0 alone
+/// (gather_to_writer); what sums over the particles (the run log, the monitors, the
+/// outlets' table) reads each rank's own instead, added up (Simulation::counted_runs,
+/// counted_sums.hpp). The pairs' history stays with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
 /// list: the checkpoint and the contact-force and contact-network outputs. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
 /// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
@@ -54,8 +54,12 @@
 /// Deposited at every step, the impulses are deposited by every rank from the gathered
 /// positions and impulses, in the one-rank order.
 ///
-/// Insertions and outlets change the whole, gathered state alike on every rank; until the
-/// list is built again (at the next step) every rank then moves every particle.
+/// Insertions change the whole, gathered state alike on every rank; until the list is
+/// built again (at the next step) every rank then moves every particle. Outlets need no
+/// gather: each rank finds its own particles in them, every rank gets all of those
+/// (share_records: slot, outlet, and with a gas each one's position and impulse) and
+/// removes them alike, in slot order, and the ownership follows the compacted slots
+/// (keep()) until the list, built again at the next step, deals the slabs out anew.
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
 /// first (the pass reads each particle's torque so far), then its two phases over the
@@ -124,6 +128,10 @@ class RankSplit final : public SearchShare {
   /// The particles were sorted (slot i now holds the particle of slot from[i]): the
   /// ownership follows them until the next assign().
   void permute(const std::vector<std::uint32_t>& from);
+  /// Particles were removed from every rank's store alike (slot i now holds the particle
+  /// of slot from[i]; ParticleStore::keep): the ownership and the boundary slabs' lists
+  /// follow, and the rest of each rank's state stays its own.
+  void keep(const std::vector<std::uint32_t>& from);
   /// Whether ownership follows build number @p builds of the list.
   bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && builds == builds_; }
 
@@ -160,15 +168,23 @@ class RankSplit final : public SearchShare {
   /// @p for_build: the list is built next, which reads the positions only, so only those
   /// are sent; assign() then moves the rest with the particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
+  /// Rank 0, which writes what reads the whole state (the particle table, VTK frames,
+  /// checkpoints), gets all of it as synchronise() gives every rank; the others send
+  /// their own particles and keep their state as it is. Called on every rank alike; a
+  /// no-op while rank 0 holds the whole state already.
+  void gather_to_writer(ParticleStore& p, VerletList& list);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);
   /// The ranks' particles diverged (a step was taken).
-  void mark_stale() { stale_ = assigned_; }
+  void mark_stale() {
+    stale_ = assigned_;
+    written_ = false;
+  }
   /// The particles' slots changed on every rank alike (particles were inserted or
   /// removed from the whole, gathered state): each rank moves all of them again until
   /// the next assign().
-  void unassign() { assigned_ = stale_ = moving_ = false; }
+  void unassign() { assigned_ = stale_ = moving_ = written_ = false; }
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
@@ -185,6 +201,11 @@ class RankSplit final : public SearchShare {
   /// Every rank gets the sums of @p s over the ranks (each rank's partial sums of the
   /// same terms' bound).
   void add_up(ExactSums& s) const;
+  /// Every rank gets every rank's records: @p keys (distinct over the ranks, each rank's
+  /// increasing) in increasing order, each with its @p per values in @p values, moved
+  /// along. For what each rank finds among its own particles and every rank then applies
+  /// alike, in the one-rank order.
+  void share_records(std::vector<std::uint64_t>& keys, std::vector<double>& values, std::size_t per) const;
 
   // The contact search and list at a build (SearchShare): rank r lists the r-th of
   // size() equal runs of rows, and each pair goes to the ranks that hold its slab.
@@ -231,6 +252,7 @@ class RankSplit final : public SearchShare {
   MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
+  bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   std::uint64_t builds_ = 0;
   std::vector<int> slab_owner_;                      // per slab
   std::vector<int> owner_;                           // per particle slot
@@ -245,8 +267,9 @@ class RankSplit final : public SearchShare {
   std::vector<std::uint32_t> top_, under_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
-  /// Every rank gets every rank's mesh contacts (meshes_), in particle order.
-  void share_mesh_contacts();
+  /// Every rank, or with @p to_writer rank 0 alone, gets every rank's mesh contacts
+  /// (meshes_), in particle order.
+  void share_mesh_contacts(bool to_writer = false);
   /// This rank's particles' runs, flags and lists from owner_.
   void own_from_owners();
   /// The particles whose owner was @p before and is owner_ now travel with their state.
@@ -255,9 +278,9 @@ class RankSplit final : public SearchShare {
   void migrate_mesh_contacts(const std::vector<int>& before);
   /// Sends out[r] to rank r (released) and returns what each rank sent, in rank order.
   std::vector<std::uint8_t> swap_bytes(std::vector<std::vector<std::uint8_t>>& out);
-  /// Every rank gets each rank's particles' values of @p arrays and, after them, their
-  /// @p rows.
-  void share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows);
+  /// Every rank, or with @p to_writer rank 0 alone, gets each rank's particles' values
+  /// of @p arrays and, after them, their @p rows.
+  void share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows, bool to_writer = false);
   // The buffers of a gather's rounds: at most round_values() values each, kept between
   // gathers, so that they add that much to every rank's memory whatever its size:
   // kRoundValues (2 MiB), or the environment's CDM_MPI_ROUND_VALUES (a positive integer,

@@ -75,6 +75,12 @@ class Simulation : private integrators::StepHost {
   /// there; on several processes the others' may be stale. For what is summed over the
   /// particles, each process its own part, and added up (counted_sums.hpp).
   const ParticleStore& local_particles() const;
+  /// The particles at time() for what process 0 writes whole (the particle table, VTK
+  /// frames, checkpoints): all of them current on process 0; on the others only those of
+  /// counted_runs(). A collective call when several processes share the particles: every
+  /// process makes it, then process 0 may read them again (no call after the first
+  /// gathers until the state moves on).
+  const ParticleStore& written_particles() const;
   /// The runs of slots [first, last) whose terms this process adds to a sum over the
   /// particles, so that over the processes each particle counts once: every particle on
   /// one process; among processes sharing the particles, this one's own; where each moves
@@ -170,6 +176,10 @@ class Simulation : private integrators::StepHost {
   void permute(const std::vector<std::uint32_t>& from);
   /// At the end of a step: remove the particles in the outlets, then insert what is due.
   void update_population();
+  /// Remove the particles in the outlets from the state completed at the step's end:
+  /// from the whole state, or with @p own_part each process finding its own particles
+  /// and every process removing them all (RankSplit::share_records, RankSplit::keep).
+  void remove_leaving(bool own_part);
   /// The modules follow particles removed or added (ForceModule::remap).
   void remap(const std::vector<std::uint32_t>& from);
   /// The checkpoint's section on a changing population (its own function, so that the

@@ -55,9 +55,10 @@ class TwoWayExchange {
   /// ranks: the same cells on any number of ranks, without the particles gathered.
   void deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
                                           RankSplit* ranks = nullptr);
-  /// The same for particle @p i alone (one leaving through an outlet before its gas
-  /// step), its impulse spread about the point of the gas domain nearest to it.
-  void deposit_impulse_of_leaving(ParticleStore& p, std::size_t i);
+  /// The same for one particle leaving through an outlet before its gas step, at @p x
+  /// with the impulse @p j accumulated so far: @p j spread about the point of the gas
+  /// domain nearest to @p x.
+  void deposit_impulse_of_leaving(Vec3 x, Vec3 j);
   /// The reaction gathered since the last gas step, as a force per unit volume over
   /// @p dtg on the faces of @p solver (added to what it holds); records the balance and
   /// starts gathering anew.
@@ -76,8 +77,8 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
-  /// Particle @p i's impulse onto the cells about @p at, its accumulator emptied.
-  void deposit_impulse(ParticleStore& p, std::size_t i, Vec3 at);
+  /// A particle's impulse @p j onto the cells about @p at.
+  void deposit_impulse(Vec3 j, Vec3 at);
   /// The volumes of @p p's particles (over the cell volume) onto @p vol and, with
   /// @p imp, their impulses' reaction (per cell along x, y, z; then their total): each
   /// rank its own particles with @p own, the sums then added up over the ranks; each

@@ -1,0 +1,117 @@
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/coupling/two_way_exchange.hpp"
+#include "cdm/solver/population.hpp"
+#include "cdm/solver/rank_split.hpp"
+#include "cdm/solver/simulation.hpp"
+
+// Particles inserted and removed at the end of a step (population.hpp), on one process
+// or among processes sharing the particles (rank_split.hpp), and their checkpoint section.
+
+namespace cdm {
+
+void Simulation::update_population() {
+  Population& pop = *population_;
+  // Among ranks each looks at its own particles, and all take part if any has one leaving.
+  const bool leaving =
+      ranks_ ? ranks_->any_own(particles_.size(), [&](std::size_t i0, std::size_t i1) { return pop.any_leaving(particles_, i0, i1); })
+             : pop.any_leaving(particles_, 0, particles_.size());
+  const bool due = pop.insertion_due(time_);
+  if (!leaving && !due) return;
+  // Particles leaving alone, among ranks that share them: each finds its own, and every
+  // rank removes them all alike (remove_leaving), with no gather. An insertion places its
+  // particles clear of every other: every rank gets the whole state first.
+  const bool own_part = ranks_ && ranks_->partitioned() && !due;
+  if (own_part) local_particles();  // this rank's particles at the step's end
+  else complete_step();             // the state at the step's end, velocities included
+  if (leaving) remove_leaving(own_part);
+  if (due) {
+    const std::size_t n0 = particles_.size();
+    if (pop.insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) > 0) {
+      std::vector<std::uint32_t> from(particles_.size(), new_particle);
+      for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
+      remap(from);
+    }
+  }
+  // Every rank changed the whole state alike; the slots moved, so each moves all the
+  // particles until the list, built again at the next step, deals the slabs out anew.
+  if (ranks_ && !own_part) ranks_->unassign();
+}
+
+void Simulation::remove_leaving(bool own_part) {
+  Population& pop = *population_;
+  const std::size_t n = particles_.size();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> runs{{0, static_cast<std::uint32_t>(n)}};
+  if (own_part) runs = ranks_->own_runs(n);
+  std::vector<Population::Leaving> gone;
+  for (const auto& [i0, i1] : runs) {
+    const std::vector<Population::Leaving> l = pop.leaving(particles_, i0, i1);
+    gone.insert(gone.end(), l.begin(), l.end());
+  }
+  // What the leaving particles' drag gave the gas since their impulses were last
+  // deposited (at the last step, or over the gas step so far) goes to the gas now, in
+  // slot order: each particle's position and impulse, from its owner.
+  const bool deposit = exchange_ && exchange_->two_way() && !particles_.jx.empty();
+  std::vector<double> at;  // per particle gone: x y z jx jy jz
+  if (deposit)
+    for (const auto& g : gone) {
+      const std::size_t i = g.slot;
+      at.insert(at.end(), {particles_.x[i], particles_.y[i], particles_.z[i], particles_.jx[i], particles_.jy[i],
+                           particles_.jz[i]});
+    }
+  if (own_part) {
+    // Every rank gets every rank's, in slot order: keyed by slot, then outlet.
+    std::vector<std::uint64_t> keys;
+    for (const auto& g : gone) keys.push_back(std::uint64_t{g.slot} << 32 | g.outlet);
+    ranks_->share_records(keys, at, deposit ? 6 : 0);
+    gone.resize(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      gone[k] = {static_cast<std::uint32_t>(keys[k] >> 32), static_cast<std::uint32_t>(keys[k])};
+  }
+  for (std::size_t k = 0; k < at.size(); k += 6)
+    exchange_->deposit_impulse_of_leaving({at[k], at[k + 1], at[k + 2]}, {at[k + 3], at[k + 4], at[k + 5]});
+  const std::vector<std::uint32_t> from = pop.remove(particles_, gone);
+  remap(from);
+  if (own_part) ranks_->keep(from);
+  // The identities shifted: messages name particles by number, not by scene key.
+  spec_.groups.clear();
+}
+
+void Simulation::save_population(OutArchive& a) const {
+  a.put(static_cast<std::uint8_t>(population_ ? 1 : 0));
+  if (!population_) return;
+  const ParticleStore& p = particles_;
+  a.put(p.radius); a.put(p.mass); a.put(p.inv_mass); a.put(p.inv_inertia); a.put(p.material);
+  population_->save_state(a);
+}
+
+bool Simulation::load_population(InArchive& a, std::uint64_t n) {
+  std::uint8_t has = 0;
+  a.get(has);
+  if ((has != 0) != static_cast<bool>(population_)) throw ArchiveError("its insertions and outlets differ from the scene's");
+  if (!population_) return false;
+  ParticleStore& p = particles_;
+  auto arr = [&](auto& v, std::size_t want) {
+    a.get(v, want);
+    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
+  };
+  arr(p.radius, n); arr(p.mass, n); arr(p.inv_mass, n);
+  arr(p.inv_inertia, p.has_rotation() ? n : 0);
+  arr(p.material, n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (p.material[i] < 0 || static_cast<std::size_t>(p.material[i]) >= spec_.materials.size() ||
+        !(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
+      throw ArchiveError("particle " + std::to_string(i) + "'s radius, mass or material is not valid");
+  // The store holds n particles from here: the arrays read next are sized to it.
+  for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);
+  population_->load_state(a);
+  for (const auto& r : population_->removed())
+    if (r.count) spec_.groups.clear();  // as after the removal (update_population)
+  return true;
+}
+
+}  // namespace cdm
