@@ -22,24 +22,34 @@ void Simulation::update_population() {
              : pop.any_leaving(particles_, 0, particles_.size());
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
-  // Particles leaving alone, among ranks that share them: each finds its own, and every
-  // rank removes them all alike (remove_leaving), with no gather. An insertion places its
-  // particles clear of every other: every rank gets the whole state first.
-  const bool own_part = ranks_ && ranks_->partitioned() && !due;
-  if (own_part) local_particles();  // this rank's particles at the step's end
-  else complete_step();             // the state at the step's end, velocities included
-  if (leaving) remove_leaving(own_part);
-  if (due) {
-    const std::size_t n0 = particles_.size();
-    if (pop.insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) > 0) {
-      std::vector<std::uint32_t> from(particles_.size(), new_particle);
-      for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
-      remap(from);
-    }
+  // Among ranks that share the particles, each completes its own and every rank gets
+  // the positions alone: the list takes its build positions from them (VerletList::remap)
+  // and an insertion places each particle clear of every other. The leaving particles are
+  // found by their owners and removed alike everywhere (remove_leaving). Until the slabs
+  // are dealt out, every rank holds the whole state.
+  const bool own_part = ranks_ && ranks_->partitioned();
+  if (own_part) {
+    local_particles();
+    ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
+  } else {
+    complete_step();  // the state at the step's end, velocities included
   }
+  if (leaving) remove_leaving(own_part);
+  if (due) insert_due(own_part);
   // Every rank changed the whole state alike; the slots moved, so each moves all the
   // particles until the list, built again at the next step, deals the slabs out anew.
   if (ranks_ && !own_part) ranks_->unassign();
+}
+
+void Simulation::insert_due(bool own_part) {
+  // Each particle is placed clear of every other, from the positions every rank holds:
+  // every rank inserts the same particles.
+  const std::size_t n0 = particles_.size();
+  if (population_->insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) == 0) return;
+  std::vector<std::uint32_t> from(particles_.size(), new_particle);
+  for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
+  remap(from);
+  if (own_part) ranks_->added(particles_.size() - n0);
 }
 
 void Simulation::remove_leaving(bool own_part) {

@@ -66,8 +66,7 @@ void VerletList::set_aside_wall_history(const std::vector<std::uint32_t>* to) {
   if (to) {
     std::erase_if(wall_carry_, [&](const WallContact& c) { return c.i >= to->size() || (*to)[c.i] == new_particle; });
     for (WallContact& c : wall_carry_) c.i = (*to)[c.i];
-    std::sort(wall_carry_.begin(), wall_carry_.end(),
-              [](const WallContact& a, const WallContact& b) { return a.key() < b.key(); });
+    std::sort(wall_carry_.begin(), wall_carry_.end(), WallContact::by_key);
   }
   drop_wall_entries();
 }

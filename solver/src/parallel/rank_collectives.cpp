@@ -1,8 +1,9 @@
 /// @file rank_collectives.cpp
 /// @brief RankSplit's collectives that carry no particle state: the reductions every step
 /// takes (the largest drift, a stop signal, the contacts' count and worst overlap, the
-/// deposited sums), the shared list's rows, sums and exchanges at a build, and its
-/// contacts gathered whole.
+/// deposited sums), the shared list's rows, sums and exchanges at a build, its contacts
+/// gathered whole, the contacts kept per particle joined at a gather, and the records of
+/// what each rank finds among its own particles.
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <type_traits>
 
 #include "cdm/solver/contact/contact_module.hpp"
+#include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/mpi_session.hpp"
 
 #ifdef CDM_WITH_MPI
@@ -114,6 +116,52 @@ std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList
                         MPI_COMM_WORLD),
             "MPI_Gatherv");
   return all;
+}
+
+template <class Record, class ParticleOf, class Less>
+void RankSplit::join_own(std::vector<Record>& list, ParticleOf&& particle_of, Less&& less, bool to_writer) {
+  // Each rank's own particles' records, in order (the list holds all of them where none
+  // changed since the last gather, so the others' are dropped first); joined and put in
+  // order (each particle's, from one rank, keep theirs).
+  static_assert(std::is_trivially_copyable_v<Record>);
+  list.erase(std::remove_if(list.begin(), list.end(), [&](const Record& c) { return !owned_[particle_of(c)]; }),
+             list.end());
+  const auto size = static_cast<std::size_t>(size_);
+  const int bytes = mpi_count(list.size() * sizeof(Record), "the contacts gathered");
+  std::vector<int> counts(size), displs(size);
+  if (to_writer)
+    mpi_check(MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+  else
+    mpi_check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < size; ++r) {
+    displs[r] = mpi_count(total, "the contacts gathered");
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<Record> all(total / sizeof(Record));
+  if (to_writer) {
+    mpi_check(MPI_Gatherv(list.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
+                          MPI_COMM_WORLD),
+              "MPI_Gatherv");
+    if (rank_ != 0) return;  // the others keep their own particles' records
+  } else {
+    mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+                             MPI_COMM_WORLD),
+              "MPI_Allgatherv");
+  }
+  std::stable_sort(all.begin(), all.end(), less);
+  list.swap(all);
+}
+
+void RankSplit::share_contact_records(VerletList& list, bool to_writer) {
+  if (meshes_)
+    join_own(meshes_->contacts(), [](const MeshContacts::Contact& c) { return c.particle; },
+             MeshContacts::Contact::by_particle, to_writer);
+  // Between a population change and the next listing the wall contacts are set aside,
+  // each rank's own particles' current (wall_rows() has no entries to read).
+  if (!list.wall_entries_current())
+    join_own(list.pending_wall_contacts(), [](const VerletList::WallContact& c) { return c.i; },
+             VerletList::WallContact::by_key, to_writer);
 }
 
 double RankSplit::max(double x) const {

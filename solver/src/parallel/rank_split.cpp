@@ -140,12 +140,20 @@ void RankSplit::keep(const std::vector<std::uint32_t>& from) {
   written_ = false;
 }
 
+void RankSplit::added(std::size_t count) {
+  if (!assigned_) return;
+  owner_.resize(owner_.size() + count, 0);
+  own_from_owners();
+  written_ = false;
+}
+
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
   const std::size_t nw = list.walls().size();
   if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};
   // Every rank lists the same candidates (from the build's positions), so a particle's
-  // row names its listed walls' entries on either side; the others travel as zeros.
-  if (!list.wall_entries_current()) throw std::logic_error("RankSplit: the wall contacts are not listed");
+  // row names its listed walls' entries on either side; the others travel as zeros. While
+  // the entries are set aside (share_contact_records) none travel.
+  if (!list.wall_entries_current()) return {};
   VerletList* const l = &list;
   return {4 * nw,
           [=](std::uint32_t i, double* out) {
@@ -280,7 +288,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
     share_particles({&p.x, &p.y, &p.z}, {});
   } else {
     share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()));
-    if (meshes_) share_mesh_contacts();
+    share_contact_records(list);
   }
   stale_ = moving_ = positions_only;
 }
@@ -288,7 +296,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
 void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
   if (!stale_ || written_) return;
   share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()), true);
-  if (meshes_) share_mesh_contacts(true);
+  share_contact_records(list, true);
   written_ = true;
 }
 
@@ -306,6 +314,9 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
     if (!out[r].empty()) sends.push_back({&out[r], static_cast<int>(r)});
     if (!in[r].empty()) recvs.push_back({&in[r], static_cast<int>(r)});
   }
+  // After a build: the wall entries are listed, each particle's row goes with it.
+  if (!list.wall_entries_current() && list.keeps_history() && !list.walls().empty())
+    throw std::logic_error("RankSplit: the wall contacts are not listed");
   exchange(dynamic_arrays(p, true), sends, recvs, 17, legs_, wall_rows(list, p.size()));
   if (meshes_) migrate_mesh_contacts(before);
 }
@@ -402,43 +413,6 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
       }
     }
   }
-}
-
-void RankSplit::share_mesh_contacts(bool to_writer) {
-  // Each rank's own particles' contacts, in particle order (the list holds all of them
-  // where no evaluation followed the last gather, so the others' are dropped first);
-  // joined and put in particle order (each particle's, from one rank, stay in triangle
-  // order).
-  using Contact = MeshContacts::Contact;
-  static_assert(std::is_trivially_copyable_v<Contact>);
-  std::vector<Contact>& list = meshes_->contacts();
-  list.erase(std::remove_if(list.begin(), list.end(), [&](const Contact& c) { return !owned_[c.particle]; }),
-             list.end());
-  const auto size = static_cast<std::size_t>(size_);
-  const int bytes = static_cast<int>(list.size() * sizeof(Contact));
-  std::vector<int> counts(size), displs(size);
-  if (to_writer)
-    mpi_check(MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
-  else
-    mpi_check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < size; ++r) {
-    displs[r] = static_cast<int>(total);
-    total += static_cast<std::size_t>(counts[r]);
-  }
-  mesh_recv_.resize(total / sizeof(Contact));
-  if (to_writer) {
-    mpi_check(MPI_Gatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE, 0,
-                          MPI_COMM_WORLD),
-              "MPI_Gatherv");
-    if (rank_ != 0) return;  // the others keep their own particles' contacts
-  } else {
-    mpi_check(MPI_Allgatherv(list.data(), bytes, MPI_BYTE, mesh_recv_.data(), counts.data(), displs.data(), MPI_BYTE,
-                             MPI_COMM_WORLD),
-              "MPI_Allgatherv");
-  }
-  std::stable_sort(mesh_recv_.begin(), mesh_recv_.end(), Contact::by_particle);
-  list.swap(mesh_recv_);
 }
 
 void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {

@@ -25,13 +25,16 @@
 ///  - the largest displacement, the worst overlap and the not-finite flag are reduced
 ///    over the ranks, so that every rank rebuilds, sorts and stops at the same steps.
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
-/// whole state (each rank's own particles and wall history) whenever every rank changes
-/// or reads it whole (insertions, a build's positions); what rank 0 alone writes whole
-/// (the particle table, VTK frames, checkpoints) is gathered to rank 0 alone
-/// (gather_to_writer); what sums over the particles (the run log, the monitors, the
-/// outlets' table) reads each rank's own instead, added up (Simulation::counted_runs,
-/// counted_sums.hpp). The pairs' history stays with the pairs' ranks, and is gathered (gather_contacts) only for what reads the whole
-/// list: the checkpoint and the contact-force and contact-network outputs. Before the
+/// whole state (each rank's own particles and wall history) only where every rank reads
+/// it whole (the guards naming a particle that went wrong, Simulation::particles());
+/// gather() brings every rank some arrays (the positions for an outlet or insertion, the
+/// cell-average drag's positions and velocities, the impulses deposited every step); what
+/// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
+/// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
+/// monitors, the outlets' table) reads each rank's own instead, added up
+/// (Simulation::counted_runs, counted_sums.hpp). The pairs' history stays with the
+/// pairs' ranks, and is gathered (gather_contacts) only for what reads the whole list:
+/// the checkpoint and the contact-force and contact-network outputs. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
 /// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
 /// per slab summed over the ranks, and each pair, and each pair contact's history, goes
@@ -54,12 +57,17 @@
 /// Deposited at every step, the impulses are deposited by every rank from the gathered
 /// positions and impulses, in the one-rank order.
 ///
-/// Insertions change the whole, gathered state alike on every rank; until the list is
-/// built again (at the next step) every rank then moves every particle. Outlets need no
-/// gather: each rank finds its own particles in them, every rank gets all of those
+/// Outlets and insertions gather the positions alone (gather(): the list takes its build
+/// positions from them, and an insertion places each particle clear of every other).
+/// Each rank finds its own particles in the outlets, every rank gets all of those
 /// (share_records: slot, outlet, and with a gas each one's position and impulse) and
 /// removes them alike, in slot order, and the ownership follows the compacted slots
-/// (keep()) until the list, built again at the next step, deals the slabs out anew.
+/// (keep()). Every rank inserts the same particles, rank 0's (added()). Until the next
+/// listing the wall contacts are set aside (VerletList::pending_wall_contacts), each
+/// rank's own particles' current, and a gather joins those (share_contact_records). The
+/// list, built again at the next step, then deals the slabs out anew and moves the
+/// particles to their new owners. Until the slabs are first dealt out every rank holds,
+/// moves, removes and inserts every particle.
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
 /// first (the pass reads each particle's torque so far), then its two phases over the
@@ -132,6 +140,9 @@ class RankSplit final : public SearchShare {
   /// of slot from[i]; ParticleStore::keep): the ownership and the boundary slabs' lists
   /// follow, and the rest of each rank's state stays its own.
   void keep(const std::vector<std::uint32_t>& from);
+  /// @p count particles were appended to every rank's store alike (the same state on
+  /// each): rank 0's until the next assign() deals the slabs out.
+  void added(std::size_t count);
   /// Whether ownership follows build number @p builds of the list.
   bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && builds == builds_; }
 
@@ -267,9 +278,14 @@ class RankSplit final : public SearchShare {
   std::vector<std::uint32_t> top_, under_;
   int below_ = -1, above_ = -1;
   bool lower_odd_ = false, upper_odd_ = false;  // parity of the boundary slab
-  /// Every rank, or with @p to_writer rank 0 alone, gets every rank's mesh contacts
-  /// (meshes_), in particle order.
-  void share_mesh_contacts(bool to_writer = false);
+  /// Every rank, or with @p to_writer rank 0 alone, gets every rank's records of @p list
+  /// (trivially copyable, each naming its particle: particle_of(record)), its own
+  /// particles', in the order @p less.
+  template <class Record, class ParticleOf, class Less>
+  void join_own(std::vector<Record>& list, ParticleOf&& particle_of, Less&& less, bool to_writer);
+  /// join_own() for the contacts kept per particle outside the arrays: the mesh contacts
+  /// (meshes_), and the wall contacts of @p list where they are set aside.
+  void share_contact_records(VerletList& list, bool to_writer = false);
   /// This rank's particles' runs, flags and lists from owner_.
   void own_from_owners();
   /// The particles whose owner was @p before and is owner_ now travel with their state.
@@ -288,7 +304,6 @@ class RankSplit final : public SearchShare {
   static constexpr std::size_t kRoundValues = std::size_t{1} << 18;
   static std::size_t round_values();
   std::vector<double> send_, recv_;
-  std::vector<MeshContacts::Contact> mesh_recv_;  // share_mesh_contacts
   /// The rows of @p list's wall history, where it keeps one for @p n particles.
   static WallRows wall_rows(VerletList& list, std::size_t n);
   LegBuffers legs_;

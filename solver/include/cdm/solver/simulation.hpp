@@ -180,6 +180,11 @@ class Simulation : private integrators::StepHost {
   /// from the whole state, or with @p own_part each process finding its own particles
   /// and every process removing them all (RankSplit::share_records, RankSplit::keep).
   void remove_leaving(bool own_part);
+  /// Run the insertion events due (Population::insert), placing each particle clear of
+  /// every other (every process holds every position: update_population); with
+  /// @p own_part the particles inserted, the same on every process, are process 0's
+  /// (RankSplit::added).
+  void insert_due(bool own_part);
   /// The modules follow particles removed or added (ForceModule::remap).
   void remap(const std::vector<std::uint32_t>& from);
   /// The checkpoint's section on a changing population (its own function, so that the

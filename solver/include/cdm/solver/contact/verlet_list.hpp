@@ -179,6 +179,17 @@ class VerletList {
   /// Whether the wall entries are those of the current order: false from a reordering
   /// or load_state until the next update lists the candidates again.
   bool wall_entries_current() const { return !wall_carry_pending_; }
+  /// A wall contact's history, kept by particle and wall.
+  struct WallContact {
+    std::uint32_t i, w;  // particle, wall
+    Vec3 h;              // tangential displacement [m]
+    std::uint64_t key() const { return wall_key(i, w); }
+    static bool by_key(const WallContact& a, const WallContact& b) { return a.key() < b.key(); }
+  };
+  /// While the entries are not current: the wall contacts set aside for the next
+  /// listing, in (particle, wall) order (among processes, each holds its own particles'
+  /// current ones; a gather joins them, RankSplit).
+  std::vector<WallContact>& pending_wall_contacts() { return wall_carry_; }
 
   // The thread split of the slabs (never the results).
   /// Before a threaded pass: each slab's estimated cost from its listed pairs and its
@@ -316,11 +327,6 @@ class VerletList {
   /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
   static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
   /// One particle–wall contact's history, kept while the candidates are listed anew.
-  struct WallContact {
-    std::uint32_t i, w;  // particle, wall
-    Vec3 h;              // tangential displacement [m]
-    std::uint64_t key() const { return wall_key(i, w); }
-  };
   /// The wall entries in contact, in (particle, wall) order: the carried ones while
   /// pending, else the listed ones.
   std::vector<WallContact> wall_contacts() const;
