@@ -130,13 +130,20 @@ shared "Hertz-Mindlin pile" 3 "$src/tests/cli/scenes/hertz_pile.toml" --set inte
 
 # Insertions (from 0.05 s) and an outlet (the lattice's corner leaves at once): every
 # process gets the positions and inserts the same particles, process 0's until the next
-# build; the owners find the particles leaving. Samples and a checkpoint fall on
+# build; the owners find the particles leaving. Samples fall on
 # insertion steps, where the wall contacts are set aside until the next listing. Then
 # an insertion at every step from 0.05 s, on 3 processes.
 fed=("$src/examples/bed_fed_from_above/scene.toml" --set integrator.end_time=0.07 --set output.log_interval=0.002
      --set output.interval=0.01 --set output.checkpoint_interval=0.03)
 shared "bed fed from above" 2 "${fed[@]}"
 shared "bed fed at every step" 3 "${fed[@]}" --set 'insertions[0].interval=0.0'
+# The settling column fed from above and drained at a corner, ending on an insertion step
+# with its checkpoint and a VTK frame: the wall contacts set aside there are each
+# process's own, joined on rank 0 (without the join the checkpoint lacks the others'),
+# on 3 processes.
+shared "settle fed and drained" 3 "${settle[@]}" --set integrator.end_time=0.015 \
+  --set 'insertions=[{material="glass",lower=[0.001,0.001,0.06],upper=[0.021,0.021,0.07],count_rate=2000.0,count=40,start=0.0,interval=0.005,velocity=[0.0,0.0,-0.5],seed=7,size={distribution="normal",mean=0.001,std=0.0001}}]' \
+  --set 'outlets=[{name="corner",type="box",lower=[0.0,0.0,-0.001],upper=[0.004,0.004,0.002]}]'
 
 # Outlets among processes (each finds its own particles in them, every process removes
 # them all alike, and with a gas deposits what their drag gave it so far, in slot order):
@@ -236,4 +243,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, outlets in a gas on 3, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3 and cell-averaged on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
