@@ -63,11 +63,31 @@ bool Population::insertion_due(double t) const {
     const InsertionSpec& in = spec_.insertions[k];
     const Feed& f = feeds_[k];
     if (f.done || t < in.start * (1.0 - 1e-12)) continue;
-    if (in.interval <= 0.0) return true;
+    // At every step: due when a particle is owed (an event owing none does nothing).
+    if (in.interval <= 0.0) {
+      if (owed(k, t)) return true;
+      continue;
+    }
     const std::uint64_t e = event_index(in, t);
     if (e >= f.next_event) return true;
   }
   return false;
+}
+
+bool Population::total_left_of(std::size_t k) const {
+  const InsertionSpec& in = spec_.insertions[k];
+  const Tally& done = inserted_[k];
+  return in.total_by_mass ? done.mass < in.total : static_cast<double>(done.count) < in.total;
+}
+
+bool Population::owed(std::size_t k, double t) const {
+  // What is still due at time t, in the rate's and the total's measures.
+  const InsertionSpec& in = spec_.insertions[k];
+  const Tally& done = inserted_[k];
+  const double target = in.rate * std::max(0.0, std::min(t, in.end) - in.start);
+  const bool rate_left =
+      in.rate_by_mass ? done.mass < target : static_cast<double>(done.count) < std::floor(target + 1e-9);
+  return rate_left && total_left_of(k);
 }
 
 std::size_t Population::insert(ParticleStore& p, double t, Vec3 g) {
@@ -91,17 +111,8 @@ std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec
   Feed& f = feeds_[k];
   Tally& done = inserted_[k];
   const Material& mat = spec_.materials[in.material];
-  const double span = std::max(0.0, std::min(t, in.end) - in.start);
-  const double target = in.rate * span;
-  // What is still due at this event, in the rate's and the total's measures.
-  auto total_left = [&] {
-    return in.total_by_mass ? done.mass < in.total : static_cast<double>(done.count) < in.total;
-  };
-  auto wanted = [&] {
-    const bool rate_left = in.rate_by_mass ? done.mass < target
-                                           : static_cast<double>(done.count) < std::floor(target + 1e-9);
-    return rate_left && total_left();
-  };
+  auto total_left = [&] { return total_left_of(k); };
+  auto wanted = [&] { return owed(k, t); };
   // At or after `end`, the last event: it inserts what the rate owes up to `end`.
   if (!(t < in.end) || !total_left()) f.done = true;
   if (!wanted()) return 0;

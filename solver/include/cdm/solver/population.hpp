@@ -49,7 +49,8 @@ class Population {
   /// number and mass per outlet. The store is compacted in order; returns, for each slot
   /// left, the slot it held before (ParticleStore::keep).
   std::vector<std::uint32_t> remove(ParticleStore& p, const std::vector<Leaving>& gone);
-  /// Whether an insertion event is due at time @p t.
+  /// Whether an insertion event is due at time @p t (one at every step only when it owes
+  /// a particle).
   bool insertion_due(double t) const;
   /// Run the insertion events due at @p t: the particles are appended to the store at
   /// rest relative to the insertion's velocity, their force the weight m @p g (nothing
@@ -76,6 +77,11 @@ class Population {
     bool done = false;             // total reached, or end passed
   };
   std::size_t run_event(std::size_t k, ParticleStore& p, double t, Vec3 g);
+  /// Whether insertion @p k has particles left to insert before its total.
+  bool total_left_of(std::size_t k) const;
+  /// Whether insertion @p k owes a particle at time @p t: its rate's count (or mass) up
+  /// to min(t, end) not reached, and its total not either.
+  bool owed(std::size_t k, double t) const;
 
   const SceneSpec& spec_;
   std::vector<Feed> feeds_;
