@@ -113,11 +113,7 @@ void RankSplit::own_from_owners() {
 }
 
 void RankSplit::permute(const std::vector<std::uint32_t>& from) {
-  if (!assigned_ || owner_.size() != from.size()) return;
-  std::vector<int> o(from.size());
-  for (std::size_t i = 0; i < from.size(); ++i) o[i] = owner_[from[i]];
-  owner_.swap(o);
-  own_from_owners();  // the boundary slabs' lists follow at the next assign()
+  if (owner_.size() == from.size()) keep(from);  // a reordering keeps every slot
 }
 
 void RankSplit::keep(const std::vector<std::uint32_t>& from) {
