@@ -22,15 +22,16 @@ void Simulation::update_population() {
              : pop.any_leaving(particles_, 0, particles_.size());
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
-  // Among ranks that share the particles, each completes its own and every rank gets
-  // the positions alone: the list takes its build positions from them (VerletList::remap)
-  // and an insertion places each particle clear of every other. The leaving particles are
-  // found by their owners and removed alike everywhere (remove_leaving). Until the slabs
-  // are dealt out, every rank holds the whole state.
+  // Among ranks that share the particles, each completes its own. An insertion places
+  // each particle clear of every other, and a list that is not kept (VerletList::remap)
+  // takes its build positions from the particles: then every rank gets the positions
+  // alone. The leaving particles are found by their owners and removed alike everywhere
+  // (remove_leaving). Until the slabs are dealt out, every rank holds the whole state.
   const bool own_part = ranks_ && ranks_->partitioned();
   if (own_part) {
     local_particles();
-    ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
+    const bool list_kept = contact_ && contact_->list().built() && contact_->list().listed(particles_.size());
+    if (due || !list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
   } else {
     complete_step();  // the state at the step's end, velocities included
   }

@@ -48,8 +48,10 @@ struct OutputMarks {
 /// 6: the mesh contacts (in the contact module's state); 7: the population section
 /// (Simulation::save_population) and outlets.dat's length; 8: the gas's drag gradients
 /// on its fixed faces (GasField::drag_gradient); 9: the contact list's wall history as
-/// the wall contacts only (particle, wall, displacement), not a slot per particle and wall.
-constexpr std::uint32_t checkpoint_format_version = 10;
+/// the wall contacts only (particle, wall, displacement), not a slot per particle and wall;
+/// 10: the pair contacts, not the listed pairs; 11: the slabs the pairs were listed in,
+/// which a list kept after removals no longer derives from its build positions.
+constexpr std::uint32_t checkpoint_format_version = 11;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

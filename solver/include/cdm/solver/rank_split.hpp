@@ -27,7 +27,7 @@
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles and wall history) only where every rank reads
 /// it whole (the guards naming a particle that went wrong, Simulation::particles());
-/// gather() brings every rank some arrays (the positions for an outlet or insertion, the
+/// gather() brings every rank some arrays (the positions for an insertion, the
 /// cell-average drag's positions and velocities, the impulses deposited every step); what
 /// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
 /// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
@@ -57,17 +57,18 @@
 /// Deposited at every step, the impulses are deposited by every rank from the gathered
 /// positions and impulses, in the one-rank order.
 ///
-/// Outlets and insertions gather the positions alone (gather(): the list takes its build
-/// positions from them, and an insertion places each particle clear of every other).
 /// Each rank finds its own particles in the outlets, every rank gets all of those
 /// (share_records: slot, outlet, and with a gas each one's position and impulse) and
 /// removes them alike, in slot order, and the ownership follows the compacted slots
-/// (keep()). Every rank inserts the same particles, rank 0's (added()). Until the next
-/// listing the wall contacts are set aside (VerletList::pending_wall_contacts), each
-/// rank's own particles' current, and a gather joins those (share_contact_records). The
-/// list, built again at the next step, then deals the slabs out anew and moves the
-/// particles to their new owners. Until the slabs are first dealt out every rank holds,
-/// moves, removes and inserts every particle.
+/// (keep()). The list is kept (VerletList::remap): its pairs, build positions and slabs
+/// follow the slots, and nothing else moves between the ranks. An insertion gathers the
+/// positions alone (gather(): it places each particle clear of every other, and the list
+/// takes its build positions from them); every rank inserts the same particles, rank 0's
+/// (added()), and the list, built again at the next step, deals the slabs out anew and
+/// moves the particles to their new owners. Until the next listing of the wall candidates
+/// the wall contacts are set aside (VerletList::pending_wall_contacts), each rank's own
+/// particles' current, and a gather joins those (share_contact_records). Until the slabs
+/// are first dealt out every rank holds, moves, removes and inserts every particle.
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
 /// first (the pass reads each particle's torque so far), then its two phases over the

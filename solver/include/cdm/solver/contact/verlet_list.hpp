@@ -151,8 +151,11 @@ class VerletList {
   /// The particles were reordered (ForceModule::permute).
   void permute(const std::vector<std::uint32_t>& from);
   /// Particles were removed or added (ForceModule::remap): the listed pairs of removed
-  /// particles are dropped, the history of the others follows them, and the list is
-  /// built again at the next update (carrying that history over).
+  /// particles are dropped and the history of the others follows them. Where particles
+  /// were only removed from a built list, the list is kept: the others keep their build
+  /// positions and the slabs as the build cut them, and the wall candidates are listed
+  /// again. Where particles were added it is built again at the next update (carrying
+  /// that history over), so that the new ones find their partners.
   void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p);
 
   // Listed pairs (i < j) in processing order, slab by slab.
@@ -380,6 +383,10 @@ class VerletList {
   bool wall_carry_pending_ = false;
   bool wall_candidates_stale_ = true;  // after load_state or permute: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  // The slabs the pairs were listed in: cut at a build, kept when particles are removed
+  // and in checkpoints, so that listing the pairs again from x0_ gives the same list.
+  Slabs cut_;
+  bool cut_known_ = false;
   double displacement_ = -1.0;          // see set_displacement; < 0: measure
   double drift_bound_ = 0.0;            // see displacement_needed [m]
   bool built_ = false;
