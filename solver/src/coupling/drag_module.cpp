@@ -6,6 +6,7 @@
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/run_guards.hpp"
 
 namespace cdm::coupling {
 
@@ -198,35 +199,47 @@ void DragModule::add_cell_average(ParticleStore& p) {
   const fluid::StaggeredGrid& g = gas.grid();
   const std::size_t n = p.size();
   const double rho = gas.density(), mu = gas.viscosity();
-  if (cell_vol_.size() != g.padded_size()) {
-    cell_vol_.assign(g.padded_size(), 0.0);
-    cell_vx_ = cell_vy_ = cell_vz_ = cell_vol_;
-  }
-  std::fill(cell_vol_.begin(), cell_vol_.end(), 0.0);
-  std::fill(cell_vx_.begin(), cell_vx_.end(), 0.0);
-  std::fill(cell_vy_.begin(), cell_vy_.end(), 0.0);
-  std::fill(cell_vz_.begin(), cell_vz_.end(), 0.0);
-  // Every particle's cell counts: among ranks, every rank's particles first reach every
-  // rank, and each rank evaluates them all (the same sums as on one rank).
-  if (ranks_) ranks_->gather({&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz});
+  const std::size_t nc = g.padded_size();
+  // Each rank sums its own particles' volumes and volume-weighted velocities per cell,
+  // in sums that do not depend on the order of their terms (exact_sums.hpp), added up
+  // over the ranks: every rank gets every cell's average, and evaluates its own particles.
+  RankSplit* const own = ranks_ && ranks_->partitioned() ? ranks_ : nullptr;
   auto cell_of = [&](Vec3 x) {
     int c[3];
     const double xs[3] = {x.x, x.y, x.z};
     for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor((xs[a] - g.lo(a)) / g.h(a))), 0, g.n(a) - 1);
     return std::array<int, 3>{c[0], c[1], c[2]};
   };
-  for (std::size_t i = 0; i < n; ++i) {
+  // The sums' bounds: the largest volume and |volume × velocity component| of a particle.
+  std::vector<double> bound{0.0, 0.0};
+  for_own_in_order(own, n, [&](std::size_t i) {
+    const double vol = p.volume(i);
+    bound[0] = std::max(bound[0], vol);
+    bound[1] = std::max({bound[1], vol * std::abs(p.vx[i]), vol * std::abs(p.vy[i]), vol * std::abs(p.vz[i])});
+  });
+  if (own) own->max(bound);
+  if (!std::isfinite(bound[0]) || !std::isfinite(bound[1]))
+    throw SimulationError("a particle's volume or velocity is not finite in the cell-average drag");
+  const double count = static_cast<double>(n);
+  cell_vol_.reset(nc, bound[0], count * bound[0]);
+  cell_mom_.reset(3 * nc, bound[1], count * bound[1]);
+  for_own_in_order(own, n, [&](std::size_t i) {
     const auto c = cell_of(p.position(i));
     const std::size_t k = g.at(c[0], c[1], c[2]);
     const double vol = p.volume(i);
-    cell_vol_[k] += vol;
-    cell_vx_[k] += vol * p.vx[i]; cell_vy_[k] += vol * p.vy[i]; cell_vz_[k] += vol * p.vz[i];
+    cell_vol_.add(k, vol);
+    cell_mom_.add(k, vol * p.vx[i]); cell_mom_.add(nc + k, vol * p.vy[i]); cell_mom_.add(2 * nc + k, vol * p.vz[i]);
+  });
+  if (own) {
+    own->add_up(cell_vol_);
+    own->add_up(cell_mom_);
   }
   double rate = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for_own_in_order(own, n, [&](std::size_t i) {
     const auto c = cell_of(p.position(i));
     const std::size_t k = g.at(c[0], c[1], c[2]);
-    const Vec3 vs{cell_vx_[k] / cell_vol_[k], cell_vy_[k] / cell_vol_[k], cell_vz_[k] / cell_vol_[k]};
+    const double cv = cell_vol_.value(k);
+    const Vec3 vs{cell_mom_.value(k) / cv, cell_mom_.value(nc + k) / cv, cell_mom_.value(2 * nc + k) / cv};
     const Vec3 ug{0.5 * (gas.u[g.at(c[0], c[1], c[2])] + gas.u[g.at(c[0] + 1, c[1], c[2])]),
                   0.5 * (gas.v[g.at(c[0], c[1], c[2])] + gas.v[g.at(c[0], c[1] + 1, c[2])]),
                   g.two_d() ? 0.0 : 0.5 * (gas.w[g.at(c[0], c[1], c[2])] + gas.w[g.at(c[0], c[1], c[2] + 1)])};
@@ -238,7 +251,8 @@ void DragModule::add_cell_average(ParticleStore& p) {
     if (two_way_) { p.dfx[i] = f.x; p.dfy[i] = f.y; p.dfz[i] = f.z; }
     const double r = p.inv_mass[i] * kd;
     if (std::isfinite(r)) rate = std::max(rate, r);
-  }
+  });
+  if (own) rate = own->max(rate);
   tau_min_ = rate > 0.0 ? 1.0 / rate : std::numeric_limits<double>::infinity();
 }
 

@@ -28,7 +28,7 @@
 /// whole state (each rank's own particles and wall history) only where every rank reads
 /// it whole (the guards naming a particle that went wrong, Simulation::particles());
 /// gather() brings every rank some arrays (the positions for an insertion, the
-/// cell-average drag's positions and velocities, the impulses deposited every step); what
+/// impulses deposited every step); what
 /// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
 /// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
 /// monitors, the outlets' table) reads each rank's own instead, added up
@@ -51,7 +51,8 @@
 /// (ForceModule::share_among). Once per gas step each rank deposits its own particles'
 /// impulses and volumes, in sums that do not depend on the order of their terms
 /// (exact_sums.hpp), added up over the ranks (add_up()): the gas gets the same cells on
-/// any number of ranks without a gather. The implicit gas drag likewise deposits each
+/// any number of ranks without a gather; the cell-average drag's cell volumes and
+/// velocities likewise. The implicit gas drag likewise deposits each
 /// rank's own particles' K and K v, and each rank kicks its own particles after the gas
 /// step (implicit_drag.hpp).
 /// Deposited at every step, the impulses are deposited by every rank from the gathered

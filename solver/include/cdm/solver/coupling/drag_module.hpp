@@ -24,6 +24,7 @@
 
 #include "cdm/solver/coupling/deposition.hpp"
 #include "cdm/solver/coupling/drag_laws.hpp"
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "cdm/solver/force_module.hpp"
 
@@ -103,7 +104,7 @@ class DragModule final : public ForceModule {
   const Deposition* kernel_;
   bool two_way_;
   bool superficial_;  // gas velocity at the particle = interpolated flux / particle's ε_g
-  std::vector<double> cell_vol_, cell_vx_, cell_vy_, cell_vz_;  // cell-average method
+  ExactSums cell_vol_, cell_mom_;  // cell-average method: volume, and volume × velocity per cell
   const GasStepClock* clock_ = nullptr;          // set: evaluate once per gas step
   std::vector<double> k_, ugx_, ugy_, ugz_;      // K and u_g of that evaluation (explicit update)
   double tau_min_ = std::numeric_limits<double>::infinity();
