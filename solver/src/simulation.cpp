@@ -196,9 +196,8 @@ void Simulation::step() {
     // The impulses are gathered over the gas step and deposited at the gas step when the
     // drag is evaluated once per gas step or the gas takes it implicitly (implicit_drag.hpp).
     if (exchange_->two_way() && !implicit_drag_ && !lagged()) {
-      // Every rank deposits every particle's impulse, in the one-process order.
-      if (ranks_) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.jx, &particles_.jy, &particles_.jz});
-      exchange_->deposit_impulses(particles_);
+      // Each rank deposits its own particles' impulses, the cells' sums added up.
+      exchange_->deposit_impulses(particles_, time_, ranks_.get());
     }
     if (++substep_ == substeps_) {
       substep_ = 0;
@@ -254,7 +253,7 @@ void Simulation::gas_step() {
     if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs, ranks_.get());
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
-    if (!together) exchange_->deposit_void_fraction(particles_, eps_work_, time_);
+    if (!together) exchange_->deposit_void_fraction(particles_, eps_work_, time_, ranks_.get());
   } else {
     eps_work_ = gas_->eps_g;
   }

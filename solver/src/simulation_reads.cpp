@@ -21,8 +21,7 @@ void Simulation::complete_step() const {
 void Simulation::complete_for_gas_step() {
   if (!ranks_) return complete_step();
   // The exchange reads the positions and impulses (and the implicit drag the velocities
-  // and K): once per gas step, or for the implicit drag, each rank deposits and kicks its
-  // own particles; every step, this step's deposit gathered them already.
+  // and K): each rank deposits (and kicks) its own particles.
   if (integrator_->complete() != 0.0) fail_not_finite();
 }
 

@@ -79,10 +79,12 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
   }
 }
 
-void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const {
+void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
+                                           RankSplit* ranks) const {
+  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
   ExactSums sums;
-  start_volume_sums(p, nullptr, sums);
-  deposit_sums(p, nullptr, nullptr, sums);
+  start_volume_sums(p, own, sums);
+  deposit_sums(p, own, nullptr, sums);
   finish_void_fraction(sums, eps, time);
 }
 
@@ -93,17 +95,22 @@ void TwoWayExchange::start_volume_sums(const ParticleStore& p, RankSplit* own, E
   vol.reset(grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
 }
 
+double TwoWayExchange::largest_impulse(const ParticleStore& p, RankSplit* own, double time) {
+  const double jmax = max_own(own, p.size(), [&](std::size_t i) {
+    return std::max({std::abs(p.jx[i]), std::abs(p.jy[i]), std::abs(p.jz[i])});
+  });
+  if (!std::isfinite(jmax))
+    throw SimulationError("a particle's drag impulse is not finite at t = " + std::to_string(time) + " s");
+  return jmax;
+}
+
 void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
                                                         RankSplit* ranks) {
   const std::size_t n = p.size(), nc = grid_.padded_size();
   // Each rank deposits its own particles (all of them before the particles are dealt
   // out); the partial sums then add up to the same cells on any number of ranks.
   RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
-  const double jmax = max_own(own, n, [&](std::size_t i) {
-    return std::max({std::abs(p.jx[i]), std::abs(p.jy[i]), std::abs(p.jz[i])});
-  });
-  if (!std::isfinite(jmax))
-    throw SimulationError("a particle's drag impulse is not finite at t = " + std::to_string(time) + " s");
+  const double jmax = largest_impulse(p, own, time);
   ExactSums& imp = impulse_sums_;
   ExactSums& vol = volume_sums_;
   // The reaction per cell along x, y, z, then the particles' total: each particle's
@@ -145,11 +152,50 @@ void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<doub
   g.fill_scalar_ghosts(eps);
 }
 
-void TwoWayExchange::deposit_impulses(ParticleStore& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    deposit_impulse({p.jx[i], p.jy[i], p.jz[i]}, p.position(i));
+void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* ranks) {
+  const std::size_t n = p.size(), nc = grid_.padded_size();
+  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
+  const double jmax = largest_impulse(p, own, time);
+  // Cell c's reaction along a is sum 3 c + a, so the cells a step reaches, [lo, hi], are
+  // one run of sums; the particles' total follows the cells. The sums are zero between
+  // steps: only that run is read, added up and cleared.
+  ExactSums& s = step_sums_;
+  const double count = static_cast<double>(n);
+  if (s.size() != 3 * nc + 3) s.reset(3 * nc + 3, jmax, count * jmax);
+  else s.set_bounds(jmax, count * jmax);
+  const double sc = s.scale();
+  std::size_t lo = nc, hi = 0;
+  for_own_in_order(own, n, [&](std::size_t i) {
+    const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
+    if (jx == 0.0 && jy == 0.0 && jz == 0.0) return;
+    const double rx = -jx * sc, ry = -jy * sc, rz = -jz * sc;
+    deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+      s.add_scaled(3 * c, w * rx); s.add_scaled(3 * c + 1, w * ry); s.add_scaled(3 * c + 2, w * rz);
+      lo = std::min(lo, c);
+      hi = std::max(hi, c);
+    });
+    s.add(3 * nc, jx); s.add(3 * nc + 1, jy); s.add(3 * nc + 2, jz);
     p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
+  });
+  if (own) {
+    std::vector<double> reach{-static_cast<double>(lo), static_cast<double>(hi)};
+    own->max(reach);
+    lo = static_cast<std::size_t>(-reach[0]);
+    hi = static_cast<std::size_t>(reach[1]);
+    const std::size_t first = 3 * lo, cells = lo <= hi ? 3 * (hi - lo + 1) : 0;
+    std::vector<std::int64_t> run(cells + 3);
+    std::copy_n(s.data() + first, cells, run.begin());
+    std::copy_n(s.data() + 3 * nc, 3, run.begin() + static_cast<std::ptrdiff_t>(cells));
+    own->add_up(run);
+    std::copy_n(run.begin(), cells, s.data() + first);
+    std::copy_n(run.begin() + static_cast<std::ptrdiff_t>(cells), 3, s.data() + 3 * nc);
   }
+  for (std::size_t c = lo; c <= hi; ++c) {
+    imp_x_[c] += s.value(3 * c); imp_y_[c] += s.value(3 * c + 1); imp_z_[c] += s.value(3 * c + 2);
+  }
+  particle_impulse_ += Vec3{s.value(3 * nc), s.value(3 * nc + 1), s.value(3 * nc + 2)};
+  if (lo <= hi) s.clear(3 * lo, 3 * hi + 3);
+  s.clear(3 * nc, 3 * nc + 3);
 }
 
 void TwoWayExchange::deposit_impulse_of_leaving(Vec3 x, Vec3 j) {

@@ -180,6 +180,12 @@ void RankSplit::add_up(ExactSums& s) const {
             "MPI_Allreduce");
 }
 
+void RankSplit::add_up(std::vector<std::int64_t>& v) const {
+  mpi_check(MPI_Allreduce(MPI_IN_PLACE, v.data(), mpi_count(v.size(), "the sums added up"), MPI_INT64_T, MPI_SUM,
+                          MPI_COMM_WORLD),
+            "MPI_Allreduce");
+}
+
 void RankSplit::share_records(std::vector<std::uint64_t>& keys, std::vector<double>& values, std::size_t per) const {
   const auto size = static_cast<std::size_t>(size_);
   const int mine = mpi_count(keys.size(), "the records shared");
@@ -247,6 +253,7 @@ void RankSplit::max(std::vector<double>&) const {}
 bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
 void RankSplit::add_up(ExactSums&) const {}
+void RankSplit::add_up(std::vector<std::int64_t>&) const {}
 void RankSplit::share_records(std::vector<std::uint64_t>&, std::vector<double>&, std::size_t) const {}
 
 #endif

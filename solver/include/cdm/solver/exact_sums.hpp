@@ -27,6 +27,14 @@ class ExactSums {
     scale_ = 1.0 / unit_;  // a power of two: exact
     acc_.assign(n, 0);
   }
+  /// New bounds for sums that are all zero (cleared since their last use), without
+  /// touching them.
+  void set_bounds(double bound, double sum_bound) {
+    unit_ = unit_for(bound, sum_bound);
+    scale_ = 1.0 / unit_;
+  }
+  /// Sums [@p k0, @p k1) back to zero.
+  void clear(std::size_t k0, std::size_t k1) { std::fill(acc_.begin() + k0, acc_.begin() + k1, 0); }
   /// The unit of sums of terms of at most @p bound adding up to at most @p sum_bound.
   static double unit_for(double bound, double sum_bound) {
     int e = 0, es = 0;

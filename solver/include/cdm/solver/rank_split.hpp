@@ -27,8 +27,7 @@
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles and wall history) only where every rank reads
 /// it whole (the guards naming a particle that went wrong, Simulation::particles());
-/// gather() brings every rank some arrays (the positions for an insertion, the
-/// impulses deposited every step); what
+/// gather() brings every rank some arrays (the positions for an insertion); what
 /// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
 /// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
 /// monitors, the outlets' table) reads each rank's own instead, added up
@@ -55,8 +54,8 @@
 /// velocities likewise. The implicit gas drag likewise deposits each
 /// rank's own particles' K and K v, and each rank kicks its own particles after the gas
 /// step (implicit_drag.hpp).
-/// Deposited at every step, the impulses are deposited by every rank from the gathered
-/// positions and impulses, in the one-rank order.
+/// Deposited at every step, the impulses go the same way, the cells the step reached
+/// added up (TwoWayExchange::deposit_impulses).
 ///
 /// Each rank finds its own particles in the outlets, every rank gets all of those
 /// (share_records: slot, outlet, and with a gas each one's position and impulse) and
@@ -214,6 +213,8 @@ class RankSplit final : public SearchShare {
   /// Every rank gets the sums of @p s over the ranks (each rank's partial sums of the
   /// same terms' bound).
   void add_up(ExactSums& s) const;
+  /// The same for integer sums packed by the caller (a part of an ExactSums' data()).
+  void add_up(std::vector<std::int64_t>& v) const;
   /// Every rank gets every rank's records: @p keys (distinct over the ranks, each rank's
   /// increasing) in increasing order, each with its @p per values in @p values, moved
   /// along. For what each rank finds among its own particles and every rank then applies

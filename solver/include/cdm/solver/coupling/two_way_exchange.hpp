@@ -44,10 +44,17 @@ class TwoWayExchange {
   /// ε_g on the cells from the particles' volumes, each cell's sum the same whatever the
   /// order of its terms (exact_sums.hpp); throws SimulationError, naming the cell and
   /// @p time, if a cell is packed beyond what the gas equations can take.
-  void deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time) const;
+  /// Among MPI ranks (@p ranks, once the particles are dealt out) each deposits its own.
+  void deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
+                             RankSplit* ranks = nullptr) const;
   /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
-  /// the reaction on the gas.
-  void deposit_impulses(ParticleStore& p);
+  /// the reaction on the gas, at every step: each cell's share of the step in a sum
+  /// whose value does not depend on the order of its terms (exact_sums.hpp), added to
+  /// the reaction gathered so far. Among MPI ranks (@p ranks, once the particles are
+  /// dealt out) each rank deposits its own particles and the sums of the cells the
+  /// step reached are added up over the ranks. Throws SimulationError, naming @p time,
+  /// if an impulse is not finite.
+  void deposit_impulses(ParticleStore& p, double time, RankSplit* ranks = nullptr);
   /// deposit_impulses and deposit_void_fraction at once, each particle's stencil
   /// computed once for both; the impulses' sums too the same whatever their order
   /// (exact_sums.hpp). Among MPI ranks (@p ranks, once the particles are dealt out)
@@ -77,6 +84,9 @@ class TwoWayExchange {
   void load_state(InArchive& a);
 
  private:
+  /// The largest impulse component of @p p's particles (each rank's own with @p own),
+  /// over the ranks; throws SimulationError, naming @p time, if one is not finite.
+  static double largest_impulse(const ParticleStore& p, RankSplit* own, double time);
   /// A particle's impulse @p j onto the cells about @p at.
   void deposit_impulse(Vec3 j, Vec3 at);
   /// The volumes of @p p's particles (over the cell volume) onto @p vol and, with
@@ -95,6 +105,7 @@ class TwoWayExchange {
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
   ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps
+  ExactSums step_sums_;  // deposit_impulses's: per cell x, y, z interleaved, then the total; zero between steps
   mutable std::vector<ExactSums> partial_;  // deposit_sums's other threads' (impulses, volumes)
   Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
   CouplingBalance balance_;
