@@ -154,29 +154,50 @@ void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<doub
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* ranks) {
   const std::size_t n = p.size(), nc = grid_.padded_size();
-  RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
+  RankSplit* own = ranks && ranks->partitioned() ? ranks : nullptr;
+  // Among ranks the cells' sums are added up over the run of cells the step reaches; where
+  // that run (3 sums a cell) outgrows the particles' positions and impulses (6 values a
+  // particle), those are gathered instead and every rank deposits every particle: the
+  // same sums either way. Chosen from the last step's run, alike on every rank.
+  if (own && reached_span_ > 2 * n) {
+    own->gather({&p.x, &p.y, &p.z, &p.jx, &p.jy, &p.jz});
+    own = nullptr;
+  }
   const double jmax = largest_impulse(p, own, time);
-  // Cell c's reaction along a is sum 3 c + a, so the cells a step reaches, [lo, hi], are
-  // one run of sums; the particles' total follows the cells. The sums are zero between
-  // steps: only that run is read, added up and cleared.
+  // Cell c's reaction along a is sum 3 c + a, so the cells a step reaches on any rank,
+  // [lo, hi], are one run of sums, which alone is added up over the ranks; the particles'
+  // total follows the cells. The sums are zero between steps: only the cells reached are
+  // read and cleared (on one process those listed as the particles reach them).
   ExactSums& s = step_sums_;
   const double count = static_cast<double>(n);
   if (s.size() != 3 * nc + 3) s.reset(3 * nc + 3, jmax, count * jmax);
   else s.set_bounds(jmax, count * jmax);
   const double sc = s.scale();
   std::size_t lo = nc, hi = 0;
+  reached_.resize(nc, 0);
   for_own_in_order(own, n, [&](std::size_t i) {
     const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
     if (jx == 0.0 && jy == 0.0 && jz == 0.0) return;
     const double rx = -jx * sc, ry = -jy * sc, rz = -jz * sc;
     deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
       s.add_scaled(3 * c, w * rx); s.add_scaled(3 * c + 1, w * ry); s.add_scaled(3 * c + 2, w * rz);
+      if (reached_[c]) return;
+      reached_[c] = 1;
+      reached_cells_.push_back(static_cast<std::uint32_t>(c));
       lo = std::min(lo, c);
       hi = std::max(hi, c);
     });
     s.add(3 * nc, jx); s.add(3 * nc + 1, jy); s.add(3 * nc + 2, jz);
     p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
   });
+  // A cell whose sums are zero is left as it is, so the same cells change whether the
+  // cells reached are read from this process's list or from the run over the ranks.
+  auto add_cell = [&](std::size_t c) {
+    const std::int64_t* const a = s.data() + 3 * c;
+    if (a[0] == 0 && a[1] == 0 && a[2] == 0) return;
+    imp_x_[c] += s.value(3 * c); imp_y_[c] += s.value(3 * c + 1); imp_z_[c] += s.value(3 * c + 2);
+    s.clear(3 * c, 3 * c + 3);
+  };
   if (own) {
     std::vector<double> reach{-static_cast<double>(lo), static_cast<double>(hi)};
     own->max(reach);
@@ -189,12 +210,15 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     own->add_up(run);
     std::copy_n(run.begin(), cells, s.data() + first);
     std::copy_n(run.begin() + static_cast<std::ptrdiff_t>(cells), 3, s.data() + 3 * nc);
+    for (std::size_t c = lo; c <= hi; ++c) add_cell(c);
+    reached_span_ = lo <= hi ? hi - lo + 1 : 0;
+  } else {
+    reached_span_ = lo <= hi ? hi - lo + 1 : 0;
+    for (const std::uint32_t c : reached_cells_) add_cell(c);
   }
-  for (std::size_t c = lo; c <= hi; ++c) {
-    imp_x_[c] += s.value(3 * c); imp_y_[c] += s.value(3 * c + 1); imp_z_[c] += s.value(3 * c + 2);
-  }
+  for (const std::uint32_t c : reached_cells_) reached_[c] = 0;
+  reached_cells_.clear();
   particle_impulse_ += Vec3{s.value(3 * nc), s.value(3 * nc + 1), s.value(3 * nc + 2)};
-  if (lo <= hi) s.clear(3 * lo, 3 * hi + 3);
   s.clear(3 * nc, 3 * nc + 3);
 }
 

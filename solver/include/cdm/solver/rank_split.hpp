@@ -27,7 +27,9 @@
 /// The other ranks' particles go stale meanwhile. synchronise() brings every rank the
 /// whole state (each rank's own particles and wall history) only where every rank reads
 /// it whole (the guards naming a particle that went wrong, Simulation::particles());
-/// gather() brings every rank some arrays (the positions for an insertion); what
+/// gather() brings every rank some arrays (the positions for an insertion, and the
+/// positions and impulses deposited at every step where the particles are fewer than the
+/// cells they reach); what
 /// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
 /// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
 /// monitors, the outlets' table) reads each rank's own instead, added up
@@ -54,8 +56,9 @@
 /// velocities likewise. The implicit gas drag likewise deposits each
 /// rank's own particles' K and K v, and each rank kicks its own particles after the gas
 /// step (implicit_drag.hpp).
-/// Deposited at every step, the impulses go the same way, the cells the step reached
-/// added up (TwoWayExchange::deposit_impulses).
+/// Deposited at every step, the impulses go the same way, the run of cells the step
+/// reached added up, or every rank deposits every particle from the gathered positions
+/// and impulses where that is less to send (TwoWayExchange::deposit_impulses).
 ///
 /// Each rank finds its own particles in the outlets, every rank gets all of those
 /// (share_records: slot, outlet, and with a gas each one's position and impulse) and

@@ -52,8 +52,9 @@ class TwoWayExchange {
   /// whose value does not depend on the order of its terms (exact_sums.hpp), added to
   /// the reaction gathered so far. Among MPI ranks (@p ranks, once the particles are
   /// dealt out) each rank deposits its own particles and the sums of the cells the
-  /// step reached are added up over the ranks. Throws SimulationError, naming @p time,
-  /// if an impulse is not finite.
+  /// step reached are added up over the ranks (or, where the particles are fewer than
+  /// those cells, their positions and impulses are gathered and every rank deposits
+  /// them all). Throws SimulationError, naming @p time, if an impulse is not finite.
   void deposit_impulses(ParticleStore& p, double time, RankSplit* ranks = nullptr);
   /// deposit_impulses and deposit_void_fraction at once, each particle's stencil
   /// computed once for both; the impulses' sums too the same whatever their order
@@ -106,6 +107,9 @@ class TwoWayExchange {
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
   ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps
   ExactSums step_sums_;  // deposit_impulses's: per cell x, y, z interleaved, then the total; zero between steps
+  std::vector<std::uint8_t> reached_;         // deposit_impulses: 1 for a cell reached this step
+  std::vector<std::uint32_t> reached_cells_;  // and those cells
+  std::size_t reached_span_ = 0;              // the run of cells the last step reached
   mutable std::vector<ExactSums> partial_;  // deposit_sums's other threads' (impulses, volumes)
   Vec3 particle_impulse_;  // Σ drag impulse on the particles since the gas step began
   CouplingBalance balance_;
