@@ -230,10 +230,7 @@ void DragModule::add_cell_average(ParticleStore& p) {
     cell_vol_.add(k, vol);
     cell_mom_.add(k, vol * p.vx[i]); cell_mom_.add(nc + k, vol * p.vy[i]); cell_mom_.add(2 * nc + k, vol * p.vz[i]);
   });
-  if (own) {
-    own->add_up(cell_vol_);
-    own->add_up(cell_mom_);
-  }
+  if (own) own->add_up(cell_vol_, cell_mom_);
   double rate = 0.0;
   for_own_in_order(own, n, [&](std::size_t i) {
     const auto c = cell_of(p.position(i));

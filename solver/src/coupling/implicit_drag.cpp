@@ -47,10 +47,14 @@ void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchang
   // out) in sums that add up to the same cells on any number of ranks; each particle's
   // weights add up to one, so a sum's terms add up to at most n times the largest.
   RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
-  const double kmax = k_max_ = max_own(own, n, [&](std::size_t i) { return std::abs(p.drag_k[i]); });
-  const double kvmax = max_own(own, n, [&](std::size_t i) {
-    return std::abs(p.drag_k[i]) * std::max({std::abs(p.vx[i]), std::abs(p.vy[i]), std::abs(p.vz[i])});
-  });
+  // The two bounds reduced over the ranks at once.
+  std::vector<double> bound{max_local(own, n, [&](std::size_t i) { return std::abs(p.drag_k[i]); }),
+                            max_local(own, n, [&](std::size_t i) {
+                              return std::abs(p.drag_k[i]) *
+                                     std::max({std::abs(p.vx[i]), std::abs(p.vy[i]), std::abs(p.vz[i])});
+                            })};
+  if (own) own->max(bound);
+  const double kmax = k_max_ = bound[0], kvmax = bound[1];
   ExactSums ks, kvs;
   ks.reset(nc, kmax, static_cast<double>(n) * kmax);
   kvs.reset(3 * nc, kvmax, static_cast<double>(n) * kvmax);
@@ -63,10 +67,7 @@ void ImplicitDrag::prepare(const ParticleStore& p, const TwoWayExchange& exchang
       kvs.add_scaled(c, w * kx); kvs.add_scaled(nc + c, w * ky); kvs.add_scaled(2 * nc + c, w * kz);
     });
   });
-  if (own) {
-    own->add_up(ks);
-    own->add_up(kvs);
-  }
+  if (own) own->add_up(ks, kvs);
   for (std::size_t c = 0; c < nc; ++c) {
     k_cell_[c] = ks.value(c);
     for (std::size_t a = 0; a < 3; ++a) kv_[a][c] = kvs.value(a * nc + c);

@@ -74,8 +74,8 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     vol.add(partial_[2 * t - 1]);
   }
   if (own) {
-    if (imp) own->add_up(*imp);
-    own->add_up(vol);
+    if (imp) own->add_up(*imp, vol);
+    else own->add_up(vol);
   }
 }
 

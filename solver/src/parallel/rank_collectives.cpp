@@ -180,6 +180,14 @@ void RankSplit::add_up(ExactSums& s) const {
             "MPI_Allreduce");
 }
 
+void RankSplit::add_up(ExactSums& a, ExactSums& b) const {
+  std::vector<std::int64_t> both(a.data(), a.data() + a.size());
+  both.insert(both.end(), b.data(), b.data() + b.size());
+  add_up(both);
+  std::copy_n(both.begin(), a.size(), a.data());
+  std::copy_n(both.begin() + static_cast<std::ptrdiff_t>(a.size()), b.size(), b.data());
+}
+
 void RankSplit::add_up(std::vector<std::int64_t>& v) const {
   mpi_check(MPI_Allreduce(MPI_IN_PLACE, v.data(), mpi_count(v.size(), "the sums added up"), MPI_INT64_T, MPI_SUM,
                           MPI_COMM_WORLD),
@@ -254,6 +262,7 @@ bool RankSplit::any(bool flag) const { return flag; }
 void RankSplit::reduce_contacts(OverlapRecord&, std::size_t&) const {}
 void RankSplit::add_up(ExactSums&) const {}
 void RankSplit::add_up(std::vector<std::int64_t>&) const {}
+void RankSplit::add_up(ExactSums&, ExactSums&) const {}
 void RankSplit::share_records(std::vector<std::uint64_t>&, std::vector<double>&, std::size_t) const {}
 
 #endif

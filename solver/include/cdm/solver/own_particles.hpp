@@ -51,16 +51,23 @@ void for_own_ranges(RankSplit* ranks, std::size_t n, F&& f) {
   for (const auto& [i0, i1] : ranks->own_runs(n)) run(i0, i1);
 }
 
-/// The largest @p f(i) over the particles this rank moves, and then over the ranks.
+/// The largest @p f(i) over the particles this rank moves (not over the ranks).
 template <class F>
-double max_own(RankSplit* ranks, std::size_t n, F&& f) {
+double max_local(RankSplit* ranks, std::size_t n, F&& f) {
   if (!ranks) return parallel_max(n, f);
   double worst = 0.0;
   for (const auto& run : ranks->own_runs(n)) {
     const std::size_t i0 = run.first, i1 = run.second;
     worst = std::max(worst, parallel_max(i1 - i0, [&](std::size_t k) { return f(i0 + k); }));
   }
-  return ranks->max(worst);
+  return worst;
+}
+
+/// The largest @p f(i) over the particles this rank moves, and then over the ranks.
+template <class F>
+double max_own(RankSplit* ranks, std::size_t n, F&& f) {
+  const double worst = max_local(ranks, n, f);
+  return ranks ? ranks->max(worst) : worst;
 }
 
 }  // namespace cdm

@@ -218,6 +218,8 @@ class RankSplit final : public SearchShare {
   void add_up(ExactSums& s) const;
   /// The same for integer sums packed by the caller (a part of an ExactSums' data()).
   void add_up(std::vector<std::int64_t>& v) const;
+  /// add_up() of two sets of sums (of bounds of their own), in one reduction.
+  void add_up(ExactSums& a, ExactSums& b) const;
   /// Every rank gets every rank's records: @p keys (distinct over the ranks, each rank's
   /// increasing) in increasing order, each with its @p per values in @p values, moved
   /// along. For what each rank finds among its own particles and every rank then applies
