@@ -133,14 +133,10 @@ bool ParticleStore::same_mass() const {
 }
 
 void ParticleStore::clear_forces() {
-  std::fill(fx.begin(), fx.end(), 0.0);
-  std::fill(fy.begin(), fy.end(), 0.0);
-  std::fill(fz.begin(), fz.end(), 0.0);
-  if (rotation_enabled_) {
-    std::fill(tx.begin(), tx.end(), 0.0);
-    std::fill(ty.begin(), ty.end(), 0.0);
-    std::fill(tz.begin(), tz.end(), 0.0);
-  }
+  // Only what is not zero: the slots another process holds stay uncommitted (slot_pages.hpp).
+  for (auto* f : {&fx, &fy, &fz}) clear_nonzero(*f);
+  if (rotation_enabled_)
+    for (auto* t : {&tx, &ty, &tz}) clear_nonzero(*t);
 }
 
 }  // namespace cdm

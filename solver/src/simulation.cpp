@@ -170,7 +170,7 @@ void Simulation::step() {
   // 1 if the integrator found the state not finite, 0 if none, -1 if not checked.
   const double nonfinite = integrator_->step(*this, {time_, t_new});
   if (ranks_) {
-    ranks_->mark_stale();
+    ranks_->mark_stale(particles_);
     if (nonfinite > 0.0) synchronise_ranks();  // the guards name the particles, whichever rank moved them
   }
   ++steps_;

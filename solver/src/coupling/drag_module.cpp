@@ -7,6 +7,7 @@
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/run_guards.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::coupling {
 
@@ -82,11 +83,11 @@ void DragModule::evaluate(ParticleStore& p, bool cache) {
   const double rho = gas.density(), mu = gas.viscosity();
   const bool relax = update_ != DragUpdate::explicit_force;
   if (cache) {
-    k_.resize(n); ugx_.resize(n); ugy_.resize(n); ugz_.resize(n);
+    for (auto* a : {&k_, &ugx_, &ugy_, &ugz_}) resize_zeroed(*a, n);
   }
   PressureGradientModule* const gp = cache ? grad_p_ : nullptr;
   if (gp) {
-    gp->fx_.resize(n); gp->fy_.resize(n); gp->fz_.resize(n);
+    for (auto* a : {&gp->fx_, &gp->fy_, &gp->fz_}) resize_zeroed(*a, n);
   }
   // Two-way with the pressure gradient taken: ε_g and ∇p weighted by the particle's
   // deposition weights, in one pass over them (each sum in the order of its own function).
@@ -284,7 +285,7 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
     return;
   }
   if (clock_->due || fx_.size() != n) {
-    fx_.resize(n); fy_.resize(n); fz_.resize(n);
+    for (auto* a : {&fx_, &fy_, &fz_}) resize_zeroed(*a, n);
     for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 f = force(i);
       fx_[i] = f.x; fy_[i] = f.y; fz_[i] = f.z;

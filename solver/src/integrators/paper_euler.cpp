@@ -14,7 +14,7 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
   const std::size_t n = p.size();
   const double dt = dt_;
   host.ensure_forces();
-  if (ranks_) ranks_->mark_stale();  // this rank's particles move on
+  if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
   for_own(ranks_, n, [&](std::size_t i) {
     kick_(i, dt, p.vx[i], p.vy[i], p.vz[i]);
     p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];

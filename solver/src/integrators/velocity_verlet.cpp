@@ -6,6 +6,7 @@
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/rank_split.hpp"
+#include "cdm/solver/slot_pages.hpp"
 #include "verlet_kernels.hpp"
 
 namespace cdm::integrators {
@@ -68,7 +69,7 @@ bool VelocityVerlet::set_ranks(RankSplit* ranks) {
 double VelocityVerlet::complete() {
   if (!kick_pending_) return 0.0;
   kick_pending_ = false;
-  if (ranks_) ranks_->mark_stale();  // this rank's particles move on
+  if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
   return final_kick();
 }
 
@@ -80,9 +81,10 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
   host.ensure_forces();
   // This rank's particles move on: a gather since the last step (a gas step, an output)
   // no longer holds, and a build at this step must gather again.
-  if (ranks_) ranks_->mark_stale();
-  hvx_.resize(n); hvy_.resize(n); hvz_.resize(n);
-  if (rot) { hwx_.resize(n); hwy_.resize(n); hwz_.resize(n); }
+  if (ranks_) ranks_->mark_stale(p_);
+  for (auto* h : {&hvx_, &hvy_, &hvz_}) resize_zeroed(*h, n);
+  if (rot)
+    for (auto* h : {&hwx_, &hwy_, &hwz_}) resize_zeroed(*h, n);
   if (deferred_) return step_deferred(host, times);
   const PeriodicBox box = box_;
   const VerletArrays a = verlet::verlet_arrays(p, hvx_, hvy_, hvz_, hwx_, hwy_, hwz_);

@@ -10,6 +10,7 @@
 #include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
 #include "cdm/solver/mpi_session.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 #ifdef CDM_WITH_MPI
 #include <mpi.h>
@@ -91,11 +92,31 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   assigned_ = true;
   builds_ = list.builds();
   moving_ = written_ = false;
-  stale_ = !before.empty();  // else every rank holds the whole state
-  if (stale_) {
+  if (!before.empty()) {
+    stale_ = true;
     migrate(p, list, before);
     exchange_ghosts(p);
   }
+  release_foreign(p);
+}
+
+void RankSplit::release_foreign(ParticleStore& p) {
+  const std::size_t n = p.size();
+  std::vector<std::uint8_t> held = owned_;
+  held.resize(n, 0);
+  for (const auto* ghosts : {&under_, &upper_})
+    for (const std::uint32_t i : *ghosts) held[i] = 1;
+  SlotRuns foreign;
+  for (std::size_t i = 0; i < n;) {
+    if (held[i]) { ++i; continue; }
+    const std::size_t first = i;
+    while (i < n && !held[i]) ++i;
+    foreign.push_back({first, i});
+  }
+  for (auto* a : dynamic_arrays(p, true))
+    if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, foreign);
+  stale_ = true;
+  written_ = gathered_ = false;
 }
 
 void RankSplit::own_from_owners() {
@@ -285,6 +306,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   } else {
     share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()));
     share_contact_records(list);
+    gathered_ = true;
   }
   stale_ = moving_ = positions_only;
 }
@@ -294,6 +316,7 @@ void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
   share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()), true);
   share_contact_records(list, true);
   written_ = true;
+  gathered_ = gathered_ || rank_ == 0;
 }
 
 void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before) {

@@ -3,20 +3,31 @@
 /// @brief Particle data as structure of arrays: one contiguous array per quantity, so
 /// hot loops vectorise. Rotational fields exist only when a module needs them
 /// (tangential friction); a frictionless scene carries none.
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
 #include "cdm/solver/vec3.hpp"
 
 namespace cdm {
 
 /// v[i] ← v[from[i]] for every i (a gather through a permutation, as
-/// ParticleStore::permute applies it); @p tmp is scratch. Parallel over i.
+/// ParticleStore::permute applies it); @p tmp is scratch. Parallel over i. An array of
+/// doubles of at least sparse_permute_slots is written into zeroed pages where the value
+/// is not zero only, so that slots whose values a process does not hold (zero,
+/// slot_pages.hpp) commit no memory.
 template <class T>
 void permute_array(std::vector<T>& v, const std::vector<std::uint32_t>& from, std::vector<T>& tmp);
+
+/// From this many slots (512 KiB of doubles) on, permute_array commits only the pages
+/// it writes values other than zero to; a smaller array (at most 512 KiB) is gathered
+/// plainly.
+inline constexpr std::size_t sparse_permute_slots = std::size_t{1} << 16;
 
 /// In a map of slots after particles were removed or added (ForceModule::remap): a slot
 /// that holds a new particle.
@@ -115,6 +126,18 @@ struct ParticleStore {
 template <class T>
 void permute_array(std::vector<T>& v, const std::vector<std::uint32_t>& from, std::vector<T>& tmp) {
   const std::size_t n = from.size();
+  if constexpr (std::is_same_v<T, double>) {
+    if (n >= sparse_permute_slots) {
+      if (tmp.size() != n) tmp.assign(n, 0.0);
+      zero_all(tmp);
+      parallel_for(n, [&](std::size_t i) {
+        const double s = v[from[i]];
+        if (std::bit_cast<std::uint64_t>(s) != 0) tmp[i] = s;
+      });
+      v.swap(tmp);
+      return;
+    }
+  }
   tmp.resize(n);
   parallel_for(n, [&](std::size_t i) { tmp[i] = v[from[i]]; });
   v.swap(tmp);

@@ -3,7 +3,7 @@
 /// @brief The particles' work split among MPI ranks (mpirun -np N cdm run), with results
 /// identical to one rank's.
 ///
-/// Every rank holds every particle; each rank moves and resolves only its own. The
+/// Every rank keeps a slot for every particle; each rank moves and resolves only its own. The
 /// Verlet list's slabs (verlet_list.hpp) are dealt out in contiguous runs, one per rank,
 /// about equal in listed pairs plus particles, at every build. A rank owns the particles
 /// of its slabs (each particle's slab at the build) and the pairs listed in them, and
@@ -82,8 +82,15 @@
 /// contact lists are joined, in particle order, whenever the whole state is gathered, and
 /// a particle's contacts go with it to its new owner at assign().
 ///
-/// Limits: memory is divided for the pair list only (each rank holds all the particles
-/// and the gas), the gas step's smaller loops (ghost layers, the pressure's update, the
+/// Every rank keeps a slot for every particle, but of the other ranks' particles (not
+/// its ghosts) it holds the positions alone, which every rank gets at each build: their
+/// other values are zero and their pages are returned to the system after each
+/// assign() and after a whole-state gather once the rank moves on (release_foreign(),
+/// slot_pages.hpp), and a sort's or a removal's permutation commits no page of them.
+///
+/// Limits: memory is divided for the pair list and the particles' state but their
+/// positions, radii, masses and identities (each rank holds those of all the particles,
+/// and the whole gas), the gas step's smaller loops (ghost layers, the pressure's update, the
 /// interpolators' refresh) and a direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
@@ -191,8 +198,11 @@ class RankSplit final : public SearchShare {
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);
-  /// The ranks' particles diverged (a step was taken).
-  void mark_stale() {
+  /// The ranks' particles diverged (a step was taken). Where this rank got the whole
+  /// state since (synchronise(), gather_to_writer()), what it holds of the other ranks'
+  /// particles is let go (release_foreign()).
+  void mark_stale(ParticleStore& p) {
+    if (gathered_ && assigned_) release_foreign(p);
     stale_ = assigned_;
     written_ = false;
   }
@@ -264,6 +274,12 @@ class RankSplit final : public SearchShare {
   /// them) nor the drag's values (its owner evaluates the drag).
   std::vector<std::vector<double>*> ghost_arrays(ParticleStore& p) const;
 
+  /// Zero the per-particle state (but the positions, which every rank gets at each
+  /// build) of the slots that are neither this rank's particles nor its ghosts, and
+  /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
+  /// particles. The rank no longer holds the whole state (stale_).
+  void release_foreign(ParticleStore& p);
+
   int rank_, size_;
   std::vector<std::vector<double>*> extra_, carried_;
   std::vector<const std::vector<double>*> ghost_extras_;  // set_ghost_extras
@@ -272,6 +288,7 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
+  bool gathered_ = false;  // this rank got the whole state since release_foreign()
   std::uint64_t builds_ = 0;
   std::vector<int> slab_owner_;                      // per slab
   std::vector<int> owner_;                           // per particle slot

@@ -1,0 +1,32 @@
+#pragma once
+/// @file slot_pages.hpp
+/// @brief Per-particle arrays that cost memory only where a process holds particles.
+///
+/// Among MPI processes every process keeps every particle's slot, but holds the state of
+/// its own particles and ghosts only (rank_split.hpp); the other slots' values are stale.
+/// zero_slots() sets such slots to zero and returns the pages that hold nothing else to
+/// the system (madvise), where they read as zero and cost nothing until written. A
+/// permutation (permute_array) writes only the values that are not zero into a zeroed
+/// array, so it commits no page of slots that hold none. Neither changes a value a
+/// process reads: the results are the same bits.
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace cdm {
+
+/// Runs of slots [first, last), increasing and disjoint.
+using SlotRuns = std::vector<std::pair<std::size_t, std::size_t>>;
+
+/// Set every slot of @p v in @p runs to zero. The pages lying wholly inside a run are
+/// returned to the system; the others are written only where a value is not zero
+/// already (so that a page never written stays uncommitted).
+void zero_slots(std::vector<double>& v, const SlotRuns& runs);
+/// zero_slots() over the whole of @p v.
+void zero_all(std::vector<double>& v);
+/// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted.
+void resize_zeroed(std::vector<double>& v, std::size_t n);
+/// Set the values of @p v that are not zero to zero, writing nothing else.
+void clear_nonzero(std::vector<double>& v);
+
+}  // namespace cdm

@@ -1,0 +1,59 @@
+#include "cdm/solver/slot_pages.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
+#include <sys/mman.h>
+
+namespace cdm {
+
+namespace {
+
+std::uintptr_t page_size() {
+  static const std::uintptr_t size = [] {
+    const long s = sysconf(_SC_PAGESIZE);
+    return s > 0 ? static_cast<std::uintptr_t>(s) : std::uintptr_t{4096};
+  }();
+  return size;
+}
+
+void clear_range(double* first, double* last) {
+  for (double* d = first; d < last; ++d)
+    if (std::bit_cast<std::uint64_t>(*d) != 0) *d = 0.0;
+}
+
+}  // namespace
+
+void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
+  const std::uintptr_t page = page_size();
+  for (const auto& [i0, i1] : runs) {
+    double* first = v.data() + i0;
+    double* last = v.data() + std::min(i1, v.size());
+    if (first >= last) continue;
+    const auto a = reinterpret_cast<std::uintptr_t>(first), b = reinterpret_cast<std::uintptr_t>(last);
+    const std::uintptr_t pa = (a + page - 1) / page * page, pb = b / page * page;
+    // Only whole pages go back; a page that also holds slots outside the run keeps them.
+    if (pa < pb && madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED) == 0) {
+      clear_range(first, reinterpret_cast<double*>(pa));
+      clear_range(reinterpret_cast<double*>(pb), last);
+    } else {
+      clear_range(first, last);
+    }
+  }
+}
+
+void zero_all(std::vector<double>& v) { zero_slots(v, {{0, v.size()}}); }
+
+void resize_zeroed(std::vector<double>& v, std::size_t n) {
+  const std::size_t m = v.size();
+  if (m == n) return;
+  v.resize(n);
+  if (n > m) zero_slots(v, {{m, n}});
+}
+
+void clear_nonzero(std::vector<double>& v) { clear_range(v.data(), v.data() + v.size()); }
+
+}  // namespace cdm

@@ -1,0 +1,98 @@
+// Per-particle arrays that cost memory only where a process holds particles
+// (slot_pages.hpp): zeroing slots returns their whole pages to the system, and a
+// permutation gives the same bits as a plain gather while committing no page whose
+// slots are all zero.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <bit>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include <sys/mman.h>
+
+#include "cdm/solver/particle_store.hpp"
+#include "cdm/solver/slot_pages.hpp"
+
+namespace {
+
+constexpr std::size_t kSlots = std::size_t{1} << 20;  // 8 MiB of doubles
+
+// Whether the page holding v[i] is resident.
+bool resident(const std::vector<double>& v, std::size_t i) {
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(v.data() + i) / page * page;
+  unsigned char in = 0;
+  EXPECT_EQ(mincore(reinterpret_cast<void*>(at), page, &in), 0);
+  return (in & 1) != 0;
+}
+
+std::uint64_t bits(double a) { return std::bit_cast<std::uint64_t>(a); }
+
+std::vector<double> filled(std::size_t n, std::uint32_t seed) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> v(n);
+  for (double& a : v) a = u(gen);
+  return v;
+}
+
+}  // namespace
+
+TEST(SlotPages, ZeroingRunsReturnsTheirWholePagesAndKeepsTheRest) {
+  std::vector<double> v = filled(kSlots, 1);
+  const std::vector<double> before = v;
+  // Two runs, neither page-aligned: the pages wholly inside go back, the edges are written.
+  const cdm::SlotRuns runs = {{1000, 300'001}, {600'003, 900'000}};
+  cdm::zero_slots(v, runs);
+  // (Checked before the values are read: a page read maps the shared zero page.)
+  EXPECT_FALSE(resident(v, 150'000));
+  EXPECT_FALSE(resident(v, 750'000));
+  EXPECT_TRUE(resident(v, 500'000));
+  EXPECT_TRUE(resident(v, 1000));  // the page also holds slots kept
+  std::size_t run = 0;
+  for (std::size_t i = 0; i < kSlots; ++i) {
+    while (run < runs.size() && i >= runs[run].second) ++run;
+    const bool zeroed = run < runs.size() && i >= runs[run].first;
+    ASSERT_EQ(bits(v[i]), zeroed ? 0u : bits(before[i])) << "slot " << i;
+  }
+}
+
+TEST(SlotPages, APermutationGivesTheGathersBitsAndCommitsNoPageOfZeros) {
+  // The second half holds no particle of this process: zero, its pages returned.
+  std::vector<double> v = filled(kSlots, 2);
+  v[7] = -0.0;  // not zero as bits: kept
+  v[8] = std::numeric_limits<double>::quiet_NaN();
+  v[9] = 0.0;
+  cdm::zero_slots(v, {{kSlots / 2, kSlots}});
+  const std::vector<double> before = v;
+  // A permutation that keeps each half in place but reverses its order.
+  std::vector<std::uint32_t> from(kSlots);
+  for (std::size_t i = 0; i < kSlots / 2; ++i) {
+    from[i] = static_cast<std::uint32_t>(kSlots / 2 - 1 - i);
+    from[kSlots / 2 + i] = static_cast<std::uint32_t>(kSlots - 1 - i);
+  }
+  std::vector<double> tmp = filled(kSlots, 3);  // scratch holding other values
+  cdm::permute_array(v, from, tmp);
+  EXPECT_TRUE(resident(v, kSlots / 4));
+  EXPECT_FALSE(resident(v, kSlots / 2 + kSlots / 4));
+  EXPECT_FALSE(resident(v, kSlots - 1000));
+  for (std::size_t i = 0; i < kSlots; ++i) ASSERT_EQ(bits(v[i]), bits(before[from[i]])) << "slot " << i;
+}
+
+TEST(SlotPages, GrownSlotsAreZeroAndUncommitted) {
+  std::vector<double> v = filled(1000, 4);
+  const std::vector<double> before = v;
+  cdm::resize_zeroed(v, kSlots);
+  EXPECT_FALSE(resident(v, kSlots / 2));
+  for (std::size_t i = 0; i < 1000; ++i) ASSERT_EQ(bits(v[i]), bits(before[i]));
+  for (std::size_t i = 1000; i < kSlots; ++i) ASSERT_EQ(bits(v[i]), 0u) << "slot " << i;
+  std::vector<double> f = filled(kSlots, 5);
+  f[3] = -0.0;
+  cdm::clear_nonzero(f);
+  for (double a : f) ASSERT_EQ(bits(a), 0u);
+}
