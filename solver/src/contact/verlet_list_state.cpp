@@ -157,6 +157,10 @@ void VerletList::permute(const std::vector<std::uint32_t>& from) {
   }
   if (pairs_pending_) renumber_pair_carry(to);
   set_aside_wall_history(&to);
+  follow_build_positions(from);
+}
+
+void VerletList::follow_build_positions(const std::vector<std::uint32_t>& from) {
   std::vector<double> tmp;
   for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
   wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
@@ -210,9 +214,7 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
   for (std::size_t i = 0; removed_only && i < n; ++i)
     removed_only = from[i] < n_old && (i == 0 || from[i] > from[i - 1]);
   if (removed_only) {
-    std::vector<double> tmp;
-    for (auto* v : {&x0_, &y0_, &z0_}) permute_array(*v, from, tmp);
-    wall_candidates_stale_ = true;  // listed again, in the new order, from x0_
+    follow_build_positions(from);
     return;
   }
   // Build positions: the particles' own (a new particle's is where it appeared); the

@@ -211,11 +211,10 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     std::copy_n(run.begin(), cells, s.data() + first);
     std::copy_n(run.begin() + static_cast<std::ptrdiff_t>(cells), 3, s.data() + 3 * nc);
     for (std::size_t c = lo; c <= hi; ++c) add_cell(c);
-    reached_span_ = lo <= hi ? hi - lo + 1 : 0;
   } else {
-    reached_span_ = lo <= hi ? hi - lo + 1 : 0;
     for (const std::uint32_t c : reached_cells_) add_cell(c);
   }
+  reached_span_ = lo <= hi ? hi - lo + 1 : 0;
   for (const std::uint32_t c : reached_cells_) reached_[c] = 0;
   reached_cells_.clear();
   particle_impulse_ += Vec3{s.value(3 * nc), s.value(3 * nc + 1), s.value(3 * nc + 2)};

@@ -340,6 +340,9 @@ class VerletList {
   /// (old slot -> new slot, or new_particle for a particle removed) unless null; the
   /// entries are dropped until then.
   void set_aside_wall_history(const std::vector<std::uint32_t>* to);
+  /// The build positions follow the particles (slot i takes slot from[i]'s), and the
+  /// wall candidates are listed again from them.
+  void follow_build_positions(const std::vector<std::uint32_t>& from);
   /// Drops the wall entries, whose contacts wall_carry_ now holds, until the next listing.
   void drop_wall_entries();
 
