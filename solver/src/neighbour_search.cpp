@@ -44,7 +44,7 @@ void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::v
     }
 }
 
-bool CellListSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+bool CellListSearch::find_contacts(const SearchPoints& p, double margin, std::vector<ContactPair>& out,
                                    const PeriodicBox& box, std::size_t limit) {
   std::vector<std::vector<ContactPair>> chunks;
   const bool whole = find_contacts(p, margin, chunks, box, 0, limit);

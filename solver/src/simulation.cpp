@@ -6,6 +6,7 @@
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/scene_loader.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,11 +21,19 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Build only the modules the scene names. Rotation exists only with a module that
   // makes torque (friction, rolling resistance).
   if (spec_.tangential != TangentialModel::none || spec_.rolling != RollingModel::none) particles_.enable_rotation();
-  for (const auto& ps : spec_.particles) {
+  // The scene's particles are read once, into the store: the pages read are returned as
+  // it goes, so that a large scene is not held twice at once (slot_pages.hpp).
+  const std::vector<ParticleSpec>& given = spec_.particles;
+  constexpr std::size_t block = 1 << 14;
+  for (std::size_t k = 0; k < given.size(); ++k) {
+    const ParticleSpec& ps = given[k];
     const Material& mat = spec_.materials[ps.material];
     particles_.add(ps.position, ps.velocity, ps.radius, mat.density, ps.material, mat.fixed);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
+    if ((k + 1) % block == 0) release_pages(given.data(), given.data() + k + 1);
   }
+  spec_.particles.clear();
+  spec_.particles.shrink_to_fit();
   if (spec_.gas != GasModel::none) build_gas();
   if (spec_.gravity) {
     modules_.push_back(std::make_unique<GravityModule>(spec_.g));
@@ -70,9 +79,6 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
   if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
   split_among_ranks();
-  // The particles live in the store now; the scene keeps only where they came from.
-  spec_.particles.clear();
-  spec_.particles.shrink_to_fit();
 }
 
 Simulation::~Simulation() = default;

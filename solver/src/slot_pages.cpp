@@ -45,6 +45,13 @@ void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
   }
 }
 
+void release_pages(const void* first, const void* last) {
+  const std::uintptr_t page = page_size();
+  const auto a = reinterpret_cast<std::uintptr_t>(first), b = reinterpret_cast<std::uintptr_t>(last);
+  const std::uintptr_t pa = (a + page - 1) / page * page, pb = b / page * page;
+  if (pa < pb) madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED);
+}
+
 void zero_all(std::vector<double>& v) { zero_slots(v, {{0, v.size()}}); }
 
 void resize_zeroed(std::vector<double>& v, std::size_t n) {

@@ -1,7 +1,7 @@
 // Per-particle arrays that cost memory only where a process holds particles
 // (slot_pages.hpp): zeroing slots returns their whole pages to the system, and a
 // permutation gives the same bits as a plain gather while committing no page whose
-// slots are all zero.
+// slots are all zero; a range read once (the scene's particles) gives its pages back.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -95,4 +95,16 @@ TEST(SlotPages, GrownSlotsAreZeroAndUncommitted) {
   f[3] = -0.0;
   cdm::clear_nonzero(f);
   for (double a : f) ASSERT_EQ(bits(a), 0u);
+}
+
+TEST(SlotPages, ReleasedPagesGoBackWhole) {
+  std::vector<double> v = filled(kSlots, 6);
+  const std::vector<double> before = v;
+  // Not page-aligned at either end: the pages partly outside the range stay.
+  cdm::release_pages(v.data() + 100, v.data() + kSlots / 2 + 3);
+  EXPECT_FALSE(resident(v, kSlots / 4));
+  EXPECT_TRUE(resident(v, 99));
+  EXPECT_TRUE(resident(v, kSlots / 2 + 3));
+  EXPECT_EQ(bits(v[99]), bits(before[99]));
+  EXPECT_EQ(bits(v[kSlots / 2 + 3]), bits(before[kSlots / 2 + 3]));
 }

@@ -42,6 +42,10 @@ class CellListSearch {
   /// of each run), which keeps a degenerate input (thousands of particles piled at one
   /// point) from listing millions of pairs before a check refuses it.
   bool find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
+                     const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX) {
+    return find_contacts(SearchPoints::of(p), margin, out, box, limit);
+  }
+  bool find_contacts(const SearchPoints& p, double margin, std::vector<ContactPair>& out,
                      const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
   /// The same pairs in @p chunks, which concatenated in order are @p out above: above
   /// the parallel threshold each thread lists the pairs of its own run of particles i

@@ -26,6 +26,9 @@ void zero_slots(std::vector<double>& v, const SlotRuns& runs);
 void zero_all(std::vector<double>& v);
 /// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted.
 void resize_zeroed(std::vector<double>& v, std::size_t n);
+/// Return to the system the whole pages of [@p first, @p last), whose bytes are not read
+/// again (they read as zero if they are).
+void release_pages(const void* first, const void* last);
 /// Set the values of @p v that are not zero to zero, writing nothing else.
 void clear_nonzero(std::vector<double>& v);
 
