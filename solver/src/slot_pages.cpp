@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <utility>
 
 #include <sys/mman.h>
 
@@ -20,6 +21,13 @@ std::uintptr_t page_size() {
   return size;
 }
 
+// The whole pages inside [first, last), as [begin, end) addresses (begin >= end if none).
+std::pair<std::uintptr_t, std::uintptr_t> whole_pages(const void* first, const void* last) {
+  const std::uintptr_t page = page_size();
+  const auto a = reinterpret_cast<std::uintptr_t>(first), b = reinterpret_cast<std::uintptr_t>(last);
+  return {(a + page - 1) / page * page, b / page * page};
+}
+
 void clear_range(double* first, double* last) {
   for (double* d = first; d < last; ++d)
     if (std::bit_cast<std::uint64_t>(*d) != 0) *d = 0.0;
@@ -28,13 +36,11 @@ void clear_range(double* first, double* last) {
 }  // namespace
 
 void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
-  const std::uintptr_t page = page_size();
   for (const auto& [i0, i1] : runs) {
     double* first = v.data() + i0;
     double* last = v.data() + std::min(i1, v.size());
     if (first >= last) continue;
-    const auto a = reinterpret_cast<std::uintptr_t>(first), b = reinterpret_cast<std::uintptr_t>(last);
-    const std::uintptr_t pa = (a + page - 1) / page * page, pb = b / page * page;
+    const auto [pa, pb] = whole_pages(first, last);
     // Only whole pages go back; a page that also holds slots outside the run keeps them.
     if (pa < pb && madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED) == 0) {
       clear_range(first, reinterpret_cast<double*>(pa));
@@ -46,9 +52,7 @@ void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
 }
 
 void release_pages(const void* first, const void* last) {
-  const std::uintptr_t page = page_size();
-  const auto a = reinterpret_cast<std::uintptr_t>(first), b = reinterpret_cast<std::uintptr_t>(last);
-  const std::uintptr_t pa = (a + page - 1) / page * page, pb = b / page * page;
+  const auto [pa, pb] = whole_pages(first, last);
   if (pa < pb) madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED);
 }
 
