@@ -114,18 +114,20 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
   auto coord = [&](double v, int k) {
     return std::min(dims[k] - 1, std::max(0L, static_cast<long>((v - lo[k]) / w[k])));
   };
-  cell_of_.resize(n);
-  cell_start_.assign(ncell + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const long c = (coord(p.z[i], 2) * dims[1] + coord(p.y[i], 1)) * dims[0] + coord(p.x[i], 0);
-    cell_of_[i] = static_cast<std::uint32_t>(c);
-    ++cell_start_[c + 1];
-  }
-  for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
-  sorted_.resize(n);
+  // Particles by cell (counting sort). Locals, not kept between searches: a search runs
+  // once per list build, and kept arrays would stay resident between builds (about 12 B
+  // a particle).
+  std::vector<std::uint32_t> cell_start(ncell + 1, 0), sorted(n);
   {
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> cell_of(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const long c = (coord(p.z[i], 2) * dims[1] + coord(p.y[i], 1)) * dims[0] + coord(p.x[i], 0);
+      cell_of[i] = static_cast<std::uint32_t>(c);
+      ++cell_start[c + 1];
+    }
+    for (std::size_t c = 0; c < ncell; ++c) cell_start[c + 1] += cell_start[c];
+    std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) sorted[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
   }
   // The neighbouring cell coordinates along axis k of cell coordinate c: c-1..c+1 cut at
   // the ends, or wrapped along a periodic axis (each cell once when there are < 3).
@@ -152,8 +154,8 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
       for (int b = 0; b < my; ++b)
         for (int e = 0; e < mx; ++e) {
           const long c = (nz[a] * dims[1] + ny[b]) * dims[0] + nx[e];
-          for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
-            const std::uint32_t j = sorted_[s];
+          for (std::uint32_t s = cell_start[c]; s < cell_start[c + 1]; ++s) {
+            const std::uint32_t j = sorted[s];
             if (j <= i) continue;
             double ov;
             const auto ii = static_cast<std::uint32_t>(i);

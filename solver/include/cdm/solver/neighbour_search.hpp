@@ -63,7 +63,6 @@ class CellListSearch {
   void set_rows(std::size_t first, std::size_t last) { rows_ = {first, last}; }
 
  private:
-  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
   std::pair<std::size_t, std::size_t> rows_{0, SIZE_MAX};  // set_rows
 };
 
