@@ -129,29 +129,49 @@ std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
 std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) const {
   const std::size_t n = p.size();
   const Slabs g = slabs(p);
-  // The slab first (12 bits: at most 4096 slabs), so that each slab's particles, and so
-  // each thread's and each rank's, are one run of slots; then cell coordinates (edge =
-  // one interaction range, 17 bits per axis: a wider box only coarsens the order), the
-  // slab axis most significant, then the other two.
+  // The slab first, so that each slab's particles, and so each thread's and each rank's,
+  // are one run of slots; then cell coordinates (edge = one interaction range, 17 bits
+  // per axis: a wider box only coarsens the order), the slab axis most significant, then
+  // the other two; then the slot, which makes the order total.
   const std::vector<double>* data[3] = {&p.x, &p.y, &p.z};
   const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
   const double h = g.range > 0.0 ? g.range : 1.0;
   constexpr double cmax = double((1 << 17) - 1);
   const double lo_axis = g.lo[g.axis];
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
-  parallel_for(n, [&](std::size_t i) {
-    // The slab as rebuild() will cut it from these positions.
-    std::uint64_t k =
-        g.count == 1 ? 0 : std::min<std::size_t>(g.count - 1, static_cast<std::size_t>(((*data[g.axis])[i] - lo_axis) / g.width));
-    for (int a : ax) {
-      const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
-      k = (k << 17) | static_cast<std::uint64_t>(c);
+  // The slab as rebuild() will cut it from these positions.
+  auto slab = [&](std::size_t i) {
+    return g.count == 1 ? std::size_t{0}
+                        : std::min<std::size_t>(g.count - 1, static_cast<std::size_t>(((*data[g.axis])[i] - lo_axis) / g.width));
+  };
+  // By slab first (a counting sort, stable), then each slab's particles by their cells: a
+  // key and slot per particle of one slab at a time, not of all of them at once.
+  std::vector<std::uint32_t> start(g.count + 1, 0), from(n);
+  for (std::size_t i = 0; i < n; ++i) ++start[slab(i) + 1];
+  for (std::size_t s = 0; s < g.count; ++s) start[s + 1] += start[s];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) from[fill[slab(i)]++] = static_cast<std::uint32_t>(i);
+  }
+  auto order_slab = [&](std::size_t s) {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> key(start[s + 1] - start[s]);
+    for (std::size_t k = 0; k < key.size(); ++k) {
+      const std::uint32_t i = from[start[s] + k];
+      std::uint64_t c3 = 0;
+      for (int a : ax) {
+        const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
+        c3 = (c3 << 17) | static_cast<std::uint64_t>(c);
+      }
+      key[k] = {c3, i};
     }
-    key[i] = {k, static_cast<std::uint32_t>(i)};
-  });
-  std::sort(key.begin(), key.end());
-  std::vector<std::uint32_t> from(n);
-  for (std::size_t i = 0; i < n; ++i) from[i] = key[i].second;
+    std::sort(key.begin(), key.end());
+    for (std::size_t k = 0; k < key.size(); ++k) from[start[s] + k] = key[k].second;
+  };
+  if (n > parallel_threshold) {
+#pragma omp parallel for schedule(dynamic)
+    for (std::size_t s = 0; s < g.count; ++s) order_slab(s);
+  } else {
+    for (std::size_t s = 0; s < g.count; ++s) order_slab(s);
+  }
   return from;
 }
 
