@@ -8,6 +8,18 @@
 
 namespace cdm {
 
+namespace {
+
+// Every per-particle array of doubles (empty where the scene does not carry it).
+template <class Store>
+auto double_arrays(Store& p) {
+  return std::array{&p.x,  &p.y,  &p.z,  &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.radius, &p.mass, &p.inv_mass,
+                    &p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inv_inertia, &p.drag_k, &p.ugx, &p.ugy, &p.ugz,
+                    &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz};
+}
+
+}  // namespace
+
 void ParticleStore::enable_rotation() {
   rotation_enabled_ = true;
   const std::size_t n = size();
@@ -34,6 +46,12 @@ void ParticleStore::enable_two_way() {
 }
 
 void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool fixed) {
+  // Grown by doubling, as push_back would, but without committing the pages of the
+  // slots whose values this process does not hold (zero, slot_pages.hpp).
+  const std::size_t n = size();
+  if (n > 0)
+    for (auto* a : double_arrays(*this))
+      if (a->size() == n && a->capacity() == n) reserve_zeroed(*a, 2 * n);
   const double d = 2.0 * r;
   const double m = density * std::numbers::pi * d * d * d / 6.0;
   x.push_back(p.x); y.push_back(p.y); z.push_back(p.z);
@@ -60,17 +78,6 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   }
 }
 
-namespace {
-
-// Every per-particle array of doubles (empty where the scene does not carry it).
-template <class Store>
-auto double_arrays(Store& p) {
-  return std::array{&p.x,  &p.y,  &p.z,  &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.radius, &p.mass, &p.inv_mass,
-                    &p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inv_inertia, &p.drag_k, &p.ugx, &p.ugy, &p.ugz,
-                    &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz};
-}
-
-}  // namespace
 
 std::size_t ParticleStore::bytes() const {
   std::size_t b = 0;

@@ -58,9 +58,22 @@ void release_pages(const void* first, const void* last) {
 
 void zero_all(std::vector<double>& v) { zero_slots(v, {{0, v.size()}}); }
 
+void reserve_zeroed(std::vector<double>& v, std::size_t capacity) {
+  if (capacity <= v.capacity()) return;
+  std::vector<double> w;
+  w.reserve(capacity);
+  w.resize(v.size());
+  zero_all(w);
+  const std::size_t n = v.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::bit_cast<std::uint64_t>(v[i]) != 0) w[i] = v[i];
+  v.swap(w);
+}
+
 void resize_zeroed(std::vector<double>& v, std::size_t n) {
   const std::size_t m = v.size();
   if (m == n) return;
+  if (n > v.capacity()) reserve_zeroed(v, std::max(n, 2 * v.capacity()));
   v.resize(n);
   if (n > m) zero_slots(v, {{m, n}});
 }

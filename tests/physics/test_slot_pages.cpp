@@ -108,3 +108,30 @@ TEST(SlotPages, ReleasedPagesGoBackWhole) {
   EXPECT_EQ(bits(v[99]), bits(before[99]));
   EXPECT_EQ(bits(v[kSlots / 2 + 3]), bits(before[kSlots / 2 + 3]));
 }
+
+TEST(SlotPages, GrowingBeyondTheCapacityCommitsNoPageOfZeros) {
+  // An array whose middle half a process let go, grown past its capacity: by
+  // reserve_zeroed, through resize_zeroed, and through the store's add (an insertion).
+  std::vector<double> v = filled(kSlots, 7);
+  v[10] = -0.0;
+  cdm::zero_slots(v, {{kSlots / 4, 3 * kSlots / 4}});
+  const std::vector<double> before = v;
+  std::vector<double> grown = v;
+  cdm::resize_zeroed(grown, kSlots + 10000);
+  EXPECT_FALSE(resident(grown, kSlots / 2));
+  EXPECT_FALSE(resident(grown, kSlots + 5000));
+  EXPECT_TRUE(resident(grown, kSlots / 8));
+  for (std::size_t i = 0; i < kSlots; ++i) ASSERT_EQ(bits(grown[i]), bits(before[i])) << "slot " << i;
+  for (std::size_t i = kSlots; i < kSlots + 10000; ++i) ASSERT_EQ(bits(grown[i]), 0u);
+
+  cdm::ParticleStore p;
+  for (std::size_t i = 0; i < kSlots; ++i) p.add({0.0, 0.0, 0.0}, {before[i], 1.0, 1.0}, 1e-3, 2500.0, 0);
+  ASSERT_EQ(p.vx.capacity(), p.vx.size());  // the next add reallocates
+  cdm::zero_slots(p.vx, {{kSlots / 4, 3 * kSlots / 4}});
+  p.add({0.0, 0.0, 0.0}, {2.0, 1.0, 1.0}, 1e-3, 2500.0, 0);
+  EXPECT_GT(p.vx.capacity(), kSlots);
+  EXPECT_FALSE(resident(p.vx, kSlots / 2));
+  EXPECT_TRUE(resident(p.vy, kSlots / 2));
+  for (std::size_t i = 0; i < kSlots; ++i) ASSERT_EQ(bits(p.vx[i]), bits(before[i])) << "slot " << i;
+  EXPECT_EQ(p.vx[kSlots], 2.0);
+}

@@ -24,8 +24,13 @@ using SlotRuns = std::vector<std::pair<std::size_t, std::size_t>>;
 void zero_slots(std::vector<double>& v, const SlotRuns& runs);
 /// zero_slots() over the whole of @p v.
 void zero_all(std::vector<double>& v);
-/// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted.
+/// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted. Where
+/// @p v must grow beyond its capacity, it grows as reserve_zeroed() grows it.
 void resize_zeroed(std::vector<double>& v, std::size_t n);
+/// Give @p v room for @p capacity slots without committing pages for its zero values: a
+/// reallocation (std::vector's own copies every value, zeros too) that copies only the
+/// values that are not zero into pages that start uncommitted. The values keep their bits.
+void reserve_zeroed(std::vector<double>& v, std::size_t capacity);
 /// Return to the system the whole pages of [@p first, @p last), whose bytes are not read
 /// again (they read as zero if they are).
 void release_pages(const void* first, const void* last);
