@@ -78,7 +78,6 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   }
 }
 
-
 std::size_t ParticleStore::bytes() const {
   std::size_t b = 0;
   for (const auto* v : double_arrays(*this))

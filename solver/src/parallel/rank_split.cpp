@@ -336,8 +336,8 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
   // After a build: the wall entries are listed, each particle's row goes with it.
   if (!list.wall_entries_current() && list.keeps_history() && !list.walls().empty())
     throw std::logic_error("RankSplit: the wall contacts are not listed");
-  // Buffers of its own, freed after: a migration moves many more particles than a step's
-  // ghosts are, and legs_ would keep its buffers' size.
+  // Buffers of its own, freed after: a migration may move many more particles than a
+  // step's ghost exchange does, and legs_ would keep its buffers at that size.
   LegBuffers buffers;
   exchange(dynamic_arrays(p, true), sends, recvs, 17, buffers, wall_rows(list, p.size()));
   if (meshes_) migrate_mesh_contacts(before);
