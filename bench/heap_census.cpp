@@ -9,7 +9,7 @@
 // reached it. Each frame is written as an offset into its object file, so that
 // heap_census.py can name it with addr2line. The census's own table (7 MB of address
 // space) adds a page per live record to the resident memory it reports. bench/README.md,
-// session 49.
+// "What stays resident between builds".
 #include <dlfcn.h>
 #include <execinfo.h>
 #include <fcntl.h>
