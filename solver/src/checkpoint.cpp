@@ -1,5 +1,6 @@
 #include "cdm/solver/checkpoint.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -270,12 +271,16 @@ std::string number(double v) {
 /// The restored state holds finite numbers only (a scene's are checked when it is read).
 void check_finite(const Simulation& sim, const std::string& path) {
   auto refuse = [&](const std::string& what) { throw unusable(path, what + " (a run never writes one)"); };
-  const ParticleStore& p = sim.particles();
+  // Each process checks the particles it counts (each its share among processes).
+  const ParticleStore& p = sim.local_particles();
+  std::vector<std::uint8_t> counted(p.size(), 0);
+  for (const auto& [i0, i1] : sim.counted_runs()) std::fill(counted.begin() + i0, counted.begin() + i1, 1);
   const std::pair<const char*, const std::vector<double>*> fields[] = {
       {"x", &p.x}, {"y", &p.y}, {"z", &p.z}, {"vx", &p.vx}, {"vy", &p.vy}, {"vz", &p.vz},
       {"wx", &p.wx}, {"wy", &p.wy}, {"wz", &p.wz}};
   for (std::size_t k = 0; k < p.size(); ++k) {
     const std::size_t i = p.slot_of(k);
+    if (!counted[i]) continue;
     for (const auto& [name, v] : fields)
       if (i < v->size() && !std::isfinite((*v)[i]))
         refuse("particle " + std::to_string(k) + " has " + name + " = " + number((*v)[i]));

@@ -113,9 +113,9 @@ SampledTable::SampledTable(const std::string& path, const Simulation& sim, doubl
 
 ParticleTableObserver::ParticleTableObserver(const std::string& path, const Simulation& sim,
                                              std::optional<std::uint64_t> resume_at)
-    : SampledTable(path, sim, sim.spec().output_interval, particle_columns(sim.particles().has_rotation()),
+    : SampledTable(path, sim, sim.spec().output_interval, particle_columns(sim.local_particles().has_rotation()),
                    {particle_comment(sim)}, resume_at),
-      rot_(sim.particles().has_rotation()) {
+      rot_(sim.local_particles().has_rotation()) {
   std::vector<bool> integer(rot_ ? 13 : 10, false);
   integer[1] = integer.back() = true;  // id and material
   table_.set_integer_columns(integer);

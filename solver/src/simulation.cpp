@@ -361,8 +361,16 @@ void Simulation::load_state(InArchive& a) {
     }
     last_sort_ = last_sort;
   }
+  // Among processes each keeps the state of its share of the slots only (its run of
+  // rows, RankSplit::hold_rows), but the positions, which every process reads whole at
+  // the first build: the state then moves to the particles' owners.
+  if (ranks_) {
+    const auto [first, last] = ranks_->rows(n0);
+    a.keep_slots(n0, first, last);
+  }
   auto arr = [&](std::vector<double>& v, std::size_t want) {
-    a.get(v, want);
+    if (&v == &p.x || &v == &p.y || &v == &p.z) a.get(v, want);
+    else get_slots(a, v, want);
     if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
   };
   const std::size_t nr = p.has_rotation() ? n0 : 0;
@@ -409,6 +417,7 @@ void Simulation::load_state(InArchive& a) {
   forces_valid_ = fv != 0;
   integrator_->discard_pending();  // the velocities read are those at time()
   integrator_->masses_changed();
+  if (ranks_) ranks_->hold_rows(n0);
   restarted_ = true;
 }
 

@@ -1,5 +1,7 @@
 #include "cdm/solver/slot_pages.hpp"
 
+#include "cdm/solver/archive.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -79,5 +81,25 @@ void resize_zeroed(std::vector<double>& v, std::size_t n) {
 }
 
 void clear_nonzero(std::vector<double>& v) { clear_range(v.data(), v.data() + v.size()); }
+
+void get_slots(InArchive& a, std::vector<double>& v, std::uint64_t max_elements) {
+  const InArchive::SlotWindow& w = a.slot_window();
+  const std::uint64_t n = a.get_length(max_elements, sizeof(double));
+  if (!w.set || n != w.n) {
+    v.resize(n);
+    a.get_values(v.data(), n);
+    return;
+  }
+  const auto count = static_cast<std::size_t>(n);
+  if (v.size() == count) {
+    zero_slots(v, {{0, w.first}, {w.last, count}});
+  } else {
+    std::vector<double>().swap(v);
+    resize_zeroed(v, count);
+  }
+  a.skip(std::uint64_t{w.first} * sizeof(double));
+  a.get_values(v.data() + w.first, w.last - w.first);
+  a.skip(std::uint64_t{count - w.last} * sizeof(double));
+}
 
 }  // namespace cdm

@@ -7,7 +7,8 @@
 # case's bed (a gas, two-way drag) are compared, byte for
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
-# as the uninterrupted one; the settling bed with rolling resistance, and moved by the
+# as the uninterrupted one (and so, between 2 and 3 either way, the fluidisation bed with
+# the drag once per gas step, the bed fed from above and the mesh pile); the settling bed with rolling resistance, and moved by the
 # paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
@@ -230,6 +231,33 @@ shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressu
 grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 
+# A restart reads each process's share of the state (its run of rows, the positions
+# whole) and of the pair contacts, and the first build moves each particle's state to its
+# owner: runs stopped on one count of processes and continued on another end as one
+# process's uninterrupted run (the runs above), with a gas and the drag kept per particle
+# between gas steps, with insertions and outlets, and with mesh contacts.
+# resumed TAG ONE_DIR NP1 NP2 STEPS SCENE ARGS...
+resumed() {
+  local tag=$1 one=$2 np1=$3 np2=$4 steps=$5 dir="$work/resumed-${1// /-}" n=0
+  shift 5
+  "${launch[@]}" -np "$np1" "$cdm" run "$@" -q -j 1 -o "$dir" --max-steps "$steps" > "$dir.out" 2>&1 ||
+    fail "$tag: first part on $np1 processes: $(tail -5 "$dir.out")"
+  cp "$dir/checkpoint.cdmck" "$dir.cdmck"
+  "${launch[@]}" -np "$np2" "$cdm" run "$@" -q -j 1 -o "$dir" --restart "$dir.cdmck" > "$dir.out" 2>&1 ||
+    fail "$tag: continued on $np2 processes: $(tail -5 "$dir.out")"
+  for f in particles.dat log.dat outlets.dat checkpoint.cdmck; do
+    [ -e "$one/$f" ] || continue
+    cmp -s "$one/$f" "$dir/$f" || fail "$tag, stopped on $np1 processes and continued on $np2: $f differs from one process's"
+    n=$((n + 1))
+  done
+  [ "$n" -ge 2 ] || fail "$tag: $n files compared"
+}
+resumed "fluidisation once per gas step" "$work/fluidisation-once-per-gas-step-1" 2 3 1000 "${fluid[@]}" \
+  --set 'coupling.drag_evaluation="gas_step"'
+resumed "bed fed from above" "$work/bed-fed-from-above-1" 3 2 3000 "${fed[@]}"
+resumed "mesh pile" "$work/mesh-pile-1" 3 2 1000 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
+  --set output.interval=0.005 --set output.log_interval=0.001
+
 # SIGTERM to mpirun, which passes it to every process (as Slurm does to each task): a
 # checkpoint, the command to continue, and a restart on 3 processes that ends as one
 # process's uninterrupted run.
@@ -248,4 +276,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"

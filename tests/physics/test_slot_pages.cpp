@@ -1,20 +1,24 @@
 // Per-particle arrays that cost memory only where a process holds particles
 // (slot_pages.hpp): zeroing slots returns their whole pages to the system, and a
 // permutation gives the same bits as a plain gather while committing no page whose
-// slots are all zero; a range read once (the scene's particles) gives its pages back.
+// slots are all zero; a range read once (the scene's particles) gives its pages back;
+// an array read through a slot window (a restart's share) commits the window's only.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <bit>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <vector>
 
 #include <sys/mman.h>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/slot_pages.hpp"
 
@@ -134,4 +138,44 @@ TEST(SlotPages, GrowingBeyondTheCapacityCommitsNoPageOfZeros) {
   EXPECT_TRUE(resident(p.vy, kSlots / 2));
   for (std::size_t i = 0; i < kSlots; ++i) ASSERT_EQ(bits(p.vx[i]), bits(before[i])) << "slot " << i;
   EXPECT_EQ(p.vx[kSlots], 2.0);
+}
+
+TEST(SlotPages, AnArrayReadThroughASlotWindowKeepsTheWindowAndCommitsNoOtherPage) {
+  // A checkpoint's per-particle array, and one of another length, read by a process
+  // that keeps slots [first, last) of kSlots (a restart among MPI processes).
+  const std::vector<double> saved = filled(kSlots, 3), other = filled(1000, 4);
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  cdm::OutArchive out(f);
+  out.put(saved);
+  out.put(other);
+  ASSERT_EQ(std::fflush(f), 0);
+  ASSERT_FALSE(out.failed());
+  const std::size_t first = 300'001, last = 650'000;
+  // Read from the file, as a restart streams it.
+  auto reader = [&] {
+    std::rewind(f);
+    auto in = std::make_unique<cdm::InArchive>(f, out.size());
+    in->keep_slots(kSlots, first, last);
+    return in;
+  };
+  // Into an array that held values everywhere (the scene's), and into an empty one.
+  std::vector<double> held = filled(kSlots, 5), fresh;
+  cdm::get_slots(*reader(), held);
+  const auto in = reader();
+  cdm::get_slots(*in, fresh);
+  for (const std::vector<double>* v : {&held, &fresh}) {
+    ASSERT_EQ(v->size(), kSlots);
+    EXPECT_FALSE(resident(*v, 100'000));
+    EXPECT_FALSE(resident(*v, 900'000));
+    EXPECT_TRUE(resident(*v, 400'000));
+    for (std::size_t i = 0; i < kSlots; ++i)
+      ASSERT_EQ(bits((*v)[i]), i >= first && i < last ? bits(saved[i]) : 0u) << "slot " << i;
+  }
+  // An array of another length is read whole, and the archive ends where it should.
+  std::vector<double> rest;
+  cdm::get_slots(*in, rest);
+  EXPECT_EQ(rest, other);
+  EXPECT_TRUE(in->done());
+  std::fclose(f);
 }

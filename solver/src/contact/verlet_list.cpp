@@ -214,7 +214,9 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     each_contact([&](const PairContact& c) { sorted[fill[c.i]++] = c; });
     carry.swap(sorted);
   };
-  const bool carry_whole = pairs_pending_;  // every process holds every contact
+  const bool carry_whole = pairs_pending_ && !carry_partial_;  // every process holds every contact
+  if (pairs_pending_ && carry_partial_ && !divided)
+    throw std::logic_error("VerletList: a share of the contacts loaded for a list that is not divided");
   auto index_carry = [&] {                  // the carried vector's rows (loaded ones are in (i, j) order)
     auto each = [&](auto&& f) {
       for (const PairContact& c : carry) f(c);
@@ -233,7 +235,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     if (carry_whole && !divided) index_carry();
   }
   std::vector<PairContact>().swap(pair_carry_);
-  pairs_pending_ = false;
+  pairs_pending_ = carry_partial_ = false;
   const std::size_t last_size = pi_.size();
   std::vector<std::uint32_t>().swap(pi_);
   std::vector<std::uint32_t>().swap(pj_);

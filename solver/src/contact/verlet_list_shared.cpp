@@ -31,6 +31,7 @@ void VerletList::list_held_again() {
   release_contacts();
   pairs_pending_ = true;
   carry_sorted_ = false;  // in list order
+  carry_partial_ = false;
   for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
   hist_.clear();
   touch_.clear();

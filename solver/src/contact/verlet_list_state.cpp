@@ -17,7 +17,7 @@ void VerletList::save_state(OutArchive& a) const {
   // contact starts afresh), and the pairs are listed again from x0_. A list shared
   // among processes holds its own part only: its whole contacts are held for this.
   // Written as three arrays, field by field, without a copy of the contacts.
-  if (rank_split_ && share_ && !holding_ && !pairs_pending_)
+  if (rank_split_ && share_ && !holding_ && (!pairs_pending_ || carry_partial_))
     throw std::logic_error("VerletList: a shared list saved without its whole contacts");
   const std::vector<PairContact>* whole = holding_ ? &held_ : pairs_pending_ ? &pair_carry_ : nullptr;
   auto put_field = [&](auto field) {
@@ -59,18 +59,35 @@ void VerletList::save_state(OutArchive& a) const {
 void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   // The pair contacts' three arrays are read field by field into the contacts (a
   // large run's would otherwise be held twice); the three must be as long, and fit.
+  // Where the processes each read their share (a slot window), each keeps the contacts
+  // of the particles i of its window: the first build sends them to their pairs' slabs.
   std::uint64_t nc = 0, again = 0;
   a.get(nc);
   if (nc > a.remaining() / (2 * sizeof(std::uint32_t) + sizeof(Vec3)))
     throw ArchiveError("an array's length (" + std::to_string(nc) + ") does not fit the data that follows");
-  pair_carry_.resize(nc);
-  for (PairContact& c : pair_carry_) a.get(c.i);
+  const InArchive::SlotWindow& window = a.slot_window();
+  std::vector<std::uint32_t> ci(nc);
+  a.get_values(ci.data(), ci.size());
+  std::size_t kept = 0;
+  for (const std::uint32_t i : ci) kept += window.holds(i);
+  pair_carry_.resize(kept);
+  for (std::size_t k = 0, q = 0; k < nc; ++k)
+    if (window.holds(ci[k])) pair_carry_[q++].i = ci[k];
   a.get(again);
   bool ok = again == nc;
-  for (std::size_t k = 0; ok && k < nc; ++k) a.get(pair_carry_[k].j);
+  for (std::size_t k = 0, q = 0; ok && k < nc; ++k) {
+    std::uint32_t j = 0;
+    a.get(j);
+    if (window.holds(ci[k])) pair_carry_[q++].j = j;
+  }
   if (ok) a.get(again);
   ok = ok && again == nc;
-  for (std::size_t k = 0; ok && k < nc; ++k) a.get(pair_carry_[k].h);
+  for (std::size_t k = 0, q = 0; ok && k < nc; ++k) {
+    Vec3 h;
+    a.get(h);
+    if (window.holds(ci[k])) pair_carry_[q++].h = h;
+  }
+  std::vector<std::uint32_t>().swap(ci);
   if (!ok) throw ArchiveError("the contact list is inconsistent");
   std::vector<std::uint32_t> wi, ww;
   std::vector<Vec3> wh;
@@ -95,7 +112,7 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   // Contacts of particles listed, each pair once (in list order), and the wall
   // contacts in strictly increasing (i, w) order.
   ok = ok && (history_ || nc == 0);
-  for (std::size_t k = 0; ok && k < nc; ++k) ok = pair_carry_[k].i < pair_carry_[k].j && pair_carry_[k].j < n;
+  for (std::size_t k = 0; ok && k < pair_carry_.size(); ++k) ok = pair_carry_[k].i < pair_carry_[k].j && pair_carry_[k].j < n;
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
     ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
@@ -106,6 +123,7 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   for (std::size_t k = 1; k < pair_carry_.size(); ++k)
     if (pair_carry_[k - 1].key() == pair_carry_[k].key()) throw ArchiveError("the contact list is inconsistent");
   carry_sorted_ = true;
+  carry_partial_ = window.set;
   pairs_pending_ = true;
   for (auto* v : {&pi_, &pj_, &slab_start_}) v->clear();
   hist_.clear();

@@ -176,7 +176,7 @@ void DragModule::save_state(OutArchive& a) const {
 void DragModule::load_state(InArchive& a) {
   if (!clock_) return;
   a.get(tau_min_);
-  for (auto* v : {&k_, &ugx_, &ugy_, &ugz_}) a.get(*v);
+  for (auto* v : {&k_, &ugx_, &ugy_, &ugz_}) get_slots(a, *v);  // this process's share (slot_pages.hpp)
   for (auto* v : {&ugx_, &ugy_, &ugz_})
     if (v->size() != k_.size()) throw ArchiveError("the cached drag arrays differ in length");
 }
@@ -310,7 +310,7 @@ void PressureGradientModule::save_state(OutArchive& a) const {
 
 void PressureGradientModule::load_state(InArchive& a) {
   if (!clock_) return;
-  for (auto* v : {&fx_, &fy_, &fz_}) a.get(*v);
+  for (auto* v : {&fx_, &fy_, &fz_}) get_slots(a, *v);
   if (fy_.size() != fx_.size() || fz_.size() != fx_.size())
     throw ArchiveError("the cached pressure-gradient arrays differ in length");
 }

@@ -24,11 +24,6 @@ namespace cdm {
 
 #ifdef CDM_WITH_MPI
 
-std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const {
-  const auto r = static_cast<std::size_t>(rank_), p = static_cast<std::size_t>(size_);
-  return {n * r / p, n * (r + 1) / p};
-}
-
 namespace {
 template <class T>
 MPI_Datatype mpi_type();
@@ -94,8 +89,10 @@ std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out
 }
 
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) {
-  // A loaded list not listed again holds every contact on every rank.
-  if (!list.pairs_listed()) return rank_ == 0 ? list.own_contacts() : std::vector<VerletList::PairContact>();
+  // A loaded list not listed again holds every contact on every rank, or each rank its
+  // share, which rank 0 puts in (i, j) order, as the whole would be.
+  if (!list.pairs_listed() && !list.carry_partial())
+    return rank_ == 0 ? list.own_contacts() : std::vector<VerletList::PairContact>();
   // Each rank's own pairs' contacts, in list order; the ranks' slabs follow one another,
   // so rank 0 receives them in the one-rank list's order.
   using Contact = VerletList::PairContact;
@@ -115,6 +112,7 @@ std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList
   mpi_check(MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
                         MPI_COMM_WORLD),
             "MPI_Gatherv");
+  if (list.carry_partial()) std::sort(all.begin(), all.end(), Contact::by_key);
   return all;
 }
 
@@ -250,7 +248,6 @@ void RankSplit::reduce_contacts(OverlapRecord& worst, std::size_t& active) const
 
 #else  // a build without MPI has one rank: create() gives none, so nothing below runs
 
-std::pair<std::size_t, std::size_t> RankSplit::rows(std::size_t n) const { return {0, n}; }
 void RankSplit::sum(std::vector<std::uint64_t>&) {}
 std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::uint32_t>>& out) { return out.at(0); }
 std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) { return out.at(0); }

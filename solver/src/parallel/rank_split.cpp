@@ -55,9 +55,10 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   slab_owner_.assign(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
     for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
-  // Where only the positions were gathered, each particle's state is its old owner's.
+  // Where only the positions were gathered, or a restart read each rank's rows, each
+  // particle's state is its old owner's.
   std::vector<int> before;
-  if (moving_) {
+  if (moving_ || held_rows_) {
     if (owner_.size() != n) throw std::logic_error("RankSplit: particles changed while their owners change");
     before.swap(owner_);
   }
@@ -91,13 +92,26 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   list.set_rank_slabs(s0, s1);
   assigned_ = true;
   builds_ = list.builds();
-  moving_ = written_ = false;
+  moving_ = written_ = held_rows_ = false;
   if (!before.empty()) {
     stale_ = true;
     migrate(p, list, before);
     exchange_ghosts(p);
   }
   release_foreign(p);
+}
+
+void RankSplit::hold_rows(std::size_t n) {
+  owner_.resize(n);
+  for (int r = 0; r < size_; ++r) {
+    const auto [first, last] = row_run(n, r);
+    std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last), r);
+  }
+  own_from_owners();
+  for (auto* slab : {&lower_, &upper_, &top_, &under_}) slab->clear();
+  below_ = above_ = -1;
+  assigned_ = stale_ = held_rows_ = true;
+  moving_ = written_ = gathered_ = false;
 }
 
 void RankSplit::release_foreign(ParticleStore& p) {

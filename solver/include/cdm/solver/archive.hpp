@@ -88,13 +88,45 @@ class InArchive {
   }
   template <class T>
   void get(std::vector<T>& v, std::uint64_t max_elements = UINT64_MAX) {
-    std::uint64_t n = 0;
-    get(n);
-    if (n > max_elements || n > remaining() / sizeof(T))
-      throw ArchiveError("an array's length (" + std::to_string(n) + ") does not fit the data that follows");
+    const std::uint64_t n = get_length(max_elements, sizeof(T));
     v.resize(n);
     if (n) read(v.data(), n * sizeof(T));  // an empty vector's data() may be null
   }
+  /// An array's length, as get() reads it: at most @p max_elements, of elements of
+  /// @p element_bytes that fit the data that follows.
+  std::uint64_t get_length(std::uint64_t max_elements, std::size_t element_bytes) {
+    std::uint64_t n = 0;
+    get(n);
+    if (n > max_elements || n > remaining() / element_bytes)
+      throw ArchiveError("an array's length (" + std::to_string(n) + ") does not fit the data that follows");
+    return n;
+  }
+  /// The next @p n values, into @p to.
+  template <class T>
+  void get_values(T* to, std::size_t n) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (n) read(to, n * sizeof(T));
+  }
+  /// Read past the next @p bytes.
+  void skip(std::uint64_t bytes) {
+    char b[4096];
+    while (bytes > 0) {
+      const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(bytes, sizeof b));
+      read(b, k);
+      bytes -= k;
+    }
+  }
+  /// Of the per-particle arrays of @p n values, this process keeps the slots
+  /// [@p first, @p last) only (a restart among MPI processes: each reads its share,
+  /// get_slots() in slot_pages.hpp).
+  struct SlotWindow {
+    std::uint64_t n = 0;
+    std::size_t first = 0, last = 0;
+    bool set = false;
+    bool holds(std::size_t i) const { return !set || (i >= first && i < last); }
+  };
+  void keep_slots(std::uint64_t n, std::size_t first, std::size_t last) { window_ = {n, first, last, true}; }
+  const SlotWindow& slot_window() const { return window_; }
   void get(std::string& s) {
     std::vector<char> c;
     get(c);
@@ -137,6 +169,7 @@ class InArchive {
   std::FILE* in_ = nullptr;
   std::uint64_t unread_ = 0;  // bytes of the file not read yet
   std::vector<char> buffer_;
+  SlotWindow window_;
 };
 
 }  // namespace cdm

@@ -71,7 +71,10 @@
 /// moves the particles to their new owners. Until the next listing of the wall candidates
 /// the wall contacts are set aside (VerletList::pending_wall_contacts), each rank's own
 /// particles' current, and a gather joins those (share_contact_records). Until the slabs
-/// are first dealt out every rank holds, moves, removes and inserts every particle.
+/// are first dealt out every rank holds, moves, removes and inserts every particle; a
+/// restart instead reads each rank's run of rows (rows()) of the state and of the pair
+/// contacts, the positions whole, and each rank moves those particles until the first
+/// build (hold_rows()).
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
 /// first (the pass reads each particle's torque so far), then its two phases over the
@@ -154,8 +157,12 @@ class RankSplit final : public SearchShare {
   /// @p count particles were appended to every rank's store alike (the same state on
   /// each): rank 0's until the next assign() deals the slabs out.
   void added(std::size_t count);
+  /// A restart: each rank holds the state of its run of rows(@p n) only (read so from the
+  /// checkpoint: InArchive::keep_slots), and moves those particles until the first
+  /// assign() sends each one's state on to its owner.
+  void hold_rows(std::size_t n);
   /// Whether ownership follows build number @p builds of the list.
-  bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && builds == builds_; }
+  bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && !held_rows_ && builds == builds_; }
 
   /// This rank's particles as runs of slots [first, last); all @p n of them until the
   /// first assign() (every rank then holds and moves the same whole state).
@@ -209,7 +216,7 @@ class RankSplit final : public SearchShare {
   /// The particles' slots changed on every rank alike (particles were inserted or
   /// removed from the whole, gathered state): each rank moves all of them again until
   /// the next assign().
-  void unassign() { assigned_ = stale_ = moving_ = written_ = false; }
+  void unassign() { assigned_ = stale_ = moving_ = written_ = held_rows_ = false; }
 
   /// The largest of @p x over the ranks.
   double max(double x) const;
@@ -238,7 +245,7 @@ class RankSplit final : public SearchShare {
 
   // The contact search and list at a build (SearchShare): rank r lists the r-th of
   // size() equal runs of rows, and each pair goes to the ranks that hold its slab.
-  std::pair<std::size_t, std::size_t> rows(std::size_t n) const override;
+  std::pair<std::size_t, std::size_t> rows(std::size_t n) const override { return row_run(n, rank_); }
   int share_rank() const override { return rank_; }
   int share_size() const override { return size_; }
   void sum(std::vector<std::uint64_t>& v) override;
@@ -280,6 +287,12 @@ class RankSplit final : public SearchShare {
   /// particles. The rank no longer holds the whole state (stale_).
   void release_foreign(ParticleStore& p);
 
+  /// Rank @p r's run of rows of @p n: the r-th of size() equal runs.
+  std::pair<std::size_t, std::size_t> row_run(std::size_t n, int r) const {
+    const auto k = static_cast<std::size_t>(r), m = static_cast<std::size_t>(size_);
+    return {n * k / m, n * (k + 1) / m};
+  }
+
   int rank_, size_;
   std::vector<std::vector<double>*> extra_, carried_;
   std::vector<const std::vector<double>*> ghost_extras_;  // set_ghost_extras
@@ -287,6 +300,7 @@ class RankSplit final : public SearchShare {
   MeshContacts* meshes_ = nullptr;
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
+  bool held_rows_ = false;  // hold_rows(): the owners change at assign()
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
   std::uint64_t builds_ = 0;

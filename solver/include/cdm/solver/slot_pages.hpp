@@ -10,10 +10,13 @@
 /// array, so it commits no page of slots that hold none. Neither changes a value a
 /// process reads: the results are the same bits.
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 namespace cdm {
+
+class InArchive;
 
 /// Runs of slots [first, last), increasing and disjoint.
 using SlotRuns = std::vector<std::pair<std::size_t, std::size_t>>;
@@ -36,5 +39,10 @@ void reserve_zeroed(std::vector<double>& v, std::size_t capacity);
 void release_pages(const void* first, const void* last);
 /// Set the values of @p v that are not zero to zero, writing nothing else.
 void clear_nonzero(std::vector<double>& v);
+/// Read a per-particle array of @p a (as InArchive::get, at most @p max_elements
+/// values) of which this process keeps the slots of @p a's slot window only: the others
+/// are read past and left zero, their pages uncommitted. An array whose length is not
+/// the window's particle count, or without a window, is read whole.
+void get_slots(InArchive& a, std::vector<double>& v, std::uint64_t max_elements = UINT64_MAX);
 
 }  // namespace cdm

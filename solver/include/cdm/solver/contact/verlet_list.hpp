@@ -252,10 +252,14 @@ class VerletList {
     static bool by_key(const PairContact& a, const PairContact& b) { return a.key() < b.key(); }
   };
   /// The contacts of this process's own pairs (its slabs', not the shadow slab's, where
-  /// the processes share the list; else all), in list order; the loaded ones, all of
-  /// them, while the pairs are not listed again (pairs_listed()).
+  /// the processes share the list; else all), in list order; the loaded ones while the
+  /// pairs are not listed again (pairs_listed()), in (i, j) order: all of them, or where
+  /// each process read its share (carry_partial()) those of its rows.
   std::vector<PairContact> own_contacts() const;
   bool pairs_listed() const { return !pairs_pending_; }
+  /// Whether the loaded contacts are this process's share only: those whose particle i
+  /// lies in its window of slots (InArchive::slot_window), the others' on the others.
+  bool carry_partial() const { return pairs_pending_ && carry_partial_; }
   /// The whole list's contacts, in list order, gathered from the processes for
   /// save_state (and for list_held_again) until release_contacts().
   void hold_contacts(std::vector<PairContact> all) {
@@ -377,6 +381,7 @@ class VerletList {
   std::vector<std::uint32_t> rank_slab_first_;  // rank_slab_first
   bool pairs_pending_ = false;          // load_state, list_held_again: listed at the next update
   bool carry_sorted_ = false;           // pair_carry_ is in (i, j) order
+  bool carry_partial_ = false;          // carry_partial()
   std::vector<Vec3> hist_;              // tangential displacement per listed pair [m]
   std::vector<std::uint8_t> touch_;     // in contact at the previous evaluation
   std::vector<Vec3> wall_hist_;         // per entry of wall_ids_
