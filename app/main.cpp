@@ -218,9 +218,9 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
     if (log) marks.log = log->sync();
     marks.monitors = monitors.sync();
     if (population) marks.population = population->sync();
-    const auto held = s.hold_contacts();  // the contact list's, from every rank
-    s.written_particles();                // the state at the checkpoint's step, to rank 0
+    const auto held = s.hold_for_checkpoint();  // the contacts, from every rank, to rank 0
     if (writes) cdm::write_checkpoint(ckpt, s, origin, marks);
+    else cdm::send_checkpoint_state(s);         // the state streams to rank 0 as it writes
   };
   Progress progress(!quiet && isatty(STDERR_FILENO));
   progress.start_at(sim.steps());

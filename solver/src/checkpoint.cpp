@@ -120,6 +120,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
   raw(&len, sizeof len);
   raw(&sum, sizeof sum);
   OutArchive body(out);
+  sim.stream_particles(body);
   body.put(origin.scene_name);
   body.put(origin.scene_text);
   body.put(static_cast<std::uint64_t>(origin.overrides.size()));
@@ -243,6 +244,12 @@ CheckpointData read_checkpoint(const std::string& path) {
   d.state_at = size - d.state_size;
   d.file = std::move(file);
   return d;
+}
+
+void send_checkpoint_state(const Simulation& sim) {
+  OutArchive part;  // counts only: the writer gathers this process's particles from it
+  sim.stream_particles(part);
+  sim.save_state(part);
 }
 
 CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {

@@ -280,8 +280,9 @@ void Simulation::run(const std::function<void(const Simulation&)>& observer, con
 }
 
 void Simulation::save_state(OutArchive& a) const {
-  // A checkpoint holds the state at time(), written by process 0 (written_particles).
-  const ParticleStore& p = written_particles();
+  // A checkpoint holds the state at time(), written by process 0: among processes each
+  // per-particle array streams to it (hold_for_checkpoint, stream_particles).
+  const ParticleStore& p = particles_;
   a.put(static_cast<std::uint64_t>(p.size()));
   a.put(steps_);
   a.put(time_);
@@ -289,13 +290,9 @@ void Simulation::save_state(OutArchive& a) const {
   save_population(a);
   a.put(p.id);  // the particles' order (empty until sorted); arrays below are in it
   a.put(last_sort_);
-  a.put(p.x); a.put(p.y); a.put(p.z);
-  a.put(p.vx); a.put(p.vy); a.put(p.vz);
-  a.put(p.fx); a.put(p.fy); a.put(p.fz);
-  a.put(p.wx); a.put(p.wy); a.put(p.wz);
-  a.put(p.tx); a.put(p.ty); a.put(p.tz);
-  a.put(p.drag_k); a.put(p.ugx); a.put(p.ugy); a.put(p.ugz);
-  a.put(p.dfx); a.put(p.dfy); a.put(p.dfz); a.put(p.jx); a.put(p.jy); a.put(p.jz);
+  for (const auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.wx, &p.wy, &p.wz, &p.tx, &p.ty,
+                        &p.tz, &p.drag_k, &p.ugx, &p.ugy, &p.ugz, &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz})
+    a.put_particles(*v);
   a.put(static_cast<std::uint64_t>(modules_.size()));
   for (const auto& m : modules_) {
     a.put(m->name());

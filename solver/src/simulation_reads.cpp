@@ -1,9 +1,12 @@
 #include <utility>
 
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/simulation.hpp"
 
 // How the particles' state is read: whole on every process (complete_step), whole on
-// the writing process (written_particles), or each process its own part
+// the writing process (written_particles), streamed to it for a checkpoint
+// (hold_for_checkpoint, stream_particles), or each process its own part
 // (local_particles, counted_runs).
 
 namespace cdm {
@@ -43,6 +46,23 @@ const ParticleStore& Simulation::written_particles() const {
   ranks_->gather_to_writer(const_cast<ParticleStore&>(particles_), contact_->list());
   if (bad != 0.0) fail_not_finite();
   return particles_;
+}
+
+Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
+  local_particles();  // the step completed, each process its own particles
+  if (!ranks_ || !contact_) return HeldContacts(nullptr);
+  VerletList& list = contact_->list();
+  std::vector<VerletList::PairContact> all = ranks_->gather_contacts(list);
+  ranks_->records_to_writer(list);
+  if (ranks_->share_rank() != 0) return HeldContacts(nullptr);
+  list.hold_contacts(std::move(all));
+  return HeldContacts(&list);
+}
+
+void Simulation::stream_particles(OutArchive& a) const {
+  if (!ranks_ || ranks_->writer_holds_all()) return;
+  RankSplit* r = ranks_.get();
+  a.stream_particles([r](OutArchive& o, const std::vector<double>& v) { r->put_gathered(o, v); });
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() const {

@@ -87,11 +87,12 @@ shared "chute gathered often" 2 "${chute[@]}" --set 'lattices[1].count=[20,10,5]
   --set output.particles=false --set output.vtk=true --set output.interval=1.0e-5
 
 # Gathered in rounds of 600 values (CDM_MPI_ROUND_VALUES): the flowing chute's state in
-# rounds of a few particles, and at each build the history of its pairs in contact in
-# rounds of 100 pairs per process.
+# rounds of a few particles, at each build the history of its pairs in contact in
+# rounds of 100 pairs per process, and its checkpoints' arrays streamed to the writer
+# 600 slots at a time.
 small_rounds=("${launch[@]}")
 launch+=(-x CDM_MPI_ROUND_VALUES=600)
-shared "chute gathered in small rounds" 2 "${chute[@]}"
+shared "chute gathered in small rounds" 2 "${chute[@]}" --set output.checkpoint_interval=0.01
 launch=("${small_rounds[@]}")
 
 # 20,000 particles: their whole state (about 40 values each, with the wall history) is

@@ -15,9 +15,10 @@ namespace cdm {
 void VerletList::save_state(OutArchive& a) const {
   // The contacts only: a listed pair or wall entry out of contact carries nothing (a
   // contact starts afresh), and the pairs are listed again from x0_. A list shared
-  // among processes holds its own part only: its whole contacts are held for this.
+  // among processes holds its own part only: its whole contacts are held for this (by the
+  // process that writes; the others' archives count only).
   // Written as three arrays, field by field, without a copy of the contacts.
-  if (rank_split_ && share_ && !holding_ && (!pairs_pending_ || carry_partial_))
+  if (a.writes() && rank_split_ && share_ && !holding_ && (!pairs_pending_ || carry_partial_))
     throw std::logic_error("VerletList: a shared list saved without its whole contacts");
   const std::vector<PairContact>* whole = holding_ ? &held_ : pairs_pending_ ? &pair_carry_ : nullptr;
   auto put_field = [&](auto field) {
@@ -37,7 +38,7 @@ void VerletList::save_state(OutArchive& a) const {
   put_field([](const PairContact& c) { return c.i; });
   put_field([](const PairContact& c) { return c.j; });
   put_field([](const PairContact& c) { return c.h; });
-  const std::vector<WallContact> wc = wall_contacts();
+  const std::vector<WallContact> wc = holding_walls_ ? held_walls_ : wall_contacts();
   std::vector<std::uint32_t> wi(wc.size()), ww(wc.size());
   std::vector<Vec3> wh(wc.size());
   for (std::size_t k = 0; k < wc.size(); ++k) {

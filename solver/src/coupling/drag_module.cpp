@@ -170,7 +170,7 @@ void DragModule::add_cached_explicit(ParticleStore& p) const {
 void DragModule::save_state(OutArchive& a) const {
   if (!clock_) return;  // nothing carried between steps
   a.put(tau_min_);
-  a.put(k_); a.put(ugx_); a.put(ugy_); a.put(ugz_);
+  for (const auto* v : {&k_, &ugx_, &ugy_, &ugz_}) a.put_particles(*v);
 }
 
 void DragModule::load_state(InArchive& a) {
@@ -305,7 +305,7 @@ void PressureGradientModule::add_forces(ParticleStore& p, double /*dt*/) {
 
 void PressureGradientModule::save_state(OutArchive& a) const {
   if (!clock_) return;
-  a.put(fx_); a.put(fy_); a.put(fz_);
+  for (const auto* v : {&fx_, &fy_, &fz_}) a.put_particles(*v);
 }
 
 void PressureGradientModule::load_state(InArchive& a) {

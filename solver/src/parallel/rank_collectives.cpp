@@ -1,9 +1,10 @@
 /// @file rank_collectives.cpp
-/// @brief RankSplit's collectives that carry no particle state: the reductions every step
+/// @brief RankSplit's collectives but the state's gathers and exchanges: the reductions every step
 /// takes (the largest drift, a stop signal, the contacts' count and worst overlap, the
 /// deposited sums), the shared list's rows, sums and exchanges at a build, its contacts
-/// gathered whole, the contacts kept per particle joined at a gather, and the records of
-/// what each rank finds among its own particles.
+/// gathered whole, the contacts kept per particle joined at a gather, the records of
+/// what each rank finds among its own particles, and a checkpoint's per-particle arrays
+/// streamed to the writer.
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <string>
 #include <type_traits>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/contact/contact_module.hpp"
 #include "cdm/solver/contact/mesh_contacts.hpp"
 #include "cdm/solver/mpi_session.hpp"
@@ -151,6 +153,55 @@ void RankSplit::join_own(std::vector<Record>& list, ParticleOf&& particle_of, Le
   list.swap(all);
 }
 
+void RankSplit::records_to_writer(VerletList& list) {
+  if (writer_holds_all()) return;
+  share_contact_records(list, true);
+  // The wall contacts listed: each rank's own particles', joined on rank 0 for the writer.
+  if (!list.wall_entries_current() || !list.keeps_history() || list.walls().empty()) return;
+  std::vector<VerletList::WallContact> walls = list.wall_contacts();
+  join_own(walls, [](const VerletList::WallContact& c) { return c.i; }, VerletList::WallContact::by_key, true);
+  if (rank_ == 0) list.hold_wall_contacts(std::move(walls));
+}
+
+void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
+  const std::size_t n = v.size();
+  if (n != owner_.size()) return a.put(v);  // not one value per particle (an empty array)
+  a.put(static_cast<std::uint64_t>(n));
+  const auto size = static_cast<std::size_t>(size_), me = static_cast<std::size_t>(rank_);
+  // Each rank's particles of slots [s0, s1) are own[at[r] .. end[r]) of its list, in
+  // slot order: every slot is one rank's.
+  std::vector<std::size_t> at(size, 0), end(size, 0);
+  std::vector<int> counts(size), displs(size);
+  std::vector<double> round;
+  for (std::size_t s0 = 0; s0 < n; s0 += round_values()) {
+    const std::size_t s1 = std::min(n, s0 + round_values());
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < size; ++r) {
+      const std::vector<std::uint32_t>& own = rank_particles_[r];
+      end[r] = at[r];
+      while (end[r] < own.size() && own[end[r]] < s1) ++end[r];
+      counts[r] = static_cast<int>(end[r] - at[r]);
+      displs[r] = static_cast<int>(total);
+      total += end[r] - at[r];
+    }
+    const std::vector<std::uint32_t>& mine = rank_particles_[me];
+    send_.resize(end[me] - at[me]);
+    for (std::size_t k = at[me]; k < end[me]; ++k) send_[k - at[me]] = v[mine[k]];
+    if (rank_ == 0) recv_.resize(total);
+    mpi_check(MPI_Gatherv(send_.data(), counts[me], MPI_DOUBLE, recv_.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                          0, MPI_COMM_WORLD),
+              "MPI_Gatherv");
+    if (rank_ == 0) {
+      round.resize(s1 - s0);
+      for (std::size_t r = 0; r < size; ++r)
+        for (std::size_t k = at[r]; k < end[r]; ++k)
+          round[rank_particles_[r][k] - s0] = recv_[static_cast<std::size_t>(displs[r]) + (k - at[r])];
+      a.put_values(round.data(), round.size());
+    }
+    at.swap(end);
+  }
+}
+
 void RankSplit::share_contact_records(VerletList& list, bool to_writer) {
   if (meshes_)
     join_own(meshes_->contacts(), [](const MeshContacts::Contact& c) { return c.particle; },
@@ -253,6 +304,8 @@ std::vector<std::uint32_t> RankSplit::swap_values(std::vector<std::vector<std::u
 std::vector<double> RankSplit::swap_values(std::vector<std::vector<double>>& out) { return out.at(0); }
 std::vector<std::uint8_t> RankSplit::swap_bytes(std::vector<std::vector<std::uint8_t>>& out) { return out.at(0); }
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) { return list.own_contacts(); }
+void RankSplit::records_to_writer(VerletList&) {}
+void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) { a.put(v); }
 double RankSplit::max(double x) const { return x; }
 void RankSplit::max(std::vector<double>&) const {}
 bool RankSplit::any(bool flag) const { return flag; }

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -54,7 +55,26 @@ class OutArchive {
     put<std::uint64_t>(s.size());
     write(s.data(), s.size());
   }
+  /// The next @p n values, without a length.
+  template <class T>
+  void put_values(const T* v, std::size_t n) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    write(reinterpret_cast<const char*>(v), n * sizeof(T));
+  }
+  /// A per-particle array: as put(), or through stream_particles()'s function.
+  void put_particles(const std::vector<double>& v) {
+    if (particles_) particles_(*this, v);
+    else put(v);
+  }
+  /// Where the MPI processes share the particles and the writing process does not hold
+  /// them all, @p put writes each per-particle array, gathering it in rounds (every
+  /// process's archive takes part; the others' count only).
+  void stream_particles(std::function<void(OutArchive&, const std::vector<double>&)> put) {
+    particles_ = std::move(put);
+  }
   std::uint64_t size() const { return size_; }
+  /// Whether the bytes go to a file (else they are counted only).
+  bool writes() const { return out_ != nullptr; }
   /// fnv1a64 of every byte written (a counting archive keeps none).
   std::uint64_t checksum() const { return hash_; }
   bool failed() const { return error_ != 0; }
@@ -68,6 +88,7 @@ class OutArchive {
     if (error_ == 0 && std::fwrite(b, 1, n, out_) != n) error_ = errno ? errno : EIO;
   }
   std::FILE* out_ = nullptr;
+  std::function<void(OutArchive&, const std::vector<double>&)> particles_;  // stream_particles
   int error_ = 0;
   std::uint64_t size_ = 0;
   std::uint64_t hash_ = fnv1a64_basis;

@@ -58,6 +58,10 @@ constexpr std::uint32_t checkpoint_format_version = 11;
 /// file is left behind.
 void write_checkpoint(const std::string& path, const Simulation& sim, const RunOrigin& origin,
                       const OutputMarks& marks = {});
+/// Among MPI processes, what each process but the writer calls as the writer calls
+/// write_checkpoint() (after Simulation::hold_for_checkpoint() on every process): the
+/// state is written as it is gathered, each process sending its own particles' values.
+void send_checkpoint_state(const Simulation& sim);
 
 /// Read and verify a checkpoint (magic, version, length, checksum) and return its origin,
 /// output marks and where its state is: read_checkpoint keeps the file open and notes

@@ -111,6 +111,7 @@
 
 namespace cdm {
 
+class OutArchive;
 struct OverlapRecord;
 struct SceneSpec;
 
@@ -202,6 +203,19 @@ class RankSplit final : public SearchShare {
   /// their own particles and keep their state as it is. Called on every rank alike; a
   /// no-op while rank 0 holds the whole state already.
   void gather_to_writer(ParticleStore& p, VerletList& list);
+  /// Whether rank 0 holds every particle's current state (each rank moves every particle,
+  /// or the state was gathered since the last step); the same on every rank.
+  bool writer_holds_all() const { return !assigned_ || !stale_ || written_; }
+  /// For a checkpoint whose per-particle arrays stream to rank 0 (put_gathered): rank 0
+  /// gets what the particles carry besides them, their wall contacts (held by @p list
+  /// until VerletList::release_contacts) and mesh contacts. Called on every rank alike; a
+  /// no-op where writer_holds_all().
+  void records_to_writer(VerletList& list);
+  /// Writes @p v, a per-particle array, into @p a as OutArchive::put does: rank 0 gathers
+  /// it in rounds of round_values() slots, each rank sending its own particles' values,
+  /// and writes each round in slot order. Called on every rank alike (the others' @p a
+  /// counts only), where !writer_holds_all().
+  void put_gathered(OutArchive& a, const std::vector<double>& v);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);

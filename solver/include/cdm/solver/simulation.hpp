@@ -112,6 +112,16 @@ class Simulation : private integrators::StepHost {
     contact_->list().hold_contacts(std::move(all));
     return HeldContacts(&contact_->list());
   }
+  /// For a checkpoint, on every process (a collective call when several share the
+  /// particles): the step completed, and gathered to process 0 until the guard goes what
+  /// it writes besides the per-particle arrays (the pair contacts, as hold_contacts(), and
+  /// the wall and mesh contacts); those arrays then stream to it as it writes them
+  /// (stream_particles()): process 0 never holds the whole state for a checkpoint.
+  [[nodiscard]] HeldContacts hold_for_checkpoint() const;
+  /// Sets @p a, an archive save_state() is about to write on every process alike, to
+  /// gather each per-particle array to process 0 as it is written, where the processes
+  /// share the particles and process 0 does not hold them all (RankSplit::put_gathered).
+  void stream_particles(OutArchive& a) const;
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
   std::uint64_t steps() const { return steps_; }

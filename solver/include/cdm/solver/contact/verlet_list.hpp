@@ -193,6 +193,15 @@ class VerletList {
   /// listing, in (particle, wall) order (among processes, each holds its own particles'
   /// current ones; a gather joins them, RankSplit).
   std::vector<WallContact>& pending_wall_contacts() { return wall_carry_; }
+  /// The wall entries in contact, in (particle, wall) order: the carried ones while
+  /// pending, else the listed ones.
+  std::vector<WallContact> wall_contacts() const;
+  /// Every process's particles' wall contacts, in (particle, wall) order, gathered for
+  /// save_state until release_contacts() (RankSplit::records_to_writer).
+  void hold_wall_contacts(std::vector<WallContact> all) {
+    held_walls_ = std::move(all);
+    holding_walls_ = true;
+  }
 
   // The thread split of the slabs (never the results).
   /// Before a threaded pass: each slab's estimated cost from its listed pairs and its
@@ -268,7 +277,8 @@ class VerletList {
   }
   void release_contacts() {
     std::vector<PairContact>().swap(held_);
-    holding_ = false;
+    std::vector<WallContact>().swap(held_walls_);
+    holding_ = holding_walls_ = false;
   }
   /// Drops the listed pairs: the next update lists them all again, carrying the held
   /// contacts (hold_contacts), for a copy that evaluates every contact on one process.
@@ -333,10 +343,6 @@ class VerletList {
   void list_wall_candidates(const ParticleStore& p);
   /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
   static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
-  /// One particle–wall contact's history, kept while the candidates are listed anew.
-  /// The wall entries in contact, in (particle, wall) order: the carried ones while
-  /// pending, else the listed ones.
-  std::vector<WallContact> wall_contacts() const;
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
   /// a particle removed).
   void renumber_pair_carry(const std::vector<std::uint32_t>& to);
@@ -378,6 +384,8 @@ class VerletList {
   std::vector<PairContact> pair_carry_;  // while pairs_pending_: the contacts to carry
   std::vector<PairContact> held_;        // hold_contacts
   bool holding_ = false;
+  std::vector<WallContact> held_walls_;  // hold_wall_contacts
+  bool holding_walls_ = false;
   std::vector<std::uint32_t> rank_slab_first_;  // rank_slab_first
   bool pairs_pending_ = false;          // load_state, list_held_again: listed at the next update
   bool carry_sorted_ = false;           // pair_carry_ is in (i, j) order
