@@ -1,5 +1,6 @@
 #include "cdm/solver/output.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -129,19 +130,22 @@ long long output_sample(const Simulation& sim, double interval) {
 void ParticleTableObserver::operator()(const Simulation& sim) {
   if (!schedule_.due(sim)) return;
   const bool last = sim.steps() == sim.total_steps();
-  const ParticleStore& p = sim.written_particles();
-  if (!table_.writes()) return;  // a process that does not write
+  // By identity, whatever order the store keeps: the moving state from each particle's
+  // owner (Simulation::written_rows), its radius and material from this process's store.
+  const ParticleStore& p = sim.local_particles();
+  std::vector<const std::vector<double>*> moving = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz};
+  if (rot_) moving.insert(moving.end(), {&p.wx, &p.wy, &p.wz});
   std::vector<double> r(rot_ ? 13 : 10);
-  for (std::size_t k = 0; k < p.size(); ++k) {  // by identity, whatever order the store keeps
+  sim.written_rows(moving, [&](std::size_t k, const double* v) {
+    if (!table_.writes()) return;  // a process that does not write
     const std::size_t i = p.slot_of(k);
-    r[0] = sim.time(); r[1] = static_cast<double>(k);
-    r[2] = p.x[i]; r[3] = p.y[i]; r[4] = p.z[i];
-    r[5] = p.vx[i]; r[6] = p.vy[i]; r[7] = p.vz[i];
-    if (rot_) { r[8] = p.wx[i]; r[9] = p.wy[i]; r[10] = p.wz[i]; }
+    r[0] = sim.time();
+    r[1] = static_cast<double>(k);
+    std::copy(v, v + moving.size(), r.begin() + 2);
     r[r.size() - 2] = p.radius[i];
     r.back() = p.material[i];
     table_.row(r);
-  }
+  });
   if (last) table_.flush();
 }
 

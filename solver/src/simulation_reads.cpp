@@ -6,7 +6,8 @@
 
 // How the particles' state is read: whole on every process (complete_step), whole on
 // the writing process (written_particles), streamed to it for a checkpoint
-// (hold_for_checkpoint, stream_particles), or each process its own part
+// (hold_for_checkpoint, stream_particles) or a table (written_rows), or each process its
+// own part
 // (local_particles, counted_runs).
 
 namespace cdm {
@@ -46,6 +47,20 @@ const ParticleStore& Simulation::written_particles() const {
   ranks_->gather_to_writer(const_cast<ParticleStore&>(particles_), contact_->list());
   if (bad != 0.0) fail_not_finite();
   return particles_;
+}
+
+void Simulation::written_rows(const std::vector<const std::vector<double>*>& arrays,
+                              const std::function<void(std::size_t, const double*)>& row) const {
+  const ParticleStore& p = local_particles();
+  const auto slot_of = [&p](std::size_t k) { return p.slot_of(k); };
+  if (ranks_ && !ranks_->writer_holds_all()) return ranks_->rows_to_writer(arrays, p.size(), slot_of, row);
+  if (ranks_ && ranks_->share_rank() != 0) return;
+  std::vector<double> values(arrays.size());
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const std::size_t s = slot_of(k);
+    for (std::size_t a = 0; a < arrays.size(); ++a) values[a] = (*arrays[a])[s];
+    row(k, values.data());
+  }
 }
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {

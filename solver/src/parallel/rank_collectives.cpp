@@ -3,11 +3,12 @@
 /// takes (the largest drift, a stop signal, the contacts' count and worst overlap, the
 /// deposited sums), the shared list's rows, sums and exchanges at a build, its contacts
 /// gathered whole, the contacts kept per particle joined at a gather, the records of
-/// what each rank finds among its own particles, and a checkpoint's per-particle arrays
-/// streamed to the writer.
+/// what each rank finds among its own particles, and what the writer streams: a
+/// checkpoint's per-particle arrays and the particle table's rows.
 #include "cdm/solver/rank_split.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -202,6 +203,44 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
   }
 }
 
+void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>& arrays, std::size_t n,
+                               const std::function<std::size_t(std::size_t)>& slot_of,
+                               const std::function<void(std::size_t, const double*)>& row) {
+  const std::size_t per = std::max<std::size_t>(1, arrays.size()), size = static_cast<std::size_t>(size_);
+  const std::size_t batch = std::max<std::size_t>(1, round_values() / per);
+  std::vector<int> counts(size), displs(size);
+  std::vector<std::size_t> next(size);
+  for (std::size_t k0 = 0; k0 < n; k0 += batch) {
+    const std::size_t k1 = std::min(n, k0 + batch);
+    // Each rank's rows of the round, in k order.
+    std::fill(counts.begin(), counts.end(), 0);
+    send_.clear();
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::size_t s = slot_of(k);
+      const auto r = static_cast<std::size_t>(owner_[s]);
+      counts[r] += static_cast<int>(arrays.size());
+      if (static_cast<int>(r) == rank_)
+        for (const auto* a : arrays) send_.push_back((*a)[s]);
+    }
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < size; ++r) {
+      displs[r] = static_cast<int>(total);
+      next[r] = total;
+      total += static_cast<std::size_t>(counts[r]);
+    }
+    if (rank_ == 0) recv_.resize(total);
+    mpi_check(MPI_Gatherv(send_.data(), counts[static_cast<std::size_t>(rank_)], MPI_DOUBLE, recv_.data(),
+                          counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+              "MPI_Gatherv");
+    if (rank_ != 0) continue;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const auto r = static_cast<std::size_t>(owner_[slot_of(k)]);
+      row(k, recv_.data() + next[r]);
+      next[r] += arrays.size();
+    }
+  }
+}
+
 void RankSplit::share_contact_records(VerletList& list, bool to_writer) {
   if (meshes_)
     join_own(meshes_->contacts(), [](const MeshContacts::Contact& c) { return c.particle; },
@@ -306,6 +345,11 @@ std::vector<std::uint8_t> RankSplit::swap_bytes(std::vector<std::vector<std::uin
 std::vector<VerletList::PairContact> RankSplit::gather_contacts(const VerletList& list) { return list.own_contacts(); }
 void RankSplit::records_to_writer(VerletList&) {}
 void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) { a.put(v); }
+void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>&, std::size_t,
+                               const std::function<std::size_t(std::size_t)>&,
+                               const std::function<void(std::size_t, const double*)>&) {
+  throw std::logic_error("RankSplit without MPI");
+}
 double RankSplit::max(double x) const { return x; }
 void RankSplit::max(std::vector<double>&) const {}
 bool RankSplit::any(bool flag) const { return flag; }

@@ -216,6 +216,13 @@ class RankSplit final : public SearchShare {
   /// and writes each round in slot order. Called on every rank alike (the others' @p a
   /// counts only), where !writer_holds_all().
   void put_gathered(OutArchive& a, const std::vector<double>& v);
+  /// Rank 0 gets, for each particle k < @p n in turn (its slot @p slot_of(k)), the values
+  /// of @p arrays, each from the particle's owner, and passes them to @p row(k, values):
+  /// gathered round_values() values at a time. Called on every rank alike, where
+  /// !writer_holds_all(); @p row is called on rank 0 only.
+  void rows_to_writer(const std::vector<const std::vector<double>*>& arrays, std::size_t n,
+                      const std::function<std::size_t(std::size_t)>& slot_of,
+                      const std::function<void(std::size_t, const double*)>& row);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);

@@ -81,6 +81,13 @@ class Simulation : private integrators::StepHost {
   /// process makes it, then process 0 may read them again (no call after the first
   /// gathers until the state moves on).
   const ParticleStore& written_particles() const;
+  /// For what process 0 writes row by row (the particle table): @p row(k, values) for
+  /// each particle k in identity order with its values of @p arrays (per-particle
+  /// arrays), on process 0 only. Where the processes share the particles they are
+  /// gathered in rounds, each from its owner: process 0 does not hold the whole state for
+  /// it. A collective call when several processes share the particles.
+  void written_rows(const std::vector<const std::vector<double>*>& arrays,
+                    const std::function<void(std::size_t, const double*)>& row) const;
   /// The runs of slots [first, last) whose terms this process adds to a sum over the
   /// particles, so that over the processes each particle counts once: every particle on
   /// one process; among processes sharing the particles, this one's own; where each moves
