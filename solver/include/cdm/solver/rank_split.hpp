@@ -29,9 +29,10 @@
 /// it whole (the guards naming a particle that went wrong, Simulation::particles());
 /// gather() brings every rank some arrays (the positions for an insertion, and the
 /// positions and impulses deposited at every step where the particles are fewer than the
-/// cells they reach); what
-/// rank 0 alone writes whole (the particle table, VTK frames, checkpoints) is gathered to
-/// rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
+/// cells they reach); what rank 0 alone writes streams to it as it writes (a checkpoint's
+/// per-particle arrays, put_gathered, with the contacts kept per particle beside them,
+/// records_to_writer; the particle table's rows, rows_to_writer), or for VTK frames is
+/// gathered to rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
 /// monitors, the outlets' table) reads each rank's own instead, added up
 /// (Simulation::counted_runs, counted_sums.hpp). The pairs' history stays with the
 /// pairs' ranks, and is gathered (gather_contacts) only for what reads the whole list:
@@ -93,7 +94,7 @@
 ///
 /// Limits: memory is divided for the pair list and the particles' state but their
 /// positions, radii, masses and identities (each rank holds those of all the particles,
-/// and the whole gas), the gas step's smaller loops (ghost layers, the pressure's update, the
+/// and the whole gas; rank 0 gathers the whole state for a VTK frame), the gas step's smaller loops (ghost layers, the pressure's update, the
 /// interpolators' refresh) and a direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
@@ -198,8 +199,8 @@ class RankSplit final : public SearchShare {
   /// @p for_build: the list is built next, which reads the positions only, so only those
   /// are sent; assign() then moves the rest with the particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
-  /// Rank 0, which writes what reads the whole state (the particle table, VTK frames,
-  /// checkpoints), gets all of it as synchronise() gives every rank; the others send
+  /// Rank 0, which writes what reads the whole state (VTK frames), gets all of it as
+  /// synchronise() gives every rank; the others send
   /// their own particles and keep their state as it is. Called on every rank alike; a
   /// no-op while rank 0 holds the whole state already.
   void gather_to_writer(ParticleStore& p, VerletList& list);

@@ -75,8 +75,8 @@ class Simulation : private integrators::StepHost {
   /// there; on several processes the others' may be stale. For what is summed over the
   /// particles, each process its own part, and added up (counted_sums.hpp).
   const ParticleStore& local_particles() const;
-  /// The particles at time() for what process 0 writes whole (the particle table, VTK
-  /// frames, checkpoints): all of them current on process 0; on the others only those of
+  /// The particles at time() for what process 0 writes whole (VTK frames, with the
+  /// contact forces evaluated afresh): all of them current on process 0; on the others only those of
   /// counted_runs(). A collective call when several processes share the particles: every
   /// process makes it, then process 0 may read them again (no call after the first
   /// gathers until the state moves on).
