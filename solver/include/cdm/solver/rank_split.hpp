@@ -94,8 +94,9 @@
 ///
 /// Limits: memory is divided for the pair list and the particles' state but their
 /// positions, radii, masses and identities (each rank holds those of all the particles,
-/// and the whole gas; rank 0 gathers the whole state for a VTK frame), the gas step's smaller loops (ghost layers, the pressure's update, the
-/// interpolators' refresh) and a direct pressure solve are done whole by each rank, and
+/// and the whole gas; rank 0 gathers the whole state for a VTK frame), the gas step's
+/// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
+/// direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
 #include <cstdint>

@@ -76,10 +76,10 @@ class Simulation : private integrators::StepHost {
   /// particles, each process its own part, and added up (counted_sums.hpp).
   const ParticleStore& local_particles() const;
   /// The particles at time() for what process 0 writes whole (VTK frames, with the
-  /// contact forces evaluated afresh): all of them current on process 0; on the others only those of
-  /// counted_runs(). A collective call when several processes share the particles: every
-  /// process makes it, then process 0 may read them again (no call after the first
-  /// gathers until the state moves on).
+  /// contact forces evaluated afresh): all of them current on process 0; on the others
+  /// only those of counted_runs(). A collective call when several processes share the
+  /// particles: every process makes it, then process 0 may read them again (no call
+  /// after the first gathers until the state moves on).
   const ParticleStore& written_particles() const;
   /// For what process 0 writes row by row (the particle table): @p row(k, values) for
   /// each particle k in identity order with its values of @p arrays (per-particle
@@ -123,7 +123,7 @@ class Simulation : private integrators::StepHost {
   /// particles): the step completed, and gathered to process 0 until the guard goes what
   /// it writes besides the per-particle arrays (the pair contacts, as hold_contacts(), and
   /// the wall and mesh contacts); those arrays then stream to it as it writes them
-  /// (stream_particles()): process 0 never holds the whole state for a checkpoint.
+  /// (stream_particles()): process 0 does not gather the whole state for a checkpoint.
   [[nodiscard]] HeldContacts hold_for_checkpoint() const;
   /// Sets @p a, an archive save_state() is about to write on every process alike, to
   /// gather each per-particle array to process 0 as it is written, where the processes
