@@ -358,20 +358,20 @@ void Simulation::load_state(InArchive& a) {
     }
     last_sort_ = last_sort;
   }
-  // Among processes each keeps the state of its share of the slots only (its run of
-  // rows, RankSplit::hold_rows), but the positions, which every process reads whole at
-  // the first build: the state then moves to the particles' owners.
+  auto arr = [&](std::vector<double>& v, std::size_t want) {
+    get_slots(a, v, want);
+    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
+  };
+  // The positions whole: every process reads them at the first build. Of the rest, among
+  // processes each keeps its share of the slots only (its run of rows,
+  // RankSplit::hold_rows): the state then moves to the particles' owners.
+  for (auto* v : {&p.x, &p.y, &p.z}) arr(*v, n0);
   if (ranks_) {
     const auto [first, last] = ranks_->rows(n0);
     a.keep_slots(n0, first, last);
   }
-  auto arr = [&](std::vector<double>& v, std::size_t want) {
-    if (&v == &p.x || &v == &p.y || &v == &p.z) a.get(v, want);
-    else get_slots(a, v, want);
-    if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
-  };
   const std::size_t nr = p.has_rotation() ? n0 : 0;
-  for (auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz}) arr(*v, n0);
+  for (auto* v : {&p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz}) arr(*v, n0);
   for (auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz}) arr(*v, nr);
   const std::size_t nd = p.has_drag_relaxation() ? n0 : 0;
   for (auto* v : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz}) arr(*v, nd);

@@ -65,13 +65,9 @@ void Simulation::written_rows(const std::vector<const std::vector<double>*>& arr
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
   local_particles();  // the step completed, each process its own particles
-  if (!ranks_ || !contact_) return HeldContacts(nullptr);
-  VerletList& list = contact_->list();
-  std::vector<VerletList::PairContact> all = ranks_->gather_contacts(list);
-  ranks_->records_to_writer(list);
-  if (ranks_->share_rank() != 0) return HeldContacts(nullptr);
-  list.hold_contacts(std::move(all));
-  return HeldContacts(&list);
+  // The wall contacts, held on rank 0, go with the pair contacts' guard.
+  if (ranks_ && contact_) ranks_->records_to_writer(contact_->list());
+  return hold_contacts();
 }
 
 void Simulation::stream_particles(OutArchive& a) const {

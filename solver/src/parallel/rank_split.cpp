@@ -66,11 +66,7 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   for (std::size_t i = 0; i < n; ++i) owner_[i] = slab_owner_[slab_of[i]];
   own_from_owners();
   const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
-  lower_.clear();
-  upper_.clear();
-  top_.clear();
-  under_.clear();
-  below_ = above_ = -1;
+  drop_boundaries();
   if (s0 < s1) {
     if (s0 > 0) {
       below_ = slab_owner_[s0 - 1];
@@ -108,10 +104,14 @@ void RankSplit::hold_rows(std::size_t n) {
     std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last), r);
   }
   own_from_owners();
-  for (auto* slab : {&lower_, &upper_, &top_, &under_}) slab->clear();
-  below_ = above_ = -1;
+  drop_boundaries();
   assigned_ = stale_ = held_rows_ = true;
   moving_ = written_ = gathered_ = false;
+}
+
+void RankSplit::drop_boundaries() {
+  for (auto* slab : {&lower_, &upper_, &top_, &under_}) slab->clear();
+  below_ = above_ = -1;
 }
 
 void RankSplit::release_foreign(ParticleStore& p) {

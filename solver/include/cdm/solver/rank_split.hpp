@@ -348,6 +348,8 @@ class RankSplit final : public SearchShare {
   /// join_own() for the contacts kept per particle outside the arrays: the mesh contacts
   /// (meshes_), and the wall contacts of @p list where they are set aside.
   void share_contact_records(VerletList& list, bool to_writer = false);
+  /// No boundary slabs and no neighbouring ranks, until assign() finds them.
+  void drop_boundaries();
   /// This rank's particles' runs, flags and lists from owner_.
   void own_from_owners();
   /// The particles whose owner was @p before and is owner_ now travel with their state.
