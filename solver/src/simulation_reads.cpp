@@ -6,9 +6,9 @@
 
 // How the particles' state is read: whole on every process (complete_step), whole on
 // the writing process (written_particles), streamed to it for a checkpoint
-// (hold_for_checkpoint, stream_particles) or a table (written_rows), or each process its
-// own part
-// (local_particles, counted_runs).
+// (hold_for_checkpoint, stream_particles), a table or a VTK frame (written_rows), or each
+// process its own part (local_particles, counted_runs), with its ghosts for its
+// particles' contacts (own_with_ghosts).
 
 namespace cdm {
 
@@ -50,10 +50,11 @@ const ParticleStore& Simulation::written_particles() const {
 }
 
 void Simulation::written_rows(const std::vector<const std::vector<double>*>& arrays,
-                              const std::function<void(std::size_t, const double*)>& row) const {
+                              const std::function<void(std::size_t, const double*)>& row, bool from_owners) const {
   const ParticleStore& p = local_particles();
   const auto slot_of = [&p](std::size_t k) { return p.slot_of(k); };
-  if (ranks_ && !ranks_->writer_holds_all()) return ranks_->rows_to_writer(arrays, p.size(), slot_of, row);
+  if (ranks_ && (from_owners ? ranks_->partitioned() : !ranks_->writer_holds_all()))
+    return ranks_->rows_to_writer(arrays, p.size(), slot_of, row);
   if (ranks_ && ranks_->share_rank() != 0) return;
   std::vector<double> values(arrays.size());
   for (std::size_t k = 0; k < p.size(); ++k) {
@@ -61,6 +62,17 @@ void Simulation::written_rows(const std::vector<const std::vector<double>*>& arr
     for (std::size_t a = 0; a < arrays.size(); ++a) values[a] = (*arrays[a])[s];
     row(k, values.data());
   }
+}
+
+bool Simulation::own_contacts_current() const {
+  return contact_ && (!ranks_ || ranks_->assigned_for(contact_->list().builds())) &&
+         contact_->list().current_for(particles_);
+}
+
+const ParticleStore& Simulation::own_with_ghosts() const {
+  const ParticleStore& p = local_particles();
+  if (ranks_ && ranks_->partitioned()) ranks_->exchange_ghosts(const_cast<ParticleStore&>(particles_));
+  return p;
 }
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {

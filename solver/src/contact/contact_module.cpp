@@ -38,13 +38,18 @@ void ContactModule::add_forces(ParticleStore& p, double dt) {
   n_active_ = 0;
   const VerletList::Update u = list_.update(p);
   if (ranks_ && (u.rebuilt || !ranks_->assigned_for(list_.builds()))) ranks_->assign(list_, p);
-  if (u.rebuilt || damping_stale_) tabulate_damping(p);
+  if (u.rebuilt) damping_stale_ = true;
+  evaluate(p, dt, u.walls_listed);
+}
+
+void ContactModule::evaluate(ParticleStore& p, double dt, bool walls_listed) {
+  if (damping_stale_) tabulate_damping(p);
   if (record_) {
     // Per listed pair and per wall entry of the list; the force vectors only for a probe.
     const std::size_t nq = list_.wall_ids().size();
     fn_pair_.resize(list_.size());
     fv_pair_.resize(record_vectors_ ? 6 * list_.size() : 0);
-    if (u.walls_listed) fn_wall_.assign(nq, -1.0);
+    if (walls_listed) fn_wall_.assign(nq, -1.0);
     else fn_wall_.resize(nq);
     fv_wall_.resize(record_vectors_ ? 3 * nq : 0);
   }

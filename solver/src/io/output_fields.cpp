@@ -1,10 +1,12 @@
 #include "cdm/solver/io/output_fields.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "cdm/solver/io/counted_sums.hpp"
 #include "cdm/solver/simulation.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm {
 
@@ -23,21 +25,23 @@ ContactModule probe_of(const Simulation& sim, bool pairs = true) {
 
 /// The forces and torques (fx fy fz tx ty tz) @p probe's contacts give the run's own
 /// particles. They are evaluated on the run's store with its force and torque arrays
-/// set aside meanwhile (zeroed ones in their place) and put back before this returns or
-/// throws: a copy of the store would cost its whole size (about 150 B a particle) at
-/// every output. The observers hold the simulation const; its store is not, and only
-/// these six arrays change hands.
-std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, ContactModule& probe) {
+/// set aside meanwhile (zeroed ones in their place, whose pages are committed only where
+/// a contact writes) and put back before this returns or throws: a copy of the store
+/// would cost its whole size (about 150 B a particle) at every output. The observers
+/// hold the simulation const; its store is not, and only these six arrays change hands.
+/// @p listed: the list as it stands (ContactModule::add_listed_forces), else updated.
+std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, ContactModule& probe, bool listed = false) {
   ParticleStore& p = const_cast<ParticleStore&>(held);
   const std::array<std::vector<double>*, 6> run = {&p.fx, &p.fy, &p.fz, &p.tx, &p.ty, &p.tz};
   std::array<std::vector<double>, 6> out;
-  for (std::size_t a = 0; a < 6; ++a) out[a].assign(run[a]->size(), 0.0);
+  for (std::size_t a = 0; a < 6; ++a) resize_zeroed(out[a], run[a]->size());
   auto trade = [&] {
     for (std::size_t a = 0; a < 6; ++a) run[a]->swap(out[a]);
   };
   trade();
   try {
-    probe.add_forces(p, 0.0);
+    if (listed) probe.add_listed_forces(p);
+    else probe.add_forces(p, 0.0);
   } catch (...) {
     trade();
     throw;
@@ -47,31 +51,43 @@ std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, Conta
 }
 }  // namespace
 
-std::vector<double> contact_forces(const Simulation& sim) {
-  if (!sim.contact()) return {};
-  const ParticleStore& p = sim.written_particles();
-  ContactModule probe = probe_of(sim);
-  const std::array<std::vector<double>, 6> fc = probe_forces(p, probe);
-  std::vector<double> f(3 * p.size());
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const std::size_t s = p.slot_of(k);
-    f[3 * k] = fc[0][s]; f[3 * k + 1] = fc[1][s]; f[3 * k + 2] = fc[2][s];
+ContactForces contact_forces(const Simulation& sim) {
+  ContactForces out;
+  if (!sim.contact()) return out;
+  if (sim.own_contacts_current()) {
+    // Each process its own particles', with its slabs' pairs and the shadow slab's, in
+    // the step's order: the same sums as one process's (which evaluates them all).
+    const ParticleStore& p = sim.own_with_ghosts();
+    ContactModule probe = sim.contact()->evaluation_copy();
+    std::array<std::vector<double>, 6> fc = probe_forces(p, probe, true);
+    for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
+    out.from_owners = true;
+    return out;
   }
-  return f;
+  const auto held = sim.hold_contacts();  // for the copy's list, from every process
+  const ParticleStore& p = sim.written_particles();
+  if (!sim.writes_rows()) return out;
+  ContactModule probe = probe_of(sim);
+  std::array<std::vector<double>, 6> fc = probe_forces(p, probe);
+  for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
+  return out;
 }
 
-ContactNetwork contact_network(const Simulation& sim) {
+namespace {
+/// The contacts of @p probe's pairs at @p p (evaluated as probe_forces(@p listed) does),
+/// in list order, but those of the shadow slab, which the rank below writes.
+ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool listed) {
   ContactNetwork net;
-  if (!sim.contact()) return net;
-  const ParticleStore& p = sim.written_particles();
-  ContactModule probe = probe_of(sim);
   probe.set_recording(true);
-  probe_forces(p, probe);
+  probe_forces(p, probe, listed);
   const VerletList& list = probe.list();
+  const std::size_t shadow = list.shadow_slab();
+  const std::size_t k0 = shadow == VerletList::no_slab ? 0 : list.slab_start()[shadow],
+                    k1 = shadow == VerletList::no_slab ? 0 : list.slab_start()[shadow + 1];
   const std::vector<double>& fn = probe.pair_normal_force();
   const std::vector<double>& fv = probe.pair_force();
   for (std::size_t k = 0; k < list.size(); ++k) {
-    if (fn[k] < 0.0) continue;
+    if (fn[k] < 0.0 || (k >= k0 && k < k1)) continue;
     const std::size_t i = list.pair_i()[k], j = list.pair_j()[k];
     net.pairs.push_back(static_cast<std::int64_t>(p.id_of(i)));
     net.pairs.push_back(static_cast<std::int64_t>(p.id_of(j)));
@@ -83,6 +99,24 @@ ContactNetwork contact_network(const Simulation& sim) {
     net.overlap.push_back(p.radius[i] + p.radius[j] - norm(d));
   }
   return net;
+}
+}  // namespace
+
+ContactNetwork contact_network(const Simulation& sim) {
+  if (!sim.contact()) return {};
+  if (sim.own_contacts_current()) {
+    // Each process its own slabs' pairs, as contact_forces() evaluates them.
+    const ParticleStore& p = sim.own_with_ghosts();
+    ContactModule probe = sim.contact()->evaluation_copy();
+    ContactNetwork net = network_of(p, probe, true);
+    net.from_owners = true;
+    return net;
+  }
+  const auto held = sim.hold_contacts();  // for the copy's list, from every process
+  const ParticleStore& p = sim.written_particles();
+  if (!sim.writes_rows()) return {};
+  ContactModule probe = probe_of(sim);
+  return network_of(p, probe, false);
 }
 
 std::vector<double> wall_forces(const Simulation& sim) {
@@ -109,31 +143,54 @@ std::vector<double> wall_forces(const Simulation& sim) {
 
 std::vector<double> solids_velocity(const Simulation& sim) {
   const fluid::StaggeredGrid& g = sim.gas()->grid();
-  const ParticleStore& p = sim.written_particles();
+  const ParticleStore& p = sim.local_particles();
   const int n[3] = {g.n(0), g.n(1), g.n(2)};
   const std::size_t nc = g.cell_count();
-  std::vector<double> mv(3 * nc, 0.0), vol(nc, 0.0);
-  for (std::size_t s = 0; s < p.size(); ++s) {
-    const Vec3 x = sim.gas()->wrap(p.position(s));
-    const double c[3] = {x.x, x.y, x.z};
-    std::size_t cell = 0, stride = 1;
-    bool inside = true;
-    for (int a = 0; a < 3; ++a) {
-      // A 2D grid has one layer of cells whatever z is.
-      const double q = a == 2 && g.two_d() ? 0.0 : std::floor((c[a] - g.lo(a)) / g.h(a));
-      inside = inside && q >= 0.0 && q < n[a];  // false for NaN too
-      cell += stride * (inside ? static_cast<std::size_t>(q) : 0);
-      stride *= static_cast<std::size_t>(n[a]);
-    }
-    if (!inside) continue;
-    // Weights r³: the volume up to a factor common to all particles.
-    const double w = p.radius[s] * p.radius[s] * p.radius[s];
-    vol[cell] += w;
-    mv[3 * cell] += w * p.vx[s]; mv[3 * cell + 1] += w * p.vy[s]; mv[3 * cell + 2] += w * p.vz[s];
+  // Each process deposits its own particles (Simulation::counted_runs) into exact sums
+  // (exact_sums.hpp) of one unit per quantity, from its largest term over the processes,
+  // and the sums are added up: the same cells on any number of processes, without the
+  // particles gathered.
+  const auto runs = sim.counted_runs();
+  auto each = [&](auto&& deposit) {
+    for (const auto& [i0, i1] : runs)
+      for (std::size_t s = i0; s < i1; ++s) {
+        const Vec3 x = sim.gas()->wrap(p.position(s));
+        const double c[3] = {x.x, x.y, x.z};
+        std::size_t cell = 0, stride = 1;
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          // A 2D grid has one layer of cells whatever z is.
+          const double q = a == 2 && g.two_d() ? 0.0 : std::floor((c[a] - g.lo(a)) / g.h(a));
+          inside = inside && q >= 0.0 && q < n[a];  // false for NaN too
+          cell += stride * (inside ? static_cast<std::size_t>(q) : 0);
+          stride *= static_cast<std::size_t>(n[a]);
+        }
+        // Weights r³: the volume up to a factor common to all particles.
+        if (inside) deposit(s, cell, p.radius[s] * p.radius[s] * p.radius[s]);
+      }
+  };
+  std::vector<double> largest(2, 0.0);  // of the weights, of a weight times a velocity component
+  each([&](std::size_t s, std::size_t, double w) {
+    largest[0] = std::max(largest[0], w);
+    largest[1] = std::max(largest[1], w * std::max({std::abs(p.vx[s]), std::abs(p.vy[s]), std::abs(p.vz[s])}));
+  });
+  sim.rank_max(largest);
+  const double count = static_cast<double>(std::max<std::size_t>(1, sim.particle_count()));
+  ExactSums vol, mom;
+  vol.reset(nc, largest[0], count * largest[0]);
+  mom.reset(3 * nc, largest[1], count * largest[1]);
+  each([&](std::size_t s, std::size_t cell, double w) {
+    vol.add(cell, w);
+    mom.add(3 * cell, w * p.vx[s]); mom.add(3 * cell + 1, w * p.vy[s]); mom.add(3 * cell + 2, w * p.vz[s]);
+  });
+  sim.add_up(vol);
+  sim.add_up(mom);
+  std::vector<double> mv(3 * nc, 0.0);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const double v = vol.value(c);
+    if (v > 0.0)
+      for (std::size_t a = 0; a < 3; ++a) mv[3 * c + a] = mom.value(3 * c + a) / v;
   }
-  for (std::size_t c = 0; c < nc; ++c)
-    if (vol[c] > 0.0)
-      for (int a = 0; a < 3; ++a) mv[3 * c + a] /= vol[c];
   return mv;
 }
 

@@ -47,8 +47,20 @@ void extent(const Simulation& sim, double t, Vec3& lo, Vec3& hi) {
     lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
     hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
   };
-  const ParticleStore& p = sim.written_particles();
-  for (std::size_t i = 0; i < p.size(); ++i) take(p.position(i));
+  // The particles' bounds: each process its own (Simulation::counted_runs), the largest
+  // over the processes (exact: the same on any number of them).
+  const ParticleStore& p = sim.local_particles();
+  Vec3 plo = lo, phi = hi;
+  for (const auto& [i0, i1] : sim.counted_runs())
+    for (std::size_t i = i0; i < i1; ++i) {
+      const Vec3 x = p.position(i);
+      plo = {std::min(plo.x, x.x), std::min(plo.y, x.y), std::min(plo.z, x.z)};
+      phi = {std::max(phi.x, x.x), std::max(phi.y, x.y), std::max(phi.z, x.z)};
+    }
+  std::vector<double> bounds = {-plo.x, -plo.y, -plo.z, phi.x, phi.y, phi.z};
+  sim.rank_max(bounds);
+  lo = {-bounds[0], -bounds[1], -bounds[2]};
+  hi = {bounds[3], bounds[4], bounds[5]};
   if (sim.gas()) {
     const fluid::StaggeredGrid& g = sim.gas()->grid();
     take({g.lo(0), g.lo(1), g.lo(2)});
@@ -78,7 +90,8 @@ void write_walls_vtp(const std::string& path, const Simulation& sim, vtk::Encodi
   const SceneSpec& s = sim.spec();
   Polygons g;
   Vec3 lo, hi;
-  extent(sim, t, lo, hi);
+  extent(sim, t, lo, hi);  // every process takes part
+  if (path.empty()) return;
   const bool any = lo.x <= hi.x;
   const Vec3 centre = any ? 0.5 * (lo + hi) : Vec3{};
   const double half = any ? std::max(0.55 * norm(hi - lo), 1e-3) : 1.0;
@@ -124,7 +137,7 @@ void write_walls_vtp(const std::string& path, const Simulation& sim, vtk::Encodi
     for (const auto& tri : m.triangles)
       g.polygon({first + tri[0], first + tri[1], first + tri[2]}, static_cast<int>(s.walls.size() + k), m.material);
   }
-  vtk::XmlFile f(encoding, "PolyData");
+  vtk::XmlFile f(path, encoding, "PolyData");
   f.open("<FieldData>");
   f.array("TIME", 1, std::vector<double>{t});
   std::vector<std::string> names, materials;
@@ -149,7 +162,7 @@ void write_walls_vtp(const std::string& path, const Simulation& sim, vtk::Encodi
   f.array("material", 1, g.material);
   f.close("</CellData>");
   f.close("</Piece>");
-  f.write(path);
+  f.write();
 }
 
 }  // namespace cdm

@@ -8,6 +8,7 @@
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "cdm/solver/checkpoint.hpp"
 #include "cdm/solver/io/durable_file.hpp"
@@ -39,82 +40,101 @@ std::vector<double> tuples(std::size_t n, int components, Get&& get) {
   return out;
 }
 
-/// The particles' centres as the points, in identity order (p.slot_of), whatever order
-/// the store keeps them in.
-void particle_points(vtk::XmlFile& f, const ParticleStore& p) {
-  f.open("<Points>");
-  f.array("position", 3, tuples(p.size(), 3, [&](std::size_t k, double* v) {
-    const std::size_t s = p.slot_of(k);
-    v[0] = p.x[s]; v[1] = p.y[s]; v[2] = p.z[s];
-  }));
-  f.close("</Points>");
+/// The array @p name of @p n values of type T, value k get(k), pushed a block at a time.
+template <class T, class Get>
+void generated(vtk::XmlFile& f, const std::string& name, vtk::XmlFile::Type type, std::size_t n, Get&& get) {
+  if (!f.writes()) return;
+  f.begin_array(name, type, 1, n);
+  std::vector<T> chunk;
+  constexpr std::size_t kChunk = 8192;
+  for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
+    chunk.clear();
+    for (std::size_t k = k0; k < std::min(n, k0 + kChunk); ++k) chunk.push_back(static_cast<T>(get(k)));
+    f.push(chunk.data(), chunk.size());
+  }
+  f.end_array();
+}
+
+/// The array @p name of the particles' values of @p arrays (one component each), in
+/// identity order: gathered to the writing process row by row (Simulation::written_rows,
+/// @p from_owners), never whole.
+void per_particle(vtk::XmlFile& f, const Simulation& sim, const std::string& name,
+                  const std::vector<const std::vector<double>*>& arrays, bool from_owners = false) {
+  const std::size_t m = arrays.size();
+  f.begin_array(name, vtk::XmlFile::Type::float64, static_cast<int>(m), sim.particle_count());
+  sim.written_rows(arrays, [&](std::size_t, const double* v) { f.push(v, m); }, from_owners);
+  f.end_array();
 }
 
 }  // namespace
 
 void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const ParticleStore& p = sim.written_particles();
+  // The contact forces first: where they cannot be evaluated by each process, the state
+  // is gathered to the writer for them.
+  const ContactForces fc = contact_forces(sim);
+  const bool owners = fc.from_owners;
+  const ParticleStore& p = sim.local_particles();
   const std::size_t n = p.size();
-  // Points in identity order (p.slot_of), whatever order the store keeps them in.
-  vtk::XmlFile f(encoding, "PolyData");
+  // Points in identity order (p.slot_of), whatever order the store keeps them in; each
+  // array streamed to the file as it is gathered.
+  vtk::XmlFile f(path, encoding, "PolyData");
   field_data(f, sim.time(), sim.spec().materials);
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
          "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
-  particle_points(f, p);
+  f.open("<Points>");
+  per_particle(f, sim, "position", {&p.x, &p.y, &p.z}, owners);
+  f.close("</Points>");
   f.open("<Verts>");
-  std::vector<std::int64_t> ids(n), offsets(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    ids[k] = static_cast<std::int64_t>(k);
-    offsets[k] = static_cast<std::int64_t>(k + 1);
-  }
-  f.array("connectivity", 1, ids);
-  f.array("offsets", 1, offsets);
+  using T = vtk::XmlFile::Type;
+  generated<std::int64_t>(f, "connectivity", T::int64, n, [](std::size_t k) { return k; });
+  generated<std::int64_t>(f, "offsets", T::int64, n, [](std::size_t k) { return k + 1; });
   f.close("</Verts>");
   f.open("<PointData Scalars=\"radius\" Vectors=\"velocity\">");
-  f.array("id", 1, ids);
-  std::vector<std::int32_t> material(n);
-  for (std::size_t k = 0; k < n; ++k) material[k] = p.material[p.slot_of(k)];
-  f.array("material", 1, material);
-  f.array("radius", 1, tuples(n, 1, [&](std::size_t k, double* v) { v[0] = p.radius[p.slot_of(k)]; }));
-  f.array("velocity", 3, tuples(n, 3, [&](std::size_t k, double* v) {
-    const std::size_t s = p.slot_of(k);
-    v[0] = p.vx[s]; v[1] = p.vy[s]; v[2] = p.vz[s];
-  }));
-  if (p.has_rotation())
-    f.array("angular_velocity", 3, tuples(n, 3, [&](std::size_t k, double* v) {
-      const std::size_t s = p.slot_of(k);
-      v[0] = p.wx[s]; v[1] = p.wy[s]; v[2] = p.wz[s];
-    }));
-  if (sim.contact()) f.array("contact_force", 3, contact_forces(sim));
+  generated<std::int64_t>(f, "id", T::int64, n, [](std::size_t k) { return k; });
+  // Every process holds every particle's material and radius.
+  generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[p.slot_of(k)]; });
+  generated<double>(f, "radius", T::float64, n, [&](std::size_t k) { return p.radius[p.slot_of(k)]; });
+  per_particle(f, sim, "velocity", {&p.vx, &p.vy, &p.vz}, owners);
+  if (p.has_rotation()) per_particle(f, sim, "angular_velocity", {&p.wx, &p.wy, &p.wz}, owners);
+  if (sim.contact()) per_particle(f, sim, "contact_force", {&fc.f[0], &fc.f[1], &fc.f[2]}, owners);
   f.close("</PointData>");
   f.close("</Piece>");
-  f.write(path);
+  f.write();
 }
 
 void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const ParticleStore& p = sim.written_particles();
-  const std::size_t n = p.size();
   const ContactNetwork net = contact_network(sim);
-  const std::size_t nc = net.overlap.size();
-  vtk::XmlFile f(encoding, "PolyData");
+  const bool owners = net.from_owners;
+  const std::size_t n = sim.particle_count(), nc = sim.rank_sum(net.overlap.size());
+  vtk::XmlFile f(path, encoding, "PolyData");
   field_data(f, sim.time());
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
          std::to_string(nc) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
-  particle_points(f, p);
+  const ParticleStore& p = sim.local_particles();
+  f.open("<Points>");
+  per_particle(f, sim, "position", {&p.x, &p.y, &p.z}, owners);
+  f.close("</Points>");
+  // Each process's contacts after the ranks below's, streamed to the writer.
+  using T = vtk::XmlFile::Type;
+  auto ordered = [&](const std::string& name, T type, int components, std::size_t tuples, const auto& mine) {
+    using V = typename std::decay_t<decltype(mine)>::value_type;
+    f.begin_array(name, type, components, tuples);
+    sim.ordered_to_writer(mine.data(), mine.size(), sizeof(V),
+                          [&](const void* d, std::size_t m) { f.push(static_cast<const V*>(d), m); });
+    f.end_array();
+  };
   f.open("<Lines>");
-  std::vector<std::int64_t> offsets(nc);
-  for (std::size_t c = 0; c < nc; ++c) offsets[c] = static_cast<std::int64_t>(2 * (c + 1));
-  f.array("connectivity", 1, net.pairs);
-  f.array("offsets", 1, offsets);
+  ordered("connectivity", T::int64, 1, 2 * nc, net.pairs);
+  generated<std::int64_t>(f, "offsets", T::int64, nc, [](std::size_t c) { return 2 * (c + 1); });
   f.close("</Lines>");
   f.open("<CellData Vectors=\"normal_force\">");
-  f.array("particles", 2, net.pairs);
-  f.array("normal_force", 3, net.normal);
-  f.array("tangential_force", 3, net.tangential);
-  f.array("overlap", 1, net.overlap);
+  ordered("particles", T::int64, 2, nc, net.pairs);
+  ordered("normal_force", T::float64, 3, nc, net.normal);
+  ordered("tangential_force", T::float64, 3, nc, net.tangential);
+  ordered("overlap", T::float64, 1, nc, net.overlap);
   f.close("</CellData>");
   f.close("</Piece>");
-  f.write(path);
+  f.write();
 }
 
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
@@ -125,7 +145,10 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
   char geometry[320];
   std::snprintf(geometry, sizeof geometry, "WholeExtent=\"0 %d 0 %d 0 %d\" Origin=\"%.16e %.16e %.16e\" Spacing=\"%.16e %.16e %.16e\"",
                 nx, ny, nz, g.lo(0), g.lo(1), g.lo(2), g.h(0), g.h(1), g.h(2));
-  vtk::XmlFile f(encoding, "ImageData", geometry);
+  // Each process adds its own particles to the solids velocity: every process takes part.
+  const std::vector<double> solids = sim.particle_count() ? solids_velocity(sim) : std::vector<double>();
+  if (path.empty()) return;
+  vtk::XmlFile f(path, encoding, "ImageData", geometry);
   field_data(f, sim.time());
   f.open("<Piece Extent=\"0 " + std::to_string(nx) + " 0 " + std::to_string(ny) + " 0 " + std::to_string(nz) + "\">");
   f.open("<CellData Vectors=\"velocity\">");
@@ -155,10 +178,10 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
       ijk(c, i, j, k);
       v[0] = gas.eps_g[g.at(i, j, k)];
     }));
-  if (sim.particle_count()) f.array("solids_velocity", 3, solids_velocity(sim));
+  if (sim.particle_count()) f.array("solids_velocity", 3, solids);
   f.close("</CellData>");
   f.close("</Piece>");
-  f.write(path);
+  f.write();
 }
 
 namespace {
@@ -224,35 +247,27 @@ void VtkObserver::operator()(const Simulation& sim) {
   if (k <= last_ && !last) return;
   if (k <= last_) k = last_ + 1;  // the final state, after the last sample
   last_ = k;
-  const auto held = sim.hold_contacts();  // for the contact forces and network, from every rank
-  sim.written_particles();                // the frame's state, gathered where it is written
-  if (!dir_.empty()) write(sim, k);
+  write(sim, k);
 }
 
 void VtkObserver::write(const Simulation& sim, long long k) {
+  // Every process makes each call (they gather to the writer, or add up over the
+  // processes); only one with a directory writes the files.
   char name[64];
-  std::snprintf(name, sizeof name, "vtk/particles_%06lld.vtp", k);
-  write_particles_vtp((fs::path(dir_) / name).string(), sim, encoding_);
-  particle_files_.emplace_back(sim.time(), name);
-  write_collection((fs::path(dir_) / "particles.pvd").string(), particle_files_);
-  if (contacts_) {
-    std::snprintf(name, sizeof name, "vtk/contacts_%06lld.vtp", k);
-    write_contacts_vtp((fs::path(dir_) / name).string(), sim, encoding_);
-    contact_files_.emplace_back(sim.time(), name);
-    write_collection((fs::path(dir_) / "contacts.pvd").string(), contact_files_);
-  }
-  if (walls_ && (walls_move_ || wall_files_.empty())) {
-    std::snprintf(name, sizeof name, "vtk/walls_%06lld.vtp", k);
-    write_walls_vtp((fs::path(dir_) / name).string(), sim, encoding_);
-    wall_files_.emplace_back(sim.time(), name);
-    write_collection((fs::path(dir_) / "walls.pvd").string(), wall_files_);
-  }
-  if (sim.gas()) {
-    std::snprintf(name, sizeof name, "vtk/gas_%06lld.vti", k);
-    write_gas_vti((fs::path(dir_) / name).string(), sim, encoding_);
-    gas_files_.emplace_back(sim.time(), name);
-    write_collection((fs::path(dir_) / "gas.pvd").string(), gas_files_);
-  }
+  auto frame = [&](const char* kind, const char* ext, auto&& write_file, std::vector<std::pair<double, std::string>>& files,
+                   const char* collection, bool due = true) {
+    std::snprintf(name, sizeof name, "vtk/%s_%06lld.%s", kind, k, ext);
+    const bool writes = due && !dir_.empty();
+    write_file(writes ? (fs::path(dir_) / name).string() : std::string(), sim, encoding_);
+    if (!writes) return;
+    files.emplace_back(sim.time(), name);
+    write_collection((fs::path(dir_) / collection).string(), files);
+  };
+  frame("particles", "vtp", write_particles_vtp, particle_files_, "particles.pvd");
+  if (contacts_) frame("contacts", "vtp", write_contacts_vtp, contact_files_, "contacts.pvd");
+  // With each frame where a wall moves, else once; every process takes part either way.
+  if (walls_) frame("walls", "vtp", write_walls_vtp, wall_files_, "walls.pvd", walls_move_ || wall_files_.empty());
+  if (sim.gas()) frame("gas", "vti", write_gas_vti, gas_files_, "gas.pvd");
 }
 
 void VtkObserver::write_collection(const std::string& path,

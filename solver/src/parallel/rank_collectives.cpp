@@ -241,6 +241,37 @@ void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>& ar
   }
 }
 
+void RankSplit::ordered_to_writer(const void* data, std::size_t count, std::size_t bytes,
+                                  const std::function<void(const void*, std::size_t)>& push) {
+  const auto size = static_cast<std::size_t>(size_);
+  std::uint64_t mine = count;
+  std::vector<std::uint64_t> counts(size);
+  mpi_check(MPI_Gather(&mine, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Gather");
+  const std::size_t per = std::max<std::size_t>(1, round_values() * sizeof(double) / bytes);
+  constexpr int tag = 21;
+  if (rank_ != 0) {
+    const auto* b = static_cast<const char*>(data);
+    for (std::size_t k = 0; k < count; k += per) {
+      const std::size_t m = std::min(per, count - k);
+      mpi_check(MPI_Send(b + k * bytes, mpi_count(m * bytes, "the records sent to the writer"), MPI_BYTE, 0, tag,
+                         MPI_COMM_WORLD),
+                "MPI_Send");
+    }
+    return;
+  }
+  if (count) push(data, count);
+  std::vector<char> piece;
+  for (std::size_t r = 1; r < size; ++r)
+    for (std::uint64_t k = 0; k < counts[r]; k += per) {
+      const auto m = static_cast<std::size_t>(std::min<std::uint64_t>(per, counts[r] - k));
+      piece.resize(m * bytes);
+      mpi_check(MPI_Recv(piece.data(), mpi_count(piece.size(), "the records sent to the writer"), MPI_BYTE,
+                         static_cast<int>(r), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                "MPI_Recv");
+      push(piece.data(), m);
+    }
+}
+
 void RankSplit::share_contact_records(VerletList& list, bool to_writer) {
   if (meshes_)
     join_own(meshes_->contacts(), [](const MeshContacts::Contact& c) { return c.particle; },
@@ -348,6 +379,10 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) { a.pu
 void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>&, std::size_t,
                                const std::function<std::size_t(std::size_t)>&,
                                const std::function<void(std::size_t, const double*)>&) {
+  throw std::logic_error("RankSplit without MPI");
+}
+void RankSplit::ordered_to_writer(const void*, std::size_t, std::size_t,
+                                  const std::function<void(const void*, std::size_t)>&) {
   throw std::logic_error("RankSplit without MPI");
 }
 double RankSplit::max(double x) const { return x; }

@@ -31,12 +31,16 @@
 /// positions and impulses deposited at every step where the particles are fewer than the
 /// cells they reach); what rank 0 alone writes streams to it as it writes (a checkpoint's
 /// per-particle arrays, put_gathered, with the contacts kept per particle beside them,
-/// records_to_writer; the particle table's rows, rows_to_writer), or for VTK frames is
-/// gathered to rank 0 alone (gather_to_writer); what sums over the particles (the run log, the
-/// monitors, the outlets' table) reads each rank's own instead, added up
-/// (Simulation::counted_runs, counted_sums.hpp). The pairs' history stays with the
-/// pairs' ranks, and is gathered (gather_contacts) only for what reads the whole list:
-/// the checkpoint and the contact-force and contact-network outputs. Before the
+/// records_to_writer; the particle table's and a VTK frame's rows, rows_to_writer, with
+/// each rank's own particles' contact forces evaluated by a copy of its part of the list,
+/// its ghosts brought to the same state, and its own slabs' contacts for the contact
+/// network, ordered_to_writer: output_fields.hpp); what sums over the particles (the run
+/// log, the monitors, the outlets' table, a gas frame's solids velocity) reads each rank's
+/// own instead, added up (Simulation::counted_runs, counted_sums.hpp). The pairs' history
+/// stays with the pairs' ranks, and is gathered (gather_contacts) only for the checkpoint,
+/// and for a VTK frame whose list changed since the step's update (an insertion or a
+/// removal between them), which is gathered to rank 0 alone (gather_to_writer) and
+/// evaluated there from the whole list. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
 /// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
 /// per slab summed over the ranks, and each pair, and each pair contact's history, goes
@@ -94,7 +98,7 @@
 ///
 /// Limits: memory is divided for the pair list and the particles' state but their
 /// positions, radii, masses and identities (each rank holds those of all the particles,
-/// and the whole gas; rank 0 gathers the whole state for a VTK frame), the gas step's
+/// and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
@@ -200,7 +204,8 @@ class RankSplit final : public SearchShare {
   /// @p for_build: the list is built next, which reads the positions only, so only those
   /// are sent; assign() then moves the rest with the particles that change owner.
   void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
-  /// Rank 0, which writes what reads the whole state (VTK frames), gets all of it as
+  /// Rank 0, which writes what reads the whole state (a VTK frame whose list changed since
+  /// the step's update: output_fields.hpp), gets all of it as
   /// synchronise() gives every rank; the others send
   /// their own particles and keep their state as it is. Called on every rank alike; a
   /// no-op while rank 0 holds the whole state already.
@@ -225,6 +230,13 @@ class RankSplit final : public SearchShare {
   void rows_to_writer(const std::vector<const std::vector<double>*>& arrays, std::size_t n,
                       const std::function<std::size_t(std::size_t)>& slot_of,
                       const std::function<void(std::size_t, const double*)>& row);
+  /// Rank 0 gets each rank's @p count records of @p bytes each at @p data, rank after
+  /// rank (its own first), round_values() doubles' worth at a time, and passes each piece
+  /// to @p push(records, count) in that order; the other ranks pass none. For what each
+  /// rank holds of its own slabs in the one-rank order (the contact network), written by
+  /// rank 0 without holding it all. Called on every rank alike.
+  void ordered_to_writer(const void* data, std::size_t count, std::size_t bytes,
+                         const std::function<void(const void*, std::size_t)>& push);
   /// Every rank gets every particle's values of @p arrays (per-particle arrays), each
   /// from the rank that owns it; nothing else changes.
   void gather(const std::vector<std::vector<double>*>& arrays);

@@ -75,9 +75,9 @@ class Simulation : private integrators::StepHost {
   /// there; on several processes the others' may be stale. For what is summed over the
   /// particles, each process its own part, and added up (counted_sums.hpp).
   const ParticleStore& local_particles() const;
-  /// The particles at time() for what process 0 writes whole (VTK frames, with the
-  /// contact forces evaluated afresh): all of them current on process 0; on the others
-  /// only those of counted_runs(). A collective call when several processes share the
+  /// The particles at time() for what process 0 writes whole (a VTK frame's contacts
+  /// where the list has changed since the step's update: output_fields.hpp): all of them
+  /// current on process 0; on the others only those of counted_runs(). A collective call when several processes share the
   /// particles: every process makes it, then process 0 may read them again (no call
   /// after the first gathers until the state moves on).
   const ParticleStore& written_particles() const;
@@ -86,8 +86,34 @@ class Simulation : private integrators::StepHost {
   /// arrays), on process 0 only. Where the processes share the particles they are
   /// gathered in rounds, each from its owner: process 0 does not hold the whole state for
   /// it. A collective call when several processes share the particles.
+  /// With @p from_owners the values are gathered from each particle's owner even where
+  /// process 0 holds the whole state: for arrays each process fills for its own
+  /// particles only (own_contacts_current()).
   void written_rows(const std::vector<const std::vector<double>*>& arrays,
-                    const std::function<void(std::size_t, const double*)>& row) const;
+                    const std::function<void(std::size_t, const double*)>& row, bool from_owners = false) const;
+  /// Whether each process can evaluate its own particles' contacts at time() with a copy
+  /// of the contact module as it stands (ContactModule::add_listed_forces): nothing has
+  /// changed the list since the step's update (VerletList::current_for) and, where the
+  /// processes share it, its slabs are dealt out for its current build. The same on every
+  /// process. Where it holds, own_with_ghosts() gives the state to evaluate.
+  bool own_contacts_current() const;
+  /// For records process 0 writes in the one-rank order of which each process holds its
+  /// own part, in order (the contact network): @p push(records, count) on process 0 with
+  /// its own @p count records of @p bytes each at @p data, then each other process's in
+  /// rank order, a round at a time (RankSplit::ordered_to_writer). A collective call when
+  /// several processes share the particles.
+  void ordered_to_writer(const void* data, std::size_t count, std::size_t bytes,
+                         const std::function<void(const void*, std::size_t)>& push) const {
+    if (ranks_) ranks_->ordered_to_writer(data, count, bytes, push);
+    else if (count) push(data, count);
+  }
+  /// Whether this process is the one written_rows() gives the rows to (process 0, or the
+  /// only one).
+  bool writes_rows() const { return !ranks_ || ranks_->share_rank() == 0; }
+  /// local_particles(), and the ghosts (the neighbouring ranks' boundary slabs) brought
+  /// to the same completed state, so that a copy of the contact module evaluates this
+  /// process's particles' contacts as a step does. A collective call.
+  const ParticleStore& own_with_ghosts() const;
   /// The runs of slots [first, last) whose terms this process adds to a sum over the
   /// particles, so that over the processes each particle counts once: every particle on
   /// one process; among processes sharing the particles, this one's own; where each moves

@@ -60,6 +60,15 @@ class ContactModule final : public ForceModule {
                 bool record_normal_forces = false);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
+  /// The contacts' forces as listed, without updating the list, which must be current
+  /// for @p p (a copy of the run's module evaluating the state a step left, for output:
+  /// listed_current()). Among MPI processes each evaluates its own particles', as a step
+  /// does (a collective call).
+  void add_listed_forces(ParticleStore& p);
+  /// A copy for add_listed_forces(): the list's pairs, history and wall entries, not its
+  /// build positions (VerletList::copy_without_build_positions), so that it cannot be
+  /// updated.
+  ContactModule evaluation_copy() const;
 
   /// The Verlet list the loops run over: Simulation asks it when to rebuild and sort,
   /// and an integrator that measures the particles' drift tells it (VerletList).
@@ -148,6 +157,8 @@ class ContactModule final : public ForceModule {
   void dispatch(ParticleStore& p, double dt);
   template <bool Friction, LawsPresent L, bool Record>
   void add_forces_impl(ParticleStore& p, double dt);
+  /// The forces of the list as it stands (@p walls_listed: its wall entries are new).
+  void evaluate(ParticleStore& p, double dt, bool walls_listed);
   /// The mesh contacts (mesh_contacts.hpp), after the plane walls, with the pair loop's laws.
   template <bool Friction, LawsPresent L, class Resolve, class Hertz, class StepVel, class StepSpin>
   void mesh_pass(ParticleStore& p, Resolve& resolve, Hertz& hertz, StepVel& step_velocity,

@@ -103,6 +103,13 @@ class VerletList {
   bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
   /// Whether a list has been built for @p n particles, so that displacement() applies.
   bool listed(std::size_t n) const { return x0_.size() == n; }
+  /// Whether the list stands as the last update left it for @p p's particles: built for
+  /// them, no loaded pairs or wall entries to list again, no wall moved away since
+  /// (ContactModule::add_listed_forces may evaluate it as it is).
+  bool current_for(const ParticleStore& p) const {
+    return built_ && listed(p.size()) && !pairs_pending_ && !wall_candidates_stale_ && !wall_carry_pending_ &&
+           !walls_moved_away();
+  }
   /// Particle i's squared displacement [m^2] since the last build; along a periodic axis
   /// a particle may have wrapped since, so it is the nearest image of the jump. For an
   /// integrator that measures as it moves the particles (set_displacement); the list
@@ -118,6 +125,23 @@ class VerletList {
   /// The positions [m] at the last build, per axis (listed(n) particles), for an
   /// integrator that measures displacement() in a loop of its own.
   const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
+  /// A copy of the list without its build positions, which an evaluation of the pairs as
+  /// listed does not read (ContactModule::evaluation_copy): it would otherwise cost every
+  /// particle's 24 B on every process that makes one.
+  VerletList copy_without_build_positions() const {
+    VerletList& self = const_cast<VerletList&>(*this);
+    std::vector<double> x0, y0, z0;
+    x0.swap(self.x0_); y0.swap(self.y0_); z0.swap(self.z0_);
+    auto back = [&] { x0.swap(self.x0_); y0.swap(self.y0_); z0.swap(self.z0_); };
+    try {
+      VerletList copy(*this);
+      back();
+      return copy;
+    } catch (...) {
+      back();
+      throw;
+    }
+  }
   /// The largest displacement() over the particles, at the current positions, measured
   /// by the integrator in its own pass: the next update takes it instead of a pass of
   /// its own. Used once; ignored if negative. The drift bound (displacement_needed)

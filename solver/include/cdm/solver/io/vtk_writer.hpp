@@ -50,7 +50,10 @@ struct VtkMark {
 /// (@p resume); without them in OUTDIR it starts new collections. Every file is written
 /// atomically (temporary file, fsync, rename); failures throw OutputError. With an empty
 /// OUTDIR nothing is written: each sample only reads the particles (among MPI processes,
-/// those other than rank 0 thus gather the state at the same steps as rank 0).
+/// those other than rank 0 thus take part in each frame as rank 0 writes it: they send
+/// their particles' values, rows_to_writer, and add up what sums over them).
+/// The write_* functions below are collective calls when several processes share the
+/// particles; a process given an empty path writes nothing.
 class VtkObserver {
  public:
   VtkObserver(const std::string& out_dir, const Simulation& sim, std::optional<VtkMark> resume = std::nullopt);
