@@ -81,18 +81,20 @@ done
 # Logged every 1e-5 s (about every 6 steps; each process sums its own particles and
 # pairs for a line, without a gather): the chute on 2 processes.
 shared "chute logged often" 2 "${chute[@]}" --set output.log_interval=1.0e-5
-# VTK frames every 1e-5 s (about every 6 steps; each frame gathers the whole state), so
-# that list builds fall on steps that follow a gather: a shallower chute on 2 processes.
+# VTK frames every 1e-5 s (about every 6 steps; for each, every process evaluates its own
+# particles' contacts after bringing its ghosts to the frame's state), so that list builds
+# fall on steps that follow a frame: a shallower chute on 2 processes.
 shared "chute gathered often" 2 "${chute[@]}" --set 'lattices[1].count=[20,10,5]' --set integrator.end_time=0.004 \
   --set output.particles=false --set output.vtk=true --set output.interval=1.0e-5
 
 # Gathered in rounds of 600 values (CDM_MPI_ROUND_VALUES): the flowing chute's state in
 # rounds of a few particles, at each build the history of its pairs in contact in
-# rounds of 100 pairs per process, and its checkpoints' arrays streamed to the writer
-# 600 slots at a time.
+# rounds of 100 pairs per process, its checkpoints' arrays streamed to the writer 600
+# slots at a time, and its VTK frames' arrays and contacts 600 values' worth at a time.
 small_rounds=("${launch[@]}")
 launch+=(-x CDM_MPI_ROUND_VALUES=600)
-shared "chute gathered in small rounds" 2 "${chute[@]}" --set output.checkpoint_interval=0.01
+shared "chute gathered in small rounds" 2 "${chute[@]}" --set output.checkpoint_interval=0.01 \
+  --set output.vtk=true --set output.contacts=true
 launch=("${small_rounds[@]}")
 
 # 20,000 particles: their whole state (about 40 values each, with the wall history) is
