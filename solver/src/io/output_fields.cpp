@@ -51,29 +51,29 @@ std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, Conta
 }
 }  // namespace
 
-ContactForces contact_forces(const Simulation& sim) {
-  ContactForces out;
-  if (!sim.contact()) return out;
+namespace {
+/// Calls @p evaluate(p, probe, listed) with the state and the copy of the contact module
+/// a frame's contacts are evaluated with, and returns whether each process evaluated its
+/// own (Simulation::own_contacts_current: its part of the list as the step left it,
+/// its ghosts brought to the frame's state; the same sums as one process's). Otherwise
+/// the whole state and the whole list's contacts go to process 0, which lists every pair
+/// again and alone evaluates them. A collective call.
+template <class Evaluate>
+bool with_probe(const Simulation& sim, Evaluate&& evaluate) {
   if (sim.own_contacts_current()) {
-    // Each process its own particles', with its slabs' pairs and the shadow slab's, in
-    // the step's order: the same sums as one process's (which evaluates them all).
     const ParticleStore& p = sim.own_with_ghosts();
     ContactModule probe = sim.contact()->evaluation_copy();
-    std::array<std::vector<double>, 6> fc = probe_forces(p, probe, true);
-    for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
-    out.from_owners = true;
-    return out;
+    evaluate(p, probe, true);
+    return true;
   }
   const auto held = sim.hold_contacts();  // for the copy's list, from every process
   const ParticleStore& p = sim.written_particles();
-  if (!sim.writes_rows()) return out;
+  if (!sim.writes_rows()) return false;
   ContactModule probe = probe_of(sim);
-  std::array<std::vector<double>, 6> fc = probe_forces(p, probe);
-  for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
-  return out;
+  evaluate(p, probe, false);
+  return false;
 }
 
-namespace {
 /// The contacts of @p probe's pairs at @p p (evaluated as probe_forces(@p listed) does),
 /// in list order, but those of the shadow slab, which the rank below writes.
 ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool listed) {
@@ -102,21 +102,24 @@ ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool lis
 }
 }  // namespace
 
+ContactForces contact_forces(const Simulation& sim) {
+  ContactForces out;
+  if (!sim.contact()) return out;
+  out.from_owners = with_probe(sim, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
+    std::array<std::vector<double>, 6> fc = probe_forces(p, probe, listed);
+    for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
+  });
+  return out;
+}
+
 ContactNetwork contact_network(const Simulation& sim) {
-  if (!sim.contact()) return {};
-  if (sim.own_contacts_current()) {
-    // Each process its own slabs' pairs, as contact_forces() evaluates them.
-    const ParticleStore& p = sim.own_with_ghosts();
-    ContactModule probe = sim.contact()->evaluation_copy();
-    ContactNetwork net = network_of(p, probe, true);
-    net.from_owners = true;
-    return net;
-  }
-  const auto held = sim.hold_contacts();  // for the copy's list, from every process
-  const ParticleStore& p = sim.written_particles();
-  if (!sim.writes_rows()) return {};
-  ContactModule probe = probe_of(sim);
-  return network_of(p, probe, false);
+  ContactNetwork net;
+  if (!sim.contact()) return net;
+  const bool own = with_probe(sim, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
+    net = network_of(p, probe, listed);
+  });
+  net.from_owners = own;
+  return net;
 }
 
 std::vector<double> wall_forces(const Simulation& sim) {
