@@ -160,6 +160,16 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
   forces_valid_ = true;
 }
 
+void Simulation::list_first() {
+  if (!contact_ || contact_->list().built()) return;
+  // The first build as the first step's forces would make it (compute_forces), with
+  // nothing evaluated: each process holds the whole state until it.
+  contact_->set_time(time_);
+  if (ranks_) synchronise_ranks(true);
+  sort_if_due();
+  contact_->update_list(particles_);
+}
+
 RunGuards Simulation::guards() const { return {spec_, particles_, gas_.get(), contact_, drag_}; }
 
 void Simulation::check_state(double nonfinite) const {
@@ -270,7 +280,10 @@ void Simulation::gas_step() {
 }
 
 void Simulation::run(const std::function<void(const Simulation&)>& observer, const std::function<bool()>& stop) {
-  if (observer && !restarted_) observer(*this);
+  if (observer && !restarted_) {
+    list_first();
+    observer(*this);
+  }
   while (steps_ < total_steps_) {
     step();
     if (observer) observer(*this);

@@ -36,10 +36,14 @@ void ContactModule::permute(const std::vector<std::uint32_t>& from) {
 void ContactModule::add_forces(ParticleStore& p, double dt) {
   worst_ = {};
   n_active_ = 0;
+  evaluate(p, dt, update_list(p).walls_listed);
+}
+
+VerletList::Update ContactModule::update_list(ParticleStore& p) {
   const VerletList::Update u = list_.update(p);
   if (ranks_ && (u.rebuilt || !ranks_->assigned_for(list_.builds()))) ranks_->assign(list_, p);
   if (u.rebuilt) damping_stale_ = true;
-  evaluate(p, dt, u.walls_listed);
+  return u;
 }
 
 void ContactModule::evaluate(ParticleStore& p, double dt, bool walls_listed) {

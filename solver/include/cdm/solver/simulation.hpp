@@ -191,8 +191,9 @@ class Simulation : private integrators::StepHost {
   /// or when the particles are read, whichever comes first. Either way the arithmetic
   /// is the same, so results do not depend on when the state is read.
   void step();
-  /// Run to end_time, calling @p observer at t = 0 (not after a restart) and after every
-  /// step; @p stop is polled after each step and ends the run early when it returns true.
+  /// Run to end_time, calling @p observer at t = 0 (not after a restart; the contact
+  /// list built first, list_first) and after every step; @p stop is polled after each
+  /// step and ends the run early when it returns true.
   void run(const std::function<void(const Simulation&)>& observer = {},
            const std::function<bool()>& stop = {});
 
@@ -211,6 +212,11 @@ class Simulation : private integrators::StepHost {
   }
   void fail_not_finite() const override;
 
+  /// Before the output at the start: the contact list's first build, and the particles'
+  /// first sort, as the first step would do them from the same positions, so that the
+  /// output reads the run's own list (and among MPI processes each process its own part
+  /// of it, as at any later step) instead of a copy listing every pair again.
+  void list_first();
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
   void sort_if_due();

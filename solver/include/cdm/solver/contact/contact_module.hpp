@@ -60,6 +60,11 @@ class ContactModule final : public ForceModule {
                 bool record_normal_forces = false);
   std::string name() const override;
   void add_forces(ParticleStore& p, double dt) override;
+  /// The list made valid for @p p's positions as add_forces() makes it (built when due,
+  /// the slabs dealt out among MPI processes), without evaluating the contacts: the first
+  /// build, ahead of the first step, so that the output at the start reads the run's own
+  /// list (Simulation::run). Returns what the list's update did.
+  VerletList::Update update_list(ParticleStore& p);
   /// The contacts' forces as listed, without updating the list, which must be current
   /// for @p p (a copy of the run's module evaluating the state a step left, for output:
   /// listed_current()). Among MPI processes each evaluates its own particles', as a step
