@@ -31,3 +31,30 @@ done
   --set 'meshes[0].motion={ type = "rotation", origin = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], angular_velocity = 10.0 }' \
   --set 'lattices[0].count=[5, 5, 2]' --set integrator.end_time=0.004 --set output.interval=0.001 >> "$work/run.log"
 /usr/bin/python3 "$src/tests/vtk/check_vtk_walls.py" "$work/walls" "$work/mesh" 10.0 "$work/binary"
+
+# Writing a frame leaves the run as it was: each frame's contact forces (and the
+# contacts, and the wall-force monitors, sampled at the same steps) are evaluated on the
+# run's own lists, reading the tangential springs, wall entries, rolling state and mesh
+# contacts without advancing them. The particle table, to the last bit, is the same
+# with and without them.
+walls_x_z='monitors=[{ name = "x", type = "wall_force", axis = "x" }, { name = "z", type = "wall_force", axis = "z" }]'
+# unchanged NAME SCENE MONITORS ARGS...: the table with frames, contacts and MONITORS (a
+# --set of the wall-force monitors, where the scene has walls) against the table without.
+unchanged() {
+  local name=$1 scene=$2 monitors=$3; shift 3
+  "$cdm" run "$scene" -o "$work/$name.with" -q --set output.particles=true --set output.vtk=true \
+    --set output.contacts=true --set output.log_interval=0.001 --set "$monitors" "$@" >> "$work/run.log"
+  "$cdm" run "$scene" -o "$work/$name.without" -q --set output.particles=true "$@" >> "$work/run.log"
+  if ! cmp -s "$work/$name.with/particles.dat" "$work/$name.without/particles.dat"; then
+    echo "FAIL: $name: the particle table differs with VTK frames, contacts and wall-force monitors written"
+    diff "$work/$name.with/particles.dat" "$work/$name.without/particles.dat" | head -4
+    exit 1
+  fi
+}
+unchanged settle "$work/settle2k.toml" "$walls_x_z"
+unchanged walls "$src/tests/cli/scenes/moving_walls.toml" "$walls_x_z" --set 'random_particles[0].count=600' \
+  --set integrator.end_time=0.004 --set output.interval=0.0005
+unchanged mesh "$src/tests/cli/scenes/mesh_pile.toml" output.log_interval=0.001 \
+  --set 'meshes[0].motion={ type = "rotation", origin = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], angular_velocity = 10.0 }' \
+  --set 'lattices[0].count=[5, 5, 2]' --set integrator.end_time=0.004 --set output.interval=0.0005
+echo "frames, contacts and wall-force monitors leave the run unchanged: settle, moving walls with rolling, a rotating mesh"

@@ -98,32 +98,6 @@ void ContactModule::set_ranks(RankSplit* r) {
   if (!r) list_.clear_rank_slabs();
 }
 
-void ContactModule::save_state(OutArchive& a) const {
-  a.put(static_cast<std::uint8_t>(list_.built()));
-  a.put(static_cast<std::uint64_t>(list_.builds()));
-  a.put(static_cast<std::uint64_t>(n_active_));
-  a.put(worst_.ratio); a.put(worst_.particle); a.put(worst_.partner);  // field by field: no padding bytes
-  list_.save_state(a);
-  if (mesh_) mesh_->save_state(a);
-}
-
-void ContactModule::load_state(InArchive& a) {
-  std::uint8_t built = 0;
-  std::uint64_t builds = 0, active = 0;
-  a.get(built); a.get(builds); a.get(active);
-  a.get(worst_.ratio); a.get(worst_.particle); a.get(worst_.partner);
-  list_.load_state(a, built != 0, builds);
-  if (mesh_) mesh_->load_state(a);
-  n_active_ = active;
-  damping_stale_ = true;
-}
-
-std::string ContactModule::wall_name(long partner) const {
-  const auto w = static_cast<std::size_t>(-1 - partner);
-  if (w < walls().size()) return "wall '" + walls()[w].name + "'";
-  return "mesh '" + mesh_->meshes()[w - walls().size()].name + "'";
-}
-
 void ContactModule::tabulate_damping(const ParticleStore& p) {
   // Masses change only when particles are added, and that rebuilds the list.
   damping_stale_ = false;
@@ -155,6 +129,19 @@ namespace {
 [[gnu::always_inline]] inline contact::hertz_mindlin::Params hertz_params(const PairParams& pp) {
   return {pp.e_star, pp.g_star, pp.hertz_alpha, pp.etat_hertz_factor, pp.mu};
 }
+
+/// A contact's history as the force law reads and advances it: the list's own, or with
+/// @p keep (ContactModule::probe_listed) @p copy of it, so that the list's stays as it is.
+struct HistoryCopy {
+  Vec3 delta_t;
+  std::uint8_t touching;
+};
+[[gnu::always_inline]] inline contact::TangentialSlot history_slot(Vec3* h, std::uint8_t* t, bool keep,
+                                                                   HistoryCopy& copy) {
+  if (!keep) return {h, t};
+  copy = {*h, *t};
+  return {&copy.delta_t, &copy.touching};
+}
 }  // namespace
 
 template <bool Friction, ContactModule::LawsPresent L, bool Record>
@@ -172,6 +159,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     return contact::linear_spring_dashpot::force<Friction>(linear_params(pp), eta_n_lin, g, dt, slot);
   };
   constexpr bool record = Record;
+  // A probe's evaluation (always a recording one) leaves every history as it is.
+  const bool keep = record && keep_history_;
   // Velocities the positions moved with over the last step, where the integrator keeps
   // them apart from v (velocity Verlet); before the first step, v itself.
   const bool step_vel = Friction && step_.vx && step_.vx->size() == p.size() &&
@@ -256,7 +245,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         hit[nhit] = k; hdx[nhit] = d.x; hdy[nhit] = d.y; hdz[nhit] = d.z;
         nhit += touching;
         if constexpr (Friction)  // contact over: history forgotten
-          TOUCH[k] &= static_cast<std::uint8_t>(-static_cast<int>(touching));
+          if (!keep) TOUCH[k] &= static_cast<std::uint8_t>(-static_cast<int>(touching));
         if constexpr (record) FN[k] = -1.0;  // overwritten below if in contact
       }
       active += nhit;
@@ -303,7 +292,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         }
         const double r_star = L == LawsPresent::linear ? 0.0 : ri * rj / (ri + rj);
         contact::TangentialSlot slot;
-        if constexpr (Friction) slot = {HIST + k, TOUCH + k};
+        HistoryCopy copy;
+        if constexpr (Friction) slot = history_slot(HIST + k, TOUCH + k, keep, copy);
         const contact::ContactForce c = resolve(pp, m_eff, eta_n, r_star, {overlap, eta, vrel, vrel_step}, slot);
         const Vec3 f = c.total, ft = c.tangential;
         if constexpr (record) {
@@ -408,7 +398,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     // Against a wall R* = R_i and m* = m_i.
     const double eta_n = !hertz(pp) ? normal_damping(pp, p.mass[i]) : 0.0;
     contact::TangentialSlot slot;
-    if constexpr (Friction) slot = {WHIST + q, WTOUCH + q};
+    HistoryCopy copy;
+    if constexpr (Friction) slot = history_slot(WHIST + q, WTOUCH + q, keep, copy);
     const contact::ContactForce cf = resolve(pp, p.mass[i], eta_n, p.radius[i], {overlap, eta, vrel, vrel_step}, slot);
     const Vec3 f = cf.total, ft = cf.tangential;
     if constexpr (record) {
@@ -446,7 +437,8 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
         }
         const double overlap = p.radius[i] - g.gap;
         if (overlap <= 0.0) {
-          if constexpr (Friction) WTOUCH[q] = 0;
+          if constexpr (Friction)
+            if (!keep) WTOUCH[q] = 0;
           if constexpr (record) fn_wall_[q] = -1.0;
           continue;
         }

@@ -52,33 +52,36 @@ std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, Conta
 }  // namespace
 
 namespace {
-/// Calls @p evaluate(p, probe, listed) with the state and the copy of the contact module
-/// a frame's contacts are evaluated with, and returns whether each process evaluated its
-/// own (Simulation::own_contacts_current: its part of the list as the step left it,
-/// its ghosts brought to the frame's state; the same sums as one process's). Otherwise
-/// the whole state and the whole list's contacts go to process 0, which lists every pair
-/// again and alone evaluates them. A collective call.
+/// Calls @p evaluate(p, probe, listed) with the state and the contact module a frame's
+/// contacts are evaluated with, recording their forces (with @p vectors the force
+/// vectors), and returns whether each process evaluated its own. It does where the
+/// list stands as the step left it (Simulation::own_contacts_current): each process
+/// evaluates its part of the run's own list, its ghosts brought to the frame's state,
+/// leaving the run as it was (ContactModule::probe_listed; the same sums as one
+/// process's). Otherwise the whole state and the whole list's contacts go to process 0,
+/// where a copy of the module lists every pair again and evaluates them. A collective
+/// call.
 template <class Evaluate>
-bool with_probe(const Simulation& sim, Evaluate&& evaluate) {
+bool with_probe(const Simulation& sim, bool vectors, Evaluate&& evaluate) {
   if (sim.own_contacts_current()) {
     const ParticleStore& p = sim.own_with_ghosts();
-    ContactModule probe = sim.contact()->evaluation_copy();
-    evaluate(p, probe, true);
+    auto& run = const_cast<ContactModule&>(*sim.contact());  // put back as it was
+    run.probe_listed(vectors, [&](ContactModule& probe) { evaluate(p, probe, true); });
     return true;
   }
   const auto held = sim.hold_contacts();  // for the copy's list, from every process
   const ParticleStore& p = sim.written_particles();
   if (!sim.writes_rows()) return false;
   ContactModule probe = probe_of(sim);
+  probe.set_recording(vectors);
   evaluate(p, probe, false);
   return false;
 }
 
-/// The contacts of @p probe's pairs at @p p (evaluated as probe_forces(@p listed) does),
-/// in list order, but those of the shadow slab, which the rank below writes.
+/// The contacts of @p probe's pairs at @p p (evaluated as probe_forces(@p listed) does,
+/// recording the force vectors), in list order, but those of the shadow slab, which the rank below writes.
 ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool listed) {
   ContactNetwork net;
-  probe.set_recording(true);
   probe_forces(p, probe, listed);
   const VerletList& list = probe.list();
   const std::size_t shadow = list.shadow_slab();
@@ -105,7 +108,7 @@ ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool lis
 ContactForces contact_forces(const Simulation& sim) {
   ContactForces out;
   if (!sim.contact()) return out;
-  out.from_owners = with_probe(sim, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
+  out.from_owners = with_probe(sim, false, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
     std::array<std::vector<double>, 6> fc = probe_forces(p, probe, listed);
     for (std::size_t a = 0; a < 3; ++a) out.f[a].swap(fc[a]);
   });
@@ -115,7 +118,7 @@ ContactForces contact_forces(const Simulation& sim) {
 ContactNetwork contact_network(const Simulation& sim) {
   ContactNetwork net;
   if (!sim.contact()) return net;
-  const bool own = with_probe(sim, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
+  const bool own = with_probe(sim, true, [&](const ParticleStore& p, ContactModule& probe, bool listed) {
     net = network_of(p, probe, listed);
   });
   net.from_owners = own;
@@ -125,23 +128,34 @@ ContactNetwork contact_network(const Simulation& sim) {
 std::vector<double> wall_forces(const Simulation& sim) {
   if (!sim.contact()) return {};
   // Each process evaluates the wall contacts on the state it holds and sums its own
-  // particles' forces (Simulation::counted_runs); the sums are added up.
+  // particles' forces (Simulation::counted_runs); the sums are added up. The run's module
+  // does, as a frame's contacts (with_probe), where its list is current.
   const ParticleStore& p = sim.local_particles();
+  std::vector<double> sums;
+  auto sum_walls = [&](ContactModule& probe, bool listed) {
+    probe_forces(p, probe, listed);
+    const VerletList& list = probe.list();
+    const std::vector<double>& fn = probe.wall_normal_force();
+    const std::vector<double>& fv = probe.wall_force();
+    // A particle's entries name each wall once: one term per particle in each sum.
+    sums = counted_sums(sim, 3 * probe.walls().size(), [&](std::size_t i, auto&& add) {
+      const auto [q0, q1] = list.wall_entries(static_cast<std::uint32_t>(i));
+      for (std::uint32_t q = q0; q < q1; ++q) {
+        if (fn[q] < 0.0) continue;
+        const std::size_t w = list.wall_ids()[q];
+        for (std::size_t a = 0; a < 3; ++a) add(3 * w + a, fv[3 * q + a]);
+      }
+    });
+  };
+  if (sim.own_contacts_current()) {
+    auto& run = const_cast<ContactModule&>(*sim.contact());  // put back as it was
+    run.probe_listed(true, [&](ContactModule& probe) { sum_walls(probe, true); });
+    return sums;
+  }
   ContactModule probe = probe_of(sim, false);
   probe.set_recording(true);
-  probe_forces(p, probe);
-  const VerletList& list = probe.list();
-  const std::vector<double>& fn = probe.wall_normal_force();
-  const std::vector<double>& fv = probe.wall_force();
-  // A particle's entries name each wall once: one term per particle in each sum.
-  return counted_sums(sim, 3 * probe.walls().size(), [&](std::size_t i, auto&& add) {
-    const auto [q0, q1] = list.wall_entries(static_cast<std::uint32_t>(i));
-    for (std::uint32_t q = q0; q < q1; ++q) {
-      if (fn[q] < 0.0) continue;
-      const std::size_t w = list.wall_ids()[q];
-      for (std::size_t a = 0; a < 3; ++a) add(3 * w + a, fv[3 * q + a]);
-    }
-  });
+  sum_walls(probe, false);
+  return sums;
 }
 
 std::vector<double> solids_velocity(const Simulation& sim) {

@@ -32,8 +32,9 @@
 /// cells they reach); what rank 0 alone writes streams to it as it writes (a checkpoint's
 /// per-particle arrays, put_gathered, with the contacts kept per particle beside them,
 /// records_to_writer; the particle table's and a VTK frame's rows, rows_to_writer, with
-/// each rank's own particles' contact forces evaluated by a copy of its part of the list,
-/// its ghosts brought to the same state, and its own slabs' contacts for the contact
+/// each rank's own particles' contact forces evaluated with its part of the list, its
+/// history left as it is (ContactModule::probe_listed), its ghosts brought to the same
+/// state, and its own slabs' contacts for the contact
 /// network, ordered_to_writer: output_fields.hpp); what sums over the particles (the run
 /// log, the monitors, the outlets' table, a gas frame's solids velocity) reads each rank's
 /// own instead, added up (Simulation::counted_runs, counted_sums.hpp). The pairs' history

@@ -91,11 +91,11 @@ class Simulation : private integrators::StepHost {
   /// particles only (own_contacts_current()).
   void written_rows(const std::vector<const std::vector<double>*>& arrays,
                     const std::function<void(std::size_t, const double*)>& row, bool from_owners = false) const;
-  /// Whether each process can evaluate its own particles' contacts at time() with a copy
-  /// of the contact module as it stands (ContactModule::add_listed_forces): nothing has
-  /// changed the list since the step's update (VerletList::current_for) and, where the
-  /// processes share it, its slabs are dealt out for its current build. The same on every
-  /// process. Where it holds, own_with_ghosts() gives the state to evaluate.
+  /// Whether each process can evaluate its own particles' contacts at time() with the
+  /// contact module as it stands (ContactModule::probe_listed): nothing has changed the
+  /// list since the step's update or its first build (VerletList::current_for) and, where
+  /// the processes share it, its slabs are dealt out for its current build. The same on
+  /// every process. Where it holds, own_with_ghosts() gives the state to evaluate.
   bool own_contacts_current() const;
   /// For records process 0 writes in the one-rank order of which each process holds its
   /// own part, in order (the contact network): @p push(records, count) on process 0 with

@@ -3,6 +3,7 @@
 /// @brief Contacts between particles and with walls: the pair and wall loops over a
 /// Verlet list (verlet_list.hpp), each contact resolved by its pair's force law.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,14 +67,18 @@ class ContactModule final : public ForceModule {
   /// list (Simulation::run). Returns what the list's update did.
   VerletList::Update update_list(ParticleStore& p);
   /// The contacts' forces as listed, without updating the list, which must be current
-  /// for @p p (a copy of the run's module evaluating the state a step left, for output:
-  /// listed_current()). Among MPI processes each evaluates its own particles', as a step
-  /// does (a collective call).
+  /// for @p p (Simulation::own_contacts_current): output's evaluation of the state a
+  /// step left, within probe_listed(). Among MPI processes each evaluates its own
+  /// particles', as a step does (a collective call).
   void add_listed_forces(ParticleStore& p);
-  /// A copy for add_listed_forces(): the list's pairs, history and wall entries, not its
-  /// build positions (VerletList::copy_without_build_positions), so that it cannot be
-  /// updated.
-  ContactModule evaluation_copy() const;
+  /// Calls @p read(*this) with this module, the run's, evaluating its contacts as listed
+  /// (add_listed_forces) and recording their forces (set_recording, with @p vectors the
+  /// force vectors), without changing what the run carries: every history (the pairs',
+  /// the wall entries') is read and left as it is, and the counts, the recorded forces
+  /// and the mesh contacts are put back as they were after @p read. For output between
+  /// steps (output_fields.hpp), at the cost of the recorded forces, not of a copy of the
+  /// list.
+  void probe_listed(bool vectors, const std::function<void(ContactModule&)>& read);
 
   /// The Verlet list the loops run over: Simulation asks it when to rebuild and sort,
   /// and an integrator that measures the particles' drift tells it (VerletList).
@@ -175,6 +180,7 @@ class ContactModule final : public ForceModule {
   bool friction_;
   bool record_;
   bool record_vectors_;  // set_recording: the force vectors as well
+  bool keep_history_ = false;  // probe_listed: a recording evaluation leaves the history as it is
   bool spins_shared_;  // a module reads the step spins through these contacts (rolling resistance)
   LawsPresent laws_;
   VerletList list_;

@@ -125,23 +125,6 @@ class VerletList {
   /// The positions [m] at the last build, per axis (listed(n) particles), for an
   /// integrator that measures displacement() in a loop of its own.
   const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
-  /// A copy of the list without its build positions, which an evaluation of the pairs as
-  /// listed does not read (ContactModule::evaluation_copy): it would otherwise cost every
-  /// particle's 24 B on every process that makes one.
-  VerletList copy_without_build_positions() const {
-    VerletList& self = const_cast<VerletList&>(*this);
-    std::vector<double> x0, y0, z0;
-    x0.swap(self.x0_); y0.swap(self.y0_); z0.swap(self.z0_);
-    auto back = [&] { x0.swap(self.x0_); y0.swap(self.y0_); z0.swap(self.z0_); };
-    try {
-      VerletList copy(*this);
-      back();
-      return copy;
-    } catch (...) {
-      back();
-      throw;
-    }
-  }
   /// The largest displacement() over the particles, at the current positions, measured
   /// by the integrator in its own pass: the next update takes it instead of a pass of
   /// its own. Used once; ignored if negative. The drift bound (displacement_needed)
