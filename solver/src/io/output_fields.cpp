@@ -52,6 +52,15 @@ std::array<std::vector<double>, 6> probe_forces(const ParticleStore& held, Conta
 }  // namespace
 
 namespace {
+/// Calls @p evaluate(p, run, true) with the run's own contact module evaluating its list
+/// as it stands at @p p (Simulation::own_contacts_current), which it leaves as it was
+/// (ContactModule::probe_listed, recording the force vectors with @p vectors).
+template <class Evaluate>
+void on_run_list(const Simulation& sim, const ParticleStore& p, bool vectors, Evaluate&& evaluate) {
+  auto& run = const_cast<ContactModule&>(*sim.contact());  // put back as it was
+  run.probe_listed(vectors, [&](ContactModule& probe) { evaluate(p, probe, true); });
+}
+
 /// Calls @p evaluate(p, probe, listed) with the state and the contact module a frame's
 /// contacts are evaluated with, recording their forces (with @p vectors the force
 /// vectors), and returns whether each process evaluated its own. It does where the
@@ -64,9 +73,7 @@ namespace {
 template <class Evaluate>
 bool with_probe(const Simulation& sim, bool vectors, Evaluate&& evaluate) {
   if (sim.own_contacts_current()) {
-    const ParticleStore& p = sim.own_with_ghosts();
-    auto& run = const_cast<ContactModule&>(*sim.contact());  // put back as it was
-    run.probe_listed(vectors, [&](ContactModule& probe) { evaluate(p, probe, true); });
+    on_run_list(sim, sim.own_with_ghosts(), vectors, evaluate);
     return true;
   }
   const auto held = sim.hold_contacts();  // for the copy's list, from every process
@@ -79,7 +86,8 @@ bool with_probe(const Simulation& sim, bool vectors, Evaluate&& evaluate) {
 }
 
 /// The contacts of @p probe's pairs at @p p (evaluated as probe_forces(@p listed) does,
-/// recording the force vectors), in list order, but those of the shadow slab, which the rank below writes.
+/// recording the force vectors), in list order, but those of the shadow slab, which the
+/// rank below writes.
 ContactNetwork network_of(const ParticleStore& p, ContactModule& probe, bool listed) {
   ContactNetwork net;
   probe_forces(p, probe, listed);
@@ -132,7 +140,7 @@ std::vector<double> wall_forces(const Simulation& sim) {
   // does, as a frame's contacts (with_probe), where its list is current.
   const ParticleStore& p = sim.local_particles();
   std::vector<double> sums;
-  auto sum_walls = [&](ContactModule& probe, bool listed) {
+  auto sum_walls = [&](const ParticleStore&, ContactModule& probe, bool listed) {
     probe_forces(p, probe, listed);
     const VerletList& list = probe.list();
     const std::vector<double>& fn = probe.wall_normal_force();
@@ -148,13 +156,12 @@ std::vector<double> wall_forces(const Simulation& sim) {
     });
   };
   if (sim.own_contacts_current()) {
-    auto& run = const_cast<ContactModule&>(*sim.contact());  // put back as it was
-    run.probe_listed(true, [&](ContactModule& probe) { sum_walls(probe, true); });
+    on_run_list(sim, p, true, sum_walls);
     return sums;
   }
   ContactModule probe = probe_of(sim, false);
   probe.set_recording(true);
-  sum_walls(probe, false);
+  sum_walls(p, probe, false);
   return sums;
 }
 
