@@ -61,6 +61,8 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   mass.push_back(m);
   inv_mass.push_back(fixed ? 0.0 : 1.0 / m);
   material.push_back(mat);
+  if (fixed && fixed_flag.empty()) fixed_flag.resize(n, 0);
+  if (fixed || !fixed_flag.empty()) fixed_flag.push_back(fixed ? 1 : 0);
   if (!id.empty()) {
     slot.push_back(static_cast<std::uint32_t>(id.size()));
     id.push_back(static_cast<std::uint32_t>(id.size()));
@@ -82,7 +84,7 @@ std::size_t ParticleStore::bytes() const {
   std::size_t b = 0;
   for (const auto* v : double_arrays(*this))
     b += v->size() * sizeof(double);
-  b += material.size() * sizeof(int);
+  b += material.size() * sizeof(int) + fixed_flag.size();
   b += (id.size() + slot.size()) * sizeof(std::uint32_t);
   return b;
 }
@@ -98,6 +100,8 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
   std::vector<int> mat;
   permute_array(material, from, mat);
+  std::vector<std::uint8_t> flags;
+  if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
   std::vector<std::uint32_t> ids;
   permute_array(id, from, ids);
   slot.resize(n);
@@ -111,6 +115,8 @@ void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
   std::vector<int> mat;
   permute_array(material, from, mat);
+  std::vector<std::uint8_t> flags;
+  if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
   if (id.empty()) return;  // never sorted: identities are the slots, kept in order
   // Rank of each identity left among those left.
   std::vector<std::uint32_t> rank(n, 0);
@@ -129,13 +135,43 @@ void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {
   wx[i] = w.x; wy[i] = w.y; wz[i] = w.z;
 }
 
-bool ParticleStore::same_mass() const {
+bool ParticleStore::same_mass(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& runs) const {
   // Compared as bits, so that reading the one value reproduces every particle's exactly.
-  auto same = [](const std::vector<double>& v) {
-    auto bits = [](double a) { return std::bit_cast<std::uint64_t>(a); };
-    return std::all_of(v.begin(), v.end(), [&](double a) { return bits(a) == bits(v[0]); });
+  std::size_t first = size();
+  for (const auto& [i0, i1] : runs)
+    if (i0 < i1) {
+      first = i0;
+      break;
+    }
+  if (first == size()) return true;
+  auto same = [&](const std::vector<double>& v) {
+    const auto one = std::bit_cast<std::uint64_t>(v[first]);
+    for (const auto& [i0, i1] : runs)
+      if (!std::all_of(v.begin() + i0, v.begin() + i1, [&](double a) { return std::bit_cast<std::uint64_t>(a) == one; }))
+        return false;
+    return true;
   };
   return same(mass) && same(inv_mass) && (!has_rotation() || same(inv_inertia));
+}
+
+void ParticleStore::release_zero_pages(std::size_t first, std::size_t last) {
+  for (auto* v : double_arrays(*this)) {
+    if (v->size() < last) continue;
+    const auto b = v->begin() + static_cast<std::ptrdiff_t>(first), e = v->begin() + static_cast<std::ptrdiff_t>(last);
+    if (std::all_of(b, e, [](double a) { return std::bit_cast<std::uint64_t>(a) == 0; })) zero_slots(*v, {{first, last}});
+  }
+}
+
+void ParticleStore::flag_fixed_from_masses() {
+  fixed_flag.clear();
+  const std::size_t n = size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (inv_mass[i] == 0.0) {
+      fixed_flag.assign(n, 0);
+      break;
+    }
+  if (fixed_flag.empty()) return;
+  for (std::size_t i = 0; i < n; ++i) fixed_flag[i] = inv_mass[i] == 0.0 ? 1 : 0;
 }
 
 void ParticleStore::clear_forces() {

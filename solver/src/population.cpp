@@ -36,7 +36,8 @@ std::vector<Population::Leaving> Population::leaving(const ParticleStore& p, std
   std::vector<Leaving> out;
   const auto none = static_cast<std::uint32_t>(spec_.outlets.size());
   for (std::size_t i = i0; i < i1; ++i)
-    if (const std::uint32_t o = outlet_of(p.position(i)); o != none) out.push_back({static_cast<std::uint32_t>(i), o});
+    if (const std::uint32_t o = outlet_of(p.position(i)); o != none)
+      out.push_back({static_cast<std::uint32_t>(i), o, p.mass[i]});
   return out;
 }
 
@@ -49,9 +50,9 @@ std::vector<std::uint32_t> Population::remove(ParticleStore& p, const std::vecto
       from.push_back(static_cast<std::uint32_t>(i));
       continue;
     }
-    Tally& t = removed_[gone[g++].outlet];
+    Tally& t = removed_[gone[g].outlet];
     ++t.count;
-    t.mass += p.mass[i];
+    t.mass += gone[g++].mass;
   }
   if (g != gone.size()) throw std::logic_error("Population::remove: the slots removed are not in order");
   p.keep(from);

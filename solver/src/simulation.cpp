@@ -22,15 +22,20 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // makes torque (friction, rolling resistance).
   if (spec_.tangential != TangentialModel::none || spec_.rolling != RollingModel::none) particles_.enable_rotation();
   // The scene's particles are read once, into the store: the pages read are returned as
-  // it goes, so that a large scene is not held twice at once (slot_pages.hpp).
+  // it goes, so that a large scene is not held twice at once, and so are the store's
+  // pages that hold zeros only (a bed at rest: its velocities, forces, spins), which cost
+  // nothing until written (slot_pages.hpp).
   const std::vector<ParticleSpec>& given = spec_.particles;
   constexpr std::size_t block = 1 << 14;
-  for (std::size_t k = 0; k < given.size(); ++k) {
+  for (std::size_t k = 0, b0 = 0; k < given.size(); ++k) {
     const ParticleSpec& ps = given[k];
     const Material& mat = spec_.materials[ps.material];
     particles_.add(ps.position, ps.velocity, ps.radius, mat.density, ps.material, mat.fixed);
     particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
-    if ((k + 1) % block == 0) release_pages(given.data(), given.data() + k + 1);
+    if ((k + 1) % block != 0) continue;
+    release_pages(given.data(), given.data() + k + 1);
+    particles_.release_zero_pages(b0, k + 1);
+    b0 = k + 1;
   }
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();

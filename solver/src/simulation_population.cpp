@@ -67,24 +67,28 @@ void Simulation::remove_leaving(bool own_part) {
   // deposited (at the last step, or over the gas step so far) goes to the gas now, in
   // slot order: each particle's position and impulse, from its owner.
   const bool deposit = exchange_ && exchange_->two_way() && !particles_.jx.empty();
-  std::vector<double> at;  // per particle gone: x y z jx jy jz
-  if (deposit)
-    for (const auto& g : gone) {
-      const std::size_t i = g.slot;
+  // Per particle gone: its mass, and to deposit x y z jx jy jz.
+  const std::size_t per = deposit ? 7 : 1;
+  std::vector<double> at;
+  for (const auto& g : gone) {
+    const std::size_t i = g.slot;
+    at.push_back(g.mass);
+    if (deposit)
       at.insert(at.end(), {particles_.x[i], particles_.y[i], particles_.z[i], particles_.jx[i], particles_.jy[i],
                            particles_.jz[i]});
-    }
+  }
   if (own_part) {
     // Every rank gets every rank's, in slot order: keyed by slot, then outlet.
     std::vector<std::uint64_t> keys;
     for (const auto& g : gone) keys.push_back(std::uint64_t{g.slot} << 32 | g.outlet);
-    ranks_->share_records(keys, at, deposit ? 6 : 0);
+    ranks_->share_records(keys, at, per);
     gone.resize(keys.size());
     for (std::size_t k = 0; k < keys.size(); ++k)
-      gone[k] = {static_cast<std::uint32_t>(keys[k] >> 32), static_cast<std::uint32_t>(keys[k])};
+      gone[k] = {static_cast<std::uint32_t>(keys[k] >> 32), static_cast<std::uint32_t>(keys[k]), at[k * per]};
   }
-  for (std::size_t k = 0; k < at.size(); k += 6)
-    exchange_->deposit_impulse_of_leaving({at[k], at[k + 1], at[k + 2]}, {at[k + 3], at[k + 4], at[k + 5]});
+  if (deposit)
+    for (std::size_t k = 0; k < at.size(); k += per)
+      exchange_->deposit_impulse_of_leaving({at[k + 1], at[k + 2], at[k + 3]}, {at[k + 4], at[k + 5], at[k + 6]});
   const std::vector<std::uint32_t> from = pop.remove(particles_, gone);
   remap(from);
   if (own_part) ranks_->keep(from);
@@ -96,7 +100,10 @@ void Simulation::save_population(OutArchive& a) const {
   a.put(static_cast<std::uint8_t>(population_ ? 1 : 0));
   if (!population_) return;
   const ParticleStore& p = particles_;
-  a.put(p.radius); a.put(p.mass); a.put(p.inv_mass); a.put(p.inv_inertia); a.put(p.material);
+  // Among processes each holds its own particles' masses: those stream to the writer.
+  a.put(p.radius);
+  a.put_particles(p.mass); a.put_particles(p.inv_mass); a.put_particles(p.inv_inertia);
+  a.put(p.material);
   population_->save_state(a);
 }
 
@@ -117,6 +124,7 @@ bool Simulation::load_population(InArchive& a, std::uint64_t n) {
     if (p.material[i] < 0 || static_cast<std::size_t>(p.material[i]) >= spec_.materials.size() ||
         !(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
       throw ArchiveError("particle " + std::to_string(i) + "'s radius, mass or material is not valid");
+  p.flag_fixed_from_masses();
   // The store holds n particles from here: the arrays read next are sized to it.
   for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);
   population_->load_state(a);

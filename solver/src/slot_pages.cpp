@@ -37,6 +37,16 @@ void clear_range(double* first, double* last) {
 
 }  // namespace
 
+SlotRuns merged(SlotRuns runs) {
+  std::sort(runs.begin(), runs.end());
+  SlotRuns out;
+  for (const auto& r : runs) {
+    if (!out.empty() && r.first <= out.back().second) out.back().second = std::max(out.back().second, r.second);
+    else out.push_back(r);
+  }
+  return out;
+}
+
 void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
   for (const auto& [i0, i1] : runs) {
     double* first = v.data() + i0;

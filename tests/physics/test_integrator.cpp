@@ -115,6 +115,44 @@ TEST(ParticleStore, SameMassIsBitForBit) {
   EXPECT_FALSE(store(0.5e-3 * (1.0 + 1e-15), false).same_mass());
   EXPECT_FALSE(store(0.5e-3, true).same_mass());
   EXPECT_TRUE(cdm::ParticleStore().same_mass());
+  // Over runs of slots (an MPI process's own particles): the odd one outside them does
+  // not count, one inside does; slots outside hold zero masses, as another's do.
+  cdm::ParticleStore q = store(0.6e-3, false);
+  EXPECT_TRUE(q.same_mass({{0, 3}}));
+  EXPECT_TRUE(q.same_mass({{0, 1}, {2, 3}}));
+  EXPECT_FALSE(q.same_mass({{1, 2}, {3, 4}}));
+  q.mass[0] = q.inv_mass[0] = q.inv_inertia[0] = 0.0;
+  EXPECT_TRUE(q.same_mass({{1, 3}}));
+  EXPECT_TRUE(q.same_mass({{2, 2}}));  // none
+}
+
+TEST(ParticleStore, FixedFlagsFollowTheParticles) {
+  // Whether a particle is fixed is kept apart from its 1/m, which among MPI processes
+  // only its owner holds: a build drops the pairs of two fixed particles by it.
+  cdm::ParticleStore p;
+  for (int i = 0; i < 3; ++i) p.add({0.01 * i, 0.0, 0.0}, {}, 0.5e-3, 2500.0, 0);
+  EXPECT_TRUE(p.fixed_flag.empty());
+  EXPECT_FALSE(p.is_fixed(1));
+  p.add({0.03, 0.0, 0.0}, {}, 0.5e-3, 2500.0, 0, true);
+  p.add({0.04, 0.0, 0.0}, {}, 0.5e-3, 2500.0, 0);
+  ASSERT_EQ(p.fixed_flag.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(p.is_fixed(i), i == 3) << i;
+  p.permute({3, 0, 1, 2, 4});
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(p.is_fixed(i), i == 0) << i;
+  p.keep({1, 0, 4});  // compacted
+  ASSERT_EQ(p.fixed_flag.size(), 3u);
+  EXPECT_FALSE(p.is_fixed(0));
+  EXPECT_TRUE(p.is_fixed(1));
+  EXPECT_FALSE(p.is_fixed(2));
+  // Read back from the masses (a checkpoint's), whole on every process.
+  p.fixed_flag.clear();
+  p.flag_fixed_from_masses();
+  ASSERT_EQ(p.fixed_flag.size(), 3u);
+  EXPECT_TRUE(p.is_fixed(1));
+  EXPECT_FALSE(p.is_fixed(0) || p.is_fixed(2));
+  cdm::ParticleStore first;
+  first.add({}, {}, 0.5e-3, 2500.0, 0, true);  // the first particle fixed
+  EXPECT_TRUE(first.is_fixed(0));
 }
 
 TEST(VelocityVerlet, ListsAreRebuiltAtTheStepADisplacementPassesHalfTheSkin) {

@@ -140,6 +140,40 @@ TEST(SlotPages, GrowingBeyondTheCapacityCommitsNoPageOfZeros) {
   EXPECT_EQ(p.vx[kSlots], 2.0);
 }
 
+TEST(SlotPages, RunsThatTouchAreJoined) {
+  // A migration's particles sent, slot by slot from each destination in turn: only runs
+  // joined give whole pages back.
+  const cdm::SlotRuns runs = cdm::merged({{7, 8}, {0, 2}, {2, 3}, {5, 6}, {6, 7}, {1, 2}, {20, 30}, {25, 26}});
+  EXPECT_EQ(runs, (cdm::SlotRuns{{0, 3}, {5, 8}, {20, 30}}));
+  EXPECT_TRUE(cdm::merged({}).empty());
+  std::vector<double> v = filled(kSlots, 8);
+  cdm::SlotRuns single;
+  for (std::size_t i = kSlots / 2; i > kSlots / 4; --i) single.push_back({i - 1, i});
+  cdm::zero_slots(v, cdm::merged(single));
+  EXPECT_FALSE(resident(v, 3 * kSlots / 8));
+  EXPECT_EQ(v[kSlots / 4], 0.0);
+  EXPECT_NE(v[kSlots / 2], 0.0);
+}
+
+TEST(SlotPages, TheStoresPagesOfZerosAreReturned) {
+  // A bed at rest read into the store: its velocities (and forces) are zero, and their
+  // pages go back as the scene is read; the positions' and masses' stay.
+  cdm::ParticleStore p;
+  for (std::size_t i = 0; i < kSlots; ++i)
+    p.add({1e-3 * static_cast<double>(i), 0.0, 0.0}, {i >= kSlots / 2 ? 0.0 : 1.0, 0.0, 0.0}, 1e-3, 2500.0, 0);
+  p.release_zero_pages(0, kSlots);
+  EXPECT_TRUE(resident(p.x, kSlots / 2));
+  EXPECT_TRUE(resident(p.mass, kSlots / 2));
+  EXPECT_TRUE(resident(p.vx, kSlots / 4));     // not zero throughout [0, kSlots)
+  EXPECT_FALSE(resident(p.vy, kSlots / 2));
+  EXPECT_FALSE(resident(p.fx, kSlots / 2));
+  p.release_zero_pages(kSlots / 2, kSlots);  // vx is zero there
+  EXPECT_FALSE(resident(p.vx, 3 * kSlots / 4));
+  EXPECT_TRUE(resident(p.vx, kSlots / 4));
+  for (std::size_t i = 0; i < kSlots; ++i) ASSERT_EQ(p.vx[i], i >= kSlots / 2 ? 0.0 : 1.0);
+  EXPECT_EQ(p.vy[kSlots / 2], 0.0);
+}
+
 TEST(SlotPages, AnArrayReadThroughASlotWindowKeepsTheWindowAndCommitsNoOtherPage) {
   // A checkpoint's per-particle array, and one of another length, read by a process
   // that keeps slots [first, last) of kSlots (a restart among MPI processes).

@@ -99,7 +99,9 @@ void ContactModule::set_ranks(RankSplit* r) {
 }
 
 void ContactModule::tabulate_damping(const ParticleStore& p) {
-  // Masses change only when particles are added, and that rebuilds the list.
+  // Masses change only when particles are added, and that rebuilds the list. Among MPI
+  // processes the others' particles read as fixed here (their masses are zero, rank_split.hpp):
+  // what counts is the particles of this process's pairs, its own and its ghosts.
   damping_stale_ = false;
   eta_n_common_.clear();
   const std::size_t n = p.size();

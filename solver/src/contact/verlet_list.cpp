@@ -252,10 +252,11 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   }
   search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
-  for (auto& chunk : candidates)
-    chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
-                               [&](const ContactPair& c) { return p.inv_mass[c.i] == 0.0 && p.inv_mass[c.j] == 0.0; }),
-                chunk.end());
+  if (!p.fixed_flag.empty())
+    for (auto& chunk : candidates)
+      chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
+                                 [&](const ContactPair& c) { return p.is_fixed(c.i) && p.is_fixed(c.j); }),
+                  chunk.end());
   if (divided) {
     divide(candidates, slab_of, n, carry, carry_whole);
     if (history_) index_carry();

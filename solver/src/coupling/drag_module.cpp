@@ -256,14 +256,16 @@ void DragModule::add_cell_average(ParticleStore& p) {
 
 double DragModule::relaxation_time_at_rest(const ParticleStore& p) const {
   const double rho = gas_->density(), mu = gas_->viscosity();
+  // Among MPI processes each holds its own particles' masses: the smallest over theirs,
+  // then over the processes (every process reports a failure alike).
   double tau = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  for_own_in_order(ranks_, p.size(), [&](std::size_t i) {
     const Vec3 x = p.position(i);
     const double eps = is_finite(x) ? void_fraction_at(gas_->wrap(x)) : (eps_fixed_ > 0.0 ? eps_fixed_ : 1.0);
     const double k = drag_coefficient(law_, rho, mu, 2.0 * p.radius[i], eps, 0.0);
     if (k > 0.0) tau = std::min(tau, p.mass[i] / k);
-  }
-  return tau;
+  });
+  return ranks_ ? -ranks_->max(-tau) : tau;
 }
 
 Vec3 PressureGradientModule::force(const ParticleStore& p, std::size_t i, Vec3 grad_p) {

@@ -131,12 +131,29 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
     a.g = g_;
   }
   // A bed of one kind of particle: its mass, 1/m and 1/I once, not per particle.
-  if (one_mass_ < 0) one_mass_ = p.same_mass() ? 1 : 0;
-  const bool one = one_mass_ == 1 && n > 0;
+  // Among MPI processes, of this process's own particles (it holds no others' masses),
+  // found again whenever they change.
+  if (ranks_ && one_for_ != ranks_->ownership_changes()) one_mass_ = -1;
+  if (one_mass_ < 0) {
+    std::size_t first = 0;
+    if (ranks_) {
+      const auto& runs = ranks_->own_runs(n);
+      one_mass_ = p.same_mass(runs) ? 1 : 0;
+      one_for_ = ranks_->ownership_changes();
+      first = n;
+      for (const auto& [i0, i1] : runs)
+        if (i0 < i1 && first == n) first = i0;
+    } else {
+      one_mass_ = p.same_mass() ? 1 : 0;
+    }
+    if (first < n) one_values_ = {p.mass[first], p.inv_mass[first], rot ? p.inv_inertia[first] : 0.0};
+    else one_mass_ = 0;
+  }
+  const bool one = one_mass_ == 1;
   if (one) {
-    a.one_inv_mass = p.inv_mass[0];
-    a.one_mass = p.mass[0];
-    a.one_inv_inertia = rot ? p.inv_inertia[0] : 0.0;
+    a.one_mass = one_values_[0];
+    a.one_inv_mass = one_values_[1];
+    a.one_inv_inertia = one_values_[2];
   }
   // The drag's share of the kicks (the kick Kick would give, DragKick).
   const auto dk = static_cast<verlet::DragKick>(drag_kick_);

@@ -21,8 +21,9 @@ namespace cdm {
 RankSplit::~RankSplit() = default;
 
 std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bool with_carried) const {
-  std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz};
-  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz});
+  std::vector<std::vector<double>*> a = {&p.x,  &p.y,  &p.z,  &p.vx,   &p.vy,      &p.vz,
+                                         &p.fx, &p.fy, &p.fz, &p.mass, &p.inv_mass};
+  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inv_inertia});
   // The drag's per-particle state (relaxed drag: K and u_g; two-way: F_d and the impulse J).
   for (auto* d : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz, &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz})
     if (d->size() == p.size()) a.push_back(d);
@@ -92,7 +93,7 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   if (!before.empty()) {
     stale_ = true;
     migrate(p, list, before);
-    exchange_ghosts(p);
+    exchange_ghosts(p, true);
   }
   release_foreign(p);
 }
@@ -134,6 +135,7 @@ void RankSplit::release_foreign(ParticleStore& p) {
 }
 
 void RankSplit::own_from_owners() {
+  ++ownership_changes_;
   const std::size_t n = owner_.size();
   rank_particles_.assign(static_cast<std::size_t>(size_), {});
   for (std::size_t i = 0; i < n; ++i)
@@ -266,7 +268,7 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
 }
 }  // namespace
 
-void RankSplit::exchange_ghosts(ParticleStore& p) {
+void RankSplit::exchange_ghosts(ParticleStore& p, bool with_masses) {
   if (!assigned_) return;
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) {
@@ -277,7 +279,12 @@ void RankSplit::exchange_ghosts(ParticleStore& p) {
     sends.push_back({&top_, above_});
     recvs.push_back({&upper_, above_});
   }
-  exchange(ghost_arrays(p), sends, recvs, 11, legs_, {});
+  std::vector<std::vector<double>*> arrays = ghost_arrays(p);
+  if (with_masses) {
+    arrays.insert(arrays.end(), {&p.mass, &p.inv_mass});
+    if (p.has_rotation()) arrays.push_back(&p.inv_inertia);
+  }
+  exchange(arrays, sends, recvs, 11, legs_, {});
 }
 
 void RankSplit::exchange_ghost_torques(ParticleStore& p) {
@@ -342,18 +349,34 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
     if (was == rank_) out[static_cast<std::size_t>(is)].push_back(static_cast<std::uint32_t>(i));
     else if (is == rank_) in[static_cast<std::size_t>(was)].push_back(static_cast<std::uint32_t>(i));
   }
-  std::vector<Leg> sends, recvs;
-  for (std::size_t r = 0; r < size; ++r) {
-    if (!out[r].empty()) sends.push_back({&out[r], static_cast<int>(r)});
-    if (!in[r].empty()) recvs.push_back({&in[r], static_cast<int>(r)});
-  }
   // After a build: the wall entries are listed, each particle's row goes with it.
   if (!list.wall_entries_current() && list.keeps_history() && !list.walls().empty())
     throw std::logic_error("RankSplit: the wall contacts are not listed");
-  // Buffers of its own, freed after: a migration may move many more particles than a
-  // step's ghost exchange does, and legs_ would keep its buffers at that size.
+  // In rounds of at most `batch` particles a leg (both sides cut it alike), each round's
+  // particles let go once sent: after a restart most particles move, and no rank then
+  // holds its old and its new particles' state at once. Buffers of its own, freed after.
+  const std::size_t batch = std::max<std::size_t>(1, round_values() / 64);
+  const std::vector<std::vector<double>*> arrays = dynamic_arrays(p, true);
+  const WallRows rows = wall_rows(list, p.size());
   LegBuffers buffers;
-  exchange(dynamic_arrays(p, true), sends, recvs, 17, buffers, wall_rows(list, p.size()));
+  std::vector<std::vector<std::uint32_t>> part(2 * size);  // this round's of out, then of in
+  for (std::size_t k0 = 0;; k0 += batch) {
+    std::vector<Leg> sends, recvs;
+    for (std::size_t r = 0; r < 2 * size; ++r) {
+      const std::vector<std::uint32_t>& all = r < size ? out[r] : in[r - size];
+      part[r].assign(all.begin() + static_cast<std::ptrdiff_t>(std::min(k0, all.size())),
+                     all.begin() + static_cast<std::ptrdiff_t>(std::min(k0 + batch, all.size())));
+      if (!part[r].empty()) (r < size ? sends : recvs).push_back({&part[r], static_cast<int>(r % size)});
+    }
+    if (sends.empty() && recvs.empty()) break;
+    exchange(arrays, sends, recvs, 17, buffers, rows);
+    SlotRuns sent;
+    for (const Leg& leg : sends)
+      for (const std::uint32_t i : *leg.idx) sent.push_back({i, i + 1});
+    sent = merged(std::move(sent));
+    for (auto* a : arrays)
+      if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, sent);
+  }
   if (meshes_) migrate_mesh_contacts(before);
 }
 

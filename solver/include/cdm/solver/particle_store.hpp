@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <numbers>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/parallel.hpp"
@@ -42,6 +43,11 @@ struct ParticleStore {
   std::vector<double> mass;        // [kg]
   std::vector<double> inv_mass;    // [1/kg]
   std::vector<int> material;       // index into Simulation::materials
+  // 1 where the particle is fixed (zero 1/m and 1/I), every particle's, on every MPI
+  // process alike; empty while none is. Among processes each holds the masses of its own
+  // particles and ghosts only (rank_split.hpp), so a build reads whether a particle is
+  // fixed here.
+  std::vector<std::uint8_t> fixed_flag;
 
   // Rotational state, allocated only when has_rotation().
   std::vector<double> wx, wy, wz;  // angular velocity [rad/s]
@@ -115,7 +121,18 @@ struct ParticleStore {
   void clear_forces();
   /// Whether every particle has the same mass, 1/m and (with rotation) 1/I, bit for
   /// bit (a bed of one kind of particle; none fixed, or all).
-  bool same_mass() const;
+  bool same_mass() const { return same_mass({{0, static_cast<std::uint32_t>(size())}}); }
+  /// The same over the particles of the runs of slots [first, last) in @p runs (an MPI
+  /// process's own particles).
+  bool same_mass(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& runs) const;
+  /// Of the slots [@p first, @p last), the pages of every array of doubles whose values
+  /// there are all zero go back to the system (slot_pages.hpp: they read as zero).
+  void release_zero_pages(std::size_t first, std::size_t last);
+  /// Whether particle i is fixed (it never moves; 1/m = 0).
+  bool is_fixed(std::size_t i) const { return !fixed_flag.empty() && fixed_flag[i] != 0; }
+  /// Sets fixed_flag from 1/m, which every process holds whole (the masses read from a
+  /// checkpoint).
+  void flag_fixed_from_masses();
 
  private:
   bool rotation_enabled_ = false;

@@ -42,6 +42,7 @@ class Population {
   /// A particle in an outlet: its slot, and the outlet that takes it (outlet_of).
   struct Leaving {
     std::uint32_t slot = 0, outlet = 0;
+    double mass = 0.0;  // [kg], from the particle's owner
   };
   /// The particles of slots [@p i0, @p i1) in an outlet, in slot order.
   std::vector<Leaving> leaving(const ParticleStore& p, std::size_t i0, std::size_t i1) const;

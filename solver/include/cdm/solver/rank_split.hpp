@@ -46,8 +46,10 @@
 /// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
 /// per slab summed over the ranks, and each pair, and each pair contact's history, goes
 /// to the ranks that hold its slab (VerletList::divide). assign() then sends each particle whose slab now
-/// belongs to another rank with its whole state (the arrays below, its row of wall
-/// history, its mesh contacts) from its old owner to its new one, then the ghosts. Each
+/// belongs to another rank with its whole state (the arrays below, its mass, 1/m and 1/I,
+/// its row of wall history, its mesh contacts) from its old owner to its new one, in
+/// rounds of a few thousand particles each let go once sent, then the ghosts (with their
+/// masses, as they are new). Each
 /// particle's force is thus summed in the same order as on one rank: results are
 /// bit-identical. With a gas every rank holds the whole gas; the gas step's loops are
 /// divided by planes (plane_share.hpp) and its multigrid pressure solve likewise
@@ -92,14 +94,16 @@
 /// a particle's contacts go with it to its new owner at assign().
 ///
 /// Every rank keeps a slot for every particle, but of the other ranks' particles (not
-/// its ghosts) it holds the positions alone, which every rank gets at each build: their
-/// other values are zero and their pages are returned to the system after each
+/// its ghosts) it holds the positions alone, which every rank gets at each build, and the
+/// radii, materials and whether each is fixed (ParticleStore::fixed_flag), which a build
+/// reads of every particle and which never change: their
+/// other values (the masses too) are zero and their pages are returned to the system after each
 /// assign() and after a whole-state gather once the rank moves on (release_foreign(),
 /// slot_pages.hpp), and a sort's or a removal's permutation commits no page of them.
 ///
 /// Limits: memory is divided for the pair list and the particles' state but their
-/// positions, radii, masses and identities (each rank holds those of all the particles,
-/// and the whole gas), the gas step's
+/// positions, build positions, radii and identities (each rank holds those of all the
+/// particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, and
 /// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
@@ -191,8 +195,12 @@ class RankSplit final : public SearchShare {
   }
 
   /// After the integrator's pass: receive the first slab of the rank above and the last
-  /// of the rank below (the shadow slab, VerletList::shadow_slab).
-  void exchange_ghosts(ParticleStore& p);
+  /// of the rank below (the shadow slab, VerletList::shadow_slab). @p with_masses: their
+  /// masses, 1/m and 1/I too (after a migration, when the ghosts are new).
+  void exchange_ghosts(ParticleStore& p, bool with_masses = false);
+  /// Counts the changes of which particles this rank owns (assign(), hold_rows(),
+  /// added(), keep()): what is cached over a rank's own particles is stale when it moves.
+  std::uint64_t ownership_changes() const { return ownership_changes_; }
   /// After phase @p pass (0 even, 1 odd) of the rolling resistance's pair loop: the
   /// boundary slabs' torques move on in the one-rank order. Called from one thread.
   void boundary_torques(ParticleStore& p, int pass);
@@ -308,8 +316,9 @@ class RankSplit final : public SearchShare {
 
  private:
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}
-  /// The per-particle arrays exchanged (the store's dynamic ones and extra_), and
-  /// @p with_carried carried_.
+  /// The per-particle arrays exchanged (the store's but the radii, which every rank
+  /// holds whole, with the masses, 1/m and 1/I; and extra_), and @p with_carried
+  /// carried_.
   std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p, bool with_carried = false) const;
   /// What the pair loop reads of a ghost: its position, velocity, spin and the extra_
   /// arrays it reads (set_ghost_extras: the integrator's step velocities, for
@@ -340,6 +349,7 @@ class RankSplit final : public SearchShare {
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
   std::uint64_t builds_ = 0;
+  std::uint64_t ownership_changes_ = 0;  // ownership_changes
   std::vector<int> slab_owner_;                      // per slab
   std::vector<int> owner_;                           // per particle slot
   std::vector<std::uint32_t> slab_first_;            // per rank: first slab (size_ + 1 entries)

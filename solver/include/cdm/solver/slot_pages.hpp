@@ -21,6 +21,9 @@ class InArchive;
 /// Runs of slots [first, last), increasing and disjoint.
 using SlotRuns = std::vector<std::pair<std::size_t, std::size_t>>;
 
+/// @p runs in order, those that touch or overlap joined into one: zero_slots() returns
+/// only the pages that lie wholly inside one run.
+SlotRuns merged(SlotRuns runs);
 /// Set every slot of @p v in @p runs to zero. The pages lying wholly inside a run are
 /// returned to the system; the others are written only where a value is not zero
 /// already (so that a page never written stays uncommitted).

@@ -1,6 +1,7 @@
 #pragma once
 /// @file velocity_verlet.hpp
 /// @brief Velocity Verlet with a predicted velocity for the velocity-dependent forces.
+#include <array>
 #include <vector>
 
 #include "cdm/solver/integrators/integrator.hpp"
@@ -56,8 +57,12 @@ class VelocityVerlet final : public Integrator {
   Kick kick_;
   bool kick_pending_ = false;  // v, ω are the predicted ones; hv, hw and F complete them
   // Whether every particle has the same m, 1/m and 1/I (ParticleStore::same_mass): 1 yes,
-  // 0 no, -1 not known (found at the next step).
+  // 0 no, -1 not known (found at the next step); among MPI processes, of the process's
+  // own particles as of ownership change one_for_ (RankSplit::ownership_changes). Then
+  // one_values_: m, 1/m, 1/I.
   int one_mass_ = -1;
+  std::uint64_t one_for_ = 0;
+  std::array<double, 3> one_values_{};
   // v(t+Δt/2) and ω(t+Δt/2), kept between the half kicks.
   std::vector<double> hvx_, hvy_, hvz_, hwx_, hwy_, hwz_;
   RankSplit* ranks_ = nullptr;  // set_ranks: the passes move this rank's particles only
