@@ -7,7 +7,8 @@
 # case's bed (a gas, two-way drag) are compared, byte for
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
-# as the uninterrupted one (and so, between 2 and 3 either way, the fluidisation bed with
+# as the uninterrupted one, and restarted on 3 with no step left writes one process's
+# checkpoint (and so, between 2 and 3 either way, the fluidisation bed with
 # the drag once per gas step, the bed fed from above and the mesh pile); the settling bed with rolling resistance, and moved by the
 # paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
@@ -116,6 +117,23 @@ cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
 for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/settle-1/$f" "$work/split/$f" || fail "restart on 3 processes: $f differs from the uninterrupted run"
 done
+
+# A restart with no step left writes its checkpoint before any build, each process then
+# holding the pair contacts of its run of the checkpoint's rows (gathered to rank 0 as they
+# were read): on 3 processes the file one process's restart writes, and a run continued
+# from it ends as one continued from the original checkpoint.
+"${launch[@]}" -np 3 "$cdm" run "${settle[@]}" -q -j 1 -o "$work/ended-3" --restart "$work/split/checkpoint.cdmck" \
+  > /dev/null 2>&1 || fail "a restart with no step left on 3 processes"
+"$cdm" run "${settle[@]}" -q -j 1 -o "$work/ended-1" --restart "$work/split/checkpoint.cdmck" > /dev/null 2>&1 ||
+  fail "a restart with no step left on one process"
+cmp -s "$work/ended-1/checkpoint.cdmck" "$work/ended-3/checkpoint.cdmck" ||
+  fail "a restart with no step left: the checkpoint written on 3 processes differs from one process's"
+for from in "$work/split/checkpoint.cdmck" "$work/ended-3/checkpoint.cdmck"; do
+  "$cdm" run "${settle[@]}" --set integrator.end_time=0.032 -q -j 1 -o "$from.more" --restart "$from" > /dev/null 2>&1 ||
+    fail "continued from $from"
+done
+cmp -s "$work/split/checkpoint.cdmck.more/particles.dat" "$work/ended-3/checkpoint.cdmck.more/particles.dat" ||
+  fail "continued from the checkpoint a restart with no step left wrote on 3 processes: not as from the original"
 
 # The paper's Euler step (velocity kick and drift of the rank's own particles, the
 # forces of the end of the step): the settling bed on 3 processes.
@@ -279,4 +297,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
