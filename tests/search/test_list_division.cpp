@@ -174,3 +174,50 @@ TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowTheP
 }
 
 }  // namespace
+
+TEST(ListDivision, SlabsAreDealtSoTheLargestLoadIsTheLeastRunsCanGive) {
+  // A process's load: its run of slabs' cost plus, above the first, its shadow slab's
+  // work (the pairs it evaluates as the process below does). Against every way of
+  // cutting a few slabs into runs, the deal's largest load is the least.
+  std::mt19937 gen(11);
+  std::uniform_int_distribution<std::uint64_t> pairs(0, 40), particles(0, 12);
+  for (int trial = 0; trial < 300; ++trial) {
+    const std::size_t nslab = 1 + static_cast<std::size_t>(trial % 9), size = 1 + static_cast<std::size_t>(trial % 4);
+    std::vector<std::uint64_t> work(nslab), cost(nslab + 1, 0);
+    for (std::size_t s = 0; s < nslab; ++s) {
+      work[s] = trial % 7 == 0 && s % 3 == 1 ? 0 : pairs(gen);
+      cost[s + 1] = cost[s] + work[s] + particles(gen);
+    }
+    auto largest = [&](const std::vector<std::uint32_t>& first) {
+      std::uint64_t most = 0;
+      for (std::size_t r = 0; r < size; ++r) {
+        const std::size_t b = first[r], e = first[r + 1];
+        if (b == e) continue;
+        most = std::max(most, cost[e] - cost[b] + (r > 0 && b > 0 ? work[b - 1] : 0));
+      }
+      return most;
+    };
+    const std::vector<std::uint32_t> dealt = cdm::VerletList::deal_slabs(cost, work, size);
+    ASSERT_EQ(dealt.size(), size + 1);
+    EXPECT_EQ(dealt.front(), 0u);
+    EXPECT_EQ(dealt.back(), nslab);
+    for (std::size_t r = 0; r < size; ++r) ASSERT_LE(dealt[r], dealt[r + 1]);
+    // Every cut: size - 1 boundaries in [0, nslab], in order.
+    std::uint64_t best = UINT64_MAX;
+    std::vector<std::uint32_t> first(size + 1, 0);
+    first[size] = static_cast<std::uint32_t>(nslab);
+    auto every = [&](auto&& self, std::size_t r) -> void {
+      if (r == size) {
+        best = std::min(best, largest(first));
+        return;
+      }
+      for (std::uint32_t b = first[r - 1]; b <= nslab; ++b) {
+        first[r] = b;
+        self(self, r + 1);
+      }
+    };
+    if (size == 1) best = largest(first);
+    else every(every, 1);
+    EXPECT_EQ(largest(dealt), best) << "trial " << trial;
+  }
+}

@@ -37,6 +37,38 @@ void VerletList::list_held_again() {
   touch_.clear();
 }
 
+std::vector<std::uint32_t> VerletList::deal_slabs(const std::vector<std::uint64_t>& cost,
+                                                   const std::vector<std::uint64_t>& work, std::size_t size) {
+  // Runs of slabs, one per process in turn, each as long as its load stays within a bound
+  // L: a process's load is its slabs' cost (cost holds the running sums) and, above the
+  // first, its shadow slab's work, which it evaluates as the process below does. The
+  // smallest L for which the runs cover every slab is found by bisection, so the largest
+  // load over the processes is as small as runs of whole slabs can make it.
+  const std::size_t nslab = work.size();
+  std::vector<std::uint32_t> first(size + 1, static_cast<std::uint32_t>(nslab));
+  auto cover = [&](std::uint64_t bound) {
+    std::size_t b = 0;
+    for (std::size_t r = 0; r < size; ++r) {
+      first[r] = static_cast<std::uint32_t>(b);
+      const std::uint64_t shadow = r > 0 && b > 0 && b < nslab ? work[b - 1] : 0;
+      if (shadow > bound) continue;
+      // The last slab boundary e with cost[e] - cost[b] + shadow <= bound.
+      b = static_cast<std::size_t>(std::upper_bound(cost.begin() + static_cast<std::ptrdiff_t>(b), cost.end(),
+                                                    cost[b] + (bound - shadow)) - cost.begin()) - 1;
+    }
+    return b >= nslab;
+  };
+  std::uint64_t lo = 0, hi = cost.back() + (nslab ? *std::max_element(work.begin(), work.end()) : 0);
+  while (lo < hi) {  // cover(hi) holds: the smallest bound that covers
+    const std::uint64_t mid = lo + (hi - lo) / 2;
+    if (cover(mid)) hi = mid;
+    else lo = mid + 1;
+  }
+  cover(hi);
+  first[size] = static_cast<std::uint32_t>(nslab);
+  return first;
+}
+
 void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
                         std::vector<PairContact>& carry, bool whole) {
   const std::size_t nslab = slab_of.count;
@@ -44,22 +76,20 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   const auto size = static_cast<std::size_t>(share.share_size());
   const auto me = static_cast<std::size_t>(share.share_rank());
   auto slab = [&](std::uint32_t i, std::uint32_t j) { return std::min(slab_of(i), slab_of(j)); };
-  // Each slab's cost: its particles (the integrator's pass; every process holds every
-  // position) and its listed pairs (the pair loop), summed over the processes. Each
-  // process takes a contiguous run of slabs with about an equal share of the cost.
-  std::vector<std::uint64_t> cost(nslab + 1, 0);
+  // Each slab's work: its listed pairs (the pair loop), those in contact at the last
+  // evaluation kTouchCost times more (a contact's geometry and force law), summed over the
+  // processes; with its particles (the integrator's pass; every process holds every
+  // position), its cost.
+  std::vector<std::uint64_t> work(nslab, 0);
   for (const auto& chunk : chunks)
-    for (const ContactPair& c : chunk) ++cost[slab(c.i, c.j) + 1];
-  share.sum(cost);
+    for (const ContactPair& c : chunk) ++work[slab(c.i, c.j)];
+  if (history_ && (!whole || me == 0))
+    for (const PairContact& c : carry) work[slab(c.i, c.j)] += kTouchCost;
+  share.sum(work);
+  std::vector<std::uint64_t> cost(nslab + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++cost[slab_of(static_cast<std::uint32_t>(i)) + 1];
-  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s];
-  rank_slab_first_.assign(size + 1, static_cast<std::uint32_t>(nslab));
-  rank_slab_first_[0] = 0;
-  for (std::size_t r = 1; r < size; ++r) {
-    const std::uint64_t at = cost.back() * r / size;
-    rank_slab_first_[r] =
-        static_cast<std::uint32_t>(std::lower_bound(cost.begin(), cost.end() - 1, at) - cost.begin());
-  }
+  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s] + work[s];
+  rank_slab_first_ = deal_slabs(cost, work, size);
   std::vector<std::uint32_t> owner(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
     for (std::size_t s = rank_slab_first_[r]; s < rank_slab_first_[r + 1]; ++s) owner[s] = static_cast<std::uint32_t>(r);

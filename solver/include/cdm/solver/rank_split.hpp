@@ -5,7 +5,9 @@
 ///
 /// Every rank keeps a slot for every particle; each rank moves and resolves only its own. The
 /// Verlet list's slabs (verlet_list.hpp) are dealt out in contiguous runs, one per rank,
-/// about equal in listed pairs plus particles, at every build. A rank owns the particles
+/// at every build, so that the largest load (a run's listed pairs, those in contact
+/// weighed more, and particles, plus the pairs of its shadow slab, below) is the least
+/// (VerletList::deal_slabs). A rank owns the particles
 /// of its slabs (each particle's slab at the build) and the pairs listed in them, and
 /// holds only those pairs and the shadow slab's (below): the list is divided among the
 /// ranks (SearchShare). Within the rank its threads split its slabs as before. Per step:

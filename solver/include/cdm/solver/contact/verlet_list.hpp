@@ -297,6 +297,12 @@ class VerletList {
   /// How the last build dealt the slabs among the processes that share the list: process
   /// r's are [rank_slab_first()[r], rank_slab_first()[r + 1]). Empty on one process.
   const std::vector<std::uint32_t>& rank_slab_first() const { return rank_slab_first_; }
+  /// The first slab of each of @p size processes, and the slab count after them: runs of
+  /// slabs whose largest load is as small as it can be, a run's load being its slabs' cost
+  /// (@p cost: running sums from 0, one more entry than slabs) plus, but for the first
+  /// process's, the @p work (its pairs' estimated cost) of the slab below it.
+  static std::vector<std::uint32_t> deal_slabs(const std::vector<std::uint64_t>& cost,
+                                               const std::vector<std::uint64_t>& work, std::size_t size);
 
   /// The list's contacts and build positions, for checkpoints: the pairs (in list order,
   /// the same on any number of processes) and the particle–wall entries (in (i, w)
