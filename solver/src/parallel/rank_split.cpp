@@ -482,7 +482,7 @@ void RankSplit::gather(const std::vector<std::vector<double>*>& arrays) {
 #else  // a build without MPI has one rank: create() gives none, so nothing below runs
 
 std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
-void RankSplit::exchange_ghosts(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::exchange_ghosts(ParticleStore&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::boundary_torques(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
