@@ -164,14 +164,9 @@ void ParticleStore::release_zero_pages(std::size_t first, std::size_t last) {
 
 void ParticleStore::flag_fixed_from_masses() {
   fixed_flag.clear();
-  const std::size_t n = size();
-  for (std::size_t i = 0; i < n; ++i)
-    if (inv_mass[i] == 0.0) {
-      fixed_flag.assign(n, 0);
-      break;
-    }
-  if (fixed_flag.empty()) return;
-  for (std::size_t i = 0; i < n; ++i) fixed_flag[i] = inv_mass[i] == 0.0 ? 1 : 0;
+  if (std::none_of(inv_mass.begin(), inv_mass.end(), [](double a) { return a == 0.0; })) return;
+  fixed_flag.resize(size());
+  for (std::size_t i = 0; i < size(); ++i) fixed_flag[i] = inv_mass[i] == 0.0 ? 1 : 0;
 }
 
 void ParticleStore::clear_forces() {

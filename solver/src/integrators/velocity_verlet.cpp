@@ -1,5 +1,6 @@
 #include "cdm/solver/integrators/velocity_verlet.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "cdm/solver/contact/contact_module.hpp"
@@ -135,19 +136,15 @@ double VelocityVerlet::step_deferred(StepHost& host, StepTimes times) {
   // found again whenever they change.
   if (ranks_ && one_for_ != ranks_->ownership_changes()) one_mass_ = -1;
   if (one_mass_ < 0) {
-    std::size_t first = 0;
-    if (ranks_) {
-      const auto& runs = ranks_->own_runs(n);
-      one_mass_ = p.same_mass(runs) ? 1 : 0;
-      one_for_ = ranks_->ownership_changes();
-      first = n;
-      for (const auto& [i0, i1] : runs)
-        if (i0 < i1 && first == n) first = i0;
-    } else {
-      one_mass_ = p.same_mass() ? 1 : 0;
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>> all{{0, static_cast<std::uint32_t>(n)}};
+    const auto& runs = ranks_ ? ranks_->own_runs(n) : all;
+    if (ranks_) one_for_ = ranks_->ownership_changes();
+    const auto held = std::find_if(runs.begin(), runs.end(), [](const auto& r) { return r.first < r.second; });
+    one_mass_ = held != runs.end() && p.same_mass(runs) ? 1 : 0;
+    if (one_mass_ == 1) {
+      const std::size_t i = held->first;
+      one_values_ = {p.mass[i], p.inv_mass[i], rot ? p.inv_inertia[i] : 0.0};
     }
-    if (first < n) one_values_ = {p.mass[first], p.inv_mass[first], rot ? p.inv_inertia[first] : 0.0};
-    else one_mass_ = 0;
   }
   const bool one = one_mass_ == 1;
   if (one) {

@@ -20,10 +20,16 @@ namespace cdm {
 
 RankSplit::~RankSplit() = default;
 
+// A particle's mass, 1/m and (with rotation) 1/I: they travel with it, and go to a ghost once, when it becomes one.
+static std::vector<std::vector<double>*> mass_arrays(ParticleStore& p) {
+  if (p.has_rotation()) return {&p.mass, &p.inv_mass, &p.inv_inertia};
+  return {&p.mass, &p.inv_mass};
+}
+
 std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bool with_carried) const {
-  std::vector<std::vector<double>*> a = {&p.x,  &p.y,  &p.z,  &p.vx,   &p.vy,      &p.vz,
-                                         &p.fx, &p.fy, &p.fz, &p.mass, &p.inv_mass};
-  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inv_inertia});
+  std::vector<std::vector<double>*> a = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz};
+  if (p.has_rotation()) a.insert(a.end(), {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz});
+  for (auto* m : mass_arrays(p)) a.push_back(m);
   // The drag's per-particle state (relaxed drag: K and u_g; two-way: F_d and the impulse J).
   for (auto* d : {&p.drag_k, &p.ugx, &p.ugy, &p.ugz, &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz})
     if (d->size() == p.size()) a.push_back(d);
@@ -280,10 +286,8 @@ void RankSplit::exchange_ghosts(ParticleStore& p, bool with_masses) {
     recvs.push_back({&upper_, above_});
   }
   std::vector<std::vector<double>*> arrays = ghost_arrays(p);
-  if (with_masses) {
-    arrays.insert(arrays.end(), {&p.mass, &p.inv_mass});
-    if (p.has_rotation()) arrays.push_back(&p.inv_inertia);
-  }
+  if (with_masses)
+    for (auto* m : mass_arrays(p)) arrays.push_back(m);
   exchange(arrays, sends, recvs, 11, legs_, {});
 }
 
