@@ -170,19 +170,30 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   if (gas_solver) std::cout << "; gas pressure solve: " << gas_solver->pressure_solver().method();
   std::cout << "\n";
   // The gas step's loops (plane_share.hpp) and its multigrid pressure solve
-  // (pressure_multigrid.cpp) are divided among the processes whatever the scene; the
-  // direct solve is done whole by each.
+  // (pressure_multigrid.cpp) are divided among the processes where gas.division says so;
+  // the direct solve is done whole by each.
+  const bool gas_divided = gas_solver && gas_solver->divided();
   const bool solve_shared =
-      gas_solver && gas_solver->pressure_solver().backend() == cdm::fluid::PressureBackend::multigrid;
-  const std::string direct_whole = solve_shared ? "" : " (its direct pressure solve done whole by each)";
+      gas_divided && gas_solver->pressure_solver().backend() == cdm::fluid::PressureBackend::multigrid;
+  const std::string gas_part =
+      std::string("the gas step") + (solve_shared ? "" : " (its direct pressure solve done whole by each)");
+  std::string whole_gas;
+  if (sim.ranks() > 1 && gas_solver && !gas_divided) {
+    whole_gas = std::string("; each steps the whole gas (gas.division = \"") + cdm::fluid::to_string(spec.gas_division) +
+                "\"";
+    if (spec.gas_division == cdm::fluid::GasDivision::automatic)
+      whole_gas += ": its " + std::to_string(sim.gas()->grid().cell_count()) + " cells give a process fewer than " +
+                   std::to_string(cdm::fluid::PlaneShare::min_divided_cells);
+    whole_gas += ")";
+  }
   if (sim.ranks() > 1 && sim.unshared().empty())
-    std::cout << "cdm run: the particles' work" << (gas_solver ? " and the gas step" + direct_whole + " are" : " is")
-              << " shared among " << sim.ranks() << " MPI processes\n";
+    std::cout << "cdm run: the particles' work" << (gas_divided ? " and " + gas_part + " are" : " is")
+              << " shared among " << sim.ranks() << " MPI processes" << whole_gas << "\n";
   else if (sim.ranks() > 1)
     std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene "
-              << (gas_solver ? "but the gas step" + direct_whole + ", which they share," : "(no speed-up),") << " since "
+              << (gas_divided ? "but " + gas_part + ", which they share," : "(no speed-up),") << " since "
               << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
-              << "or without a gas, stepped by velocity Verlet, so far\n";
+              << "or without a gas, stepped by velocity Verlet, so far" << whole_gas << "\n";
   std::cout << std::flush;
   // Rank 0 writes the files. The other processes run the same observers, which read the
   // state (and so gather it) at the same steps, but write nothing: their paths are empty.
@@ -260,7 +271,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
                                                   std::to_string(omp_get_max_threads()) + " thread(s)" +
                                                   (sim.unshared().empty() ? ""
-                                                   : gas_solver ? ", each the whole scene but the gas step"
+                                                   : gas_divided ? ", each the whole scene but the gas step"
                                                                 : ", each the whole scene")
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",

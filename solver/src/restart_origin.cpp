@@ -11,7 +11,7 @@
 
 namespace cdm {
 
-std::vector<std::string> restart_changeable_keys() { return {"integrator.end_time", "output.*"}; }
+std::vector<std::string> restart_changeable_keys() { return {"integrator.end_time", "gas.division", "output.*"}; }
 
 namespace {
 
@@ -27,6 +27,7 @@ toml::table effective_scene(const RunOrigin& o, const std::string& what) {
   for (const auto& ov : o.overrides) apply_override(root, ov, o.scene_name);
   root.erase("output");
   if (toml::table* integ = root["integrator"].as_table()) integ->erase("end_time");
+  if (toml::table* gas = root["gas"].as_table()) gas->erase("division");
   return root;
 }
 
@@ -84,7 +85,8 @@ void check_restart_origin(const RunOrigin& saved, const RunOrigin& now, const st
   throw CheckpointError(path + ": written from scene '" + saved.scene_name + "' where " + *d + " = " +
                         shown(at(a, *d)) + "; '" + now.scene_name + "' with the --set overrides given now has " +
                         shown(at(b, *d)) +
-                        ". A restart may change only integrator.end_time and the keys under [output]; restart with "
+                        ". A restart may change only integrator.end_time, gas.division and the keys under [output]; "
+                        "restart with "
                         "the scene and overrides the run started with");
 }
 

@@ -258,7 +258,7 @@ void Simulation::build_gas() {
   gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
   solver_ = std::make_unique<fluid::GasSolver>(
       *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient,
-                                       spec_.pressure_solver});
+                                       spec_.pressure_solver, spec_.gas_division});
 }
 
 void Simulation::gas_step() {

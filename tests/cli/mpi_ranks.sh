@@ -199,9 +199,10 @@ same "mueller, 2 processes" "$work/mueller-1" "$work/mueller-2"
 # The drag evaluated once per gas step (its K and u_g, and the pressure-gradient force,
 # kept per particle between gas steps travel with the particles to their next owner):
 # the Mueller bed's first 3000 steps on 2 processes (its 15 x 40 x 3 cells solved by
-# multigrid along y, x and y swapped for hypre), the fluidisation bed on 3.
+# multigrid along y, x and y swapped for hypre; the gas step divided by planes, which on
+# these 1800 cells "auto" would not do), the fluidisation bed on 3 (its gas whole on each).
 shared "mueller once per gas step" 2 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
-  --set 'coupling.drag_evaluation="gas_step"'
+  --set 'coupling.drag_evaluation="gas_step"' --set 'gas.division="planes"'
 shared "fluidisation once per gas step" 3 "${fluid[@]}" --set 'coupling.drag_evaluation="gas_step"'
 # The drag deposited at every step by each process in exact sums, where the cells the
 # particles reach outnumber them: the positions and impulses are gathered and every
@@ -217,25 +218,39 @@ shared "cell-average drag" 2 "${fluid[@]}" --set 'coupling={mode="two_way", meth
 shared "implicit gas drag" 3 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
   --set 'drag.update="exponential"' --set 'coupling.gas_drag="implicit"'
 
-# Not covered yet (no contacts): each process runs the whole scene but the gas step's
-# loops, which they divide by planes (plane_share.hpp), as it says; the results are those
-# of one process.
+# Not covered yet (no contacts): each process runs the whole scene, and by default
+# (gas.division = "auto") the whole gas step too on a grid this small, as it says; with
+# gas.division = "planes" they divide the gas step's loops by planes (plane_share.hpp),
+# as it says. The results are those of one process.
 gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integrator.end_time=2.0e-4)
 "$cdm" run "${gas[@]}" -q -o "$work/gas-1" > /dev/null || fail "gas scene: one process"
 "${launch[@]}" -np 2 "$cdm" run "${gas[@]}" -q -o "$work/gas-2" > "$work/gas-2.out" 2>&1 ||
   fail "gas scene: 2 processes: $(tail -5 "$work/gas-2.out")"
-[ "$(grep -c "each of the 2 MPI processes runs the whole scene but the gas step (its direct pressure solve done whole by each), which they share, since it has no contacts" "$work/gas-2.out")" -eq 1 ] ||
-  fail "gas scene on 2 processes: not one notice: $(cat "$work/gas-2.out")"
+[ "$(grep -c "each of the 2 MPI processes runs the whole scene (no speed-up), since it has no contacts.*; each steps the whole gas (gas.division = \"auto\": its 512 cells give a process fewer than 2048)" "$work/gas-2.out")" -eq 1 ] ||
+  fail "gas scene on 2 processes: not one notice of the whole gas step: $(cat "$work/gas-2.out")"
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
+"${launch[@]}" -np 2 "$cdm" run "${gas[@]}" --set 'gas.division="planes"' -q -o "$work/gas-2p" > "$work/gas-2p.out" 2>&1 ||
+  fail "gas scene, planes: 2 processes: $(tail -5 "$work/gas-2p.out")"
+[ "$(grep -c "each of the 2 MPI processes runs the whole scene but the gas step (its direct pressure solve done whole by each), which they share, since it has no contacts" "$work/gas-2p.out")" -eq 1 ] ||
+  fail "gas scene, planes, on 2 processes: not one notice: $(cat "$work/gas-2p.out")"
+same "gas scene, gas step divided, 2 processes" "$work/gas-1" "$work/gas-2p"
+# "auto" divides where every process gets 2048 cells or more: 16 x 16 x 16 on 2.
+gas16=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[16,16,16]' --set integrator.end_time=2.0e-4)
+"$cdm" run "${gas16[@]}" -q -o "$work/gas16-1" > /dev/null || fail "gas scene, 16^3: one process"
+"${launch[@]}" -np 2 "$cdm" run "${gas16[@]}" -q -o "$work/gas16-2" > "$work/gas16-2.out" 2>&1 ||
+  fail "gas scene, 16^3: 2 processes: $(tail -5 "$work/gas16-2.out")"
+grep -q "each of the 2 MPI processes runs the whole scene but the gas step, which they share," "$work/gas16-2.out" ||
+  fail "gas scene, 16^3, on 2 processes: the divided gas step not reported: $(cat "$work/gas16-2.out")"
+same "gas scene, 16^3, 2 processes" "$work/gas16-1" "$work/gas16-2"
 
-# The gas step, its loops and its multigrid pressure solve, is divided among the processes
-# in every scene (each owns whole planes of cells; plane_share.hpp, pressure_multigrid.cpp),
-# with the gas the same to the bit: the gas
+# The gas step, its loops and its multigrid pressure solve, divided among the processes
+# (gas.division = "planes": each owns whole planes of cells; plane_share.hpp,
+# pressure_multigrid.cpp), with the gas the same to the bit: the gas
 # scene without contacts (its 8 planes split 3, 3, 2 on 3 processes; VTK of the gas and a
 # checkpoint), the periodic 2D gas of the MMS case on 2, and the fluidisation bed (2
 # planes: the third and fourth process own none) on 4.
 gas_mg=("${gas[@]}" --set 'gas.pressure_solver="multigrid"' --set output.interval=1.0e-4 --set output.vtk=true
-        --set output.checkpoint_interval=1.0e-4)
+        --set output.checkpoint_interval=1.0e-4 --set 'gas.division="planes"')
 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-1" > /dev/null || fail "gas scene, multigrid: one process"
 "${launch[@]}" -np 3 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-3" > "$work/gas-mg-3.out" 2>&1 ||
   fail "gas scene, multigrid: 3 processes: $(tail -5 "$work/gas-mg-3.out")"
@@ -243,12 +258,14 @@ grep -q "each of the 3 MPI processes runs the whole scene but the gas step, whic
   fail "gas scene, multigrid, on 3 processes: the shared solve not reported: $(cat "$work/gas-mg-3.out")"
 same "gas scene with the multigrid solve, 3 processes" "$work/gas-mg-1" "$work/gas-mg-3"
 mms=("$src/verification/cases/gas_mms/scene.toml" --set 'gas.cells=[32,32]' --set 'gas.pressure_solver="multigrid"'
+     --set 'gas.division="planes"'
      --set integrator.end_time=0.02 --set output.interval=0.01 --set output.vtk=true)
 "$cdm" run "${mms[@]}" -q -o "$work/mms-1" > /dev/null || fail "MMS gas, multigrid: one process"
 "${launch[@]}" -np 2 "$cdm" run "${mms[@]}" -q -o "$work/mms-2" > "$work/mms-2.out" 2>&1 ||
   fail "MMS gas, multigrid: 2 processes: $(tail -5 "$work/mms-2.out")"
 same "MMS gas with the multigrid solve, 2 processes" "$work/mms-1" "$work/mms-2"
-shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressure_solver="multigrid"'
+shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressure_solver="multigrid"' \
+  --set 'gas.division="planes"'
 grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "cdm/solver/fluid/plane_share.hpp"
 #include "cdm/solver/scene_loader.hpp"
 #include "support.hpp"
 #include "cdm/solver/simulation.hpp"
@@ -257,6 +258,40 @@ TEST(SceneLoader, CouplingGasVelocity) {
                  {"coupling.gas_velocity", "bulk", "\"interstitial\" or \"superficial\""});
   expect_refused(replace(replace(scene, "method = \"interpolate\"", "method = \"cell_average\""), "kernel = \"trilinear\"\n", ""),
                  {"coupling.gas_velocity", "superficial", "not used", "cell_average"});
+}
+
+TEST(SceneLoader, GasDivision) {
+  const std::string scene = read_text(std::string(CDM_SOURCE_DIR) + "/verification/cases/fluidization/scene.toml");
+  const std::string gas = "[gas]\n";
+  ASSERT_NE(scene.find(gas), std::string::npos);
+  auto with = [&](const std::string& keys) { return replace(scene, gas, gas + keys); };
+  EXPECT_EQ(cdm::load_scene_from_string(scene, "f.toml").gas_division, cdm::fluid::GasDivision::automatic);
+  EXPECT_EQ(cdm::load_scene_from_string(with("division = \"planes\"\n"), "f.toml").gas_division,
+            cdm::fluid::GasDivision::planes);
+  EXPECT_EQ(cdm::load_scene_from_string(with("division = \"whole\"\n"), "f.toml").gas_division,
+            cdm::fluid::GasDivision::whole);
+  expect_refused(with("division = \"slabs\"\n"), {"bad.toml", "gas.division", "slabs", "\"auto\", \"planes\" or \"whole\""});
+}
+
+// "auto" divides where each process's run of planes of the slowest axis holds 2048 cells.
+TEST(GasDivision, AutomaticDividesWhereEveryProcessGets2048Cells) {
+  using cdm::fluid::GasDivision;
+  using cdm::fluid::PlaneShare;
+  auto grid = [](int nx, int ny, int nz) {
+    cdm::fluid::GridSpec s;
+    s.hi = {1.0, 1.0, 1.0};
+    s.cells = {nx, ny, nz};
+    return cdm::fluid::StaggeredGrid(s);
+  };
+  const auto mueller = grid(15, 40, 3), cube = grid(16, 16, 16), goldschmidt = grid(2, 30, 90);
+  EXPECT_FALSE(PlaneShare::divides(GasDivision::automatic, mueller, 2));  // 600 and 1200 cells
+  EXPECT_TRUE(PlaneShare::divides(GasDivision::planes, mueller, 2));
+  EXPECT_FALSE(PlaneShare::divides(GasDivision::planes, mueller, 1));
+  EXPECT_TRUE(PlaneShare::divides(GasDivision::automatic, cube, 2));   // 2048 each
+  EXPECT_FALSE(PlaneShare::divides(GasDivision::automatic, cube, 3));  // 1280, 1280, 1536
+  EXPECT_FALSE(PlaneShare::divides(GasDivision::whole, cube, 2));
+  EXPECT_TRUE(PlaneShare::divides(GasDivision::automatic, goldschmidt, 2));   // 45 planes of 60 cells each
+  EXPECT_FALSE(PlaneShare::divides(GasDivision::automatic, goldschmidt, 3));  // 1800 each
 }
 
 TEST(SceneLoader, GasPressureSolver) {

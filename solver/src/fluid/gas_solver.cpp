@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::fluid {
@@ -48,6 +49,8 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
   for (auto& d : d_) d = g.make_array();
   phi_cells_.assign(g.cell_count(), 0.0);
   b_cells_.assign(g.cell_count(), 0.0);
+  share_ = PlaneShare(PlaneShare::divides(spec_.division, g, mpi_world().size));
+  spec_.pressure.divided = divided();
   pressure_ = std::make_unique<PressureSolver>(g, spec_.pressure);
   g.fill_scalar_ghosts(gas_.eps_g);
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);

@@ -10,9 +10,22 @@
 
 namespace cdm::fluid {
 
+bool PlaneShare::divides(GasDivision d, const StaggeredGrid& g, int processes) {
+  if (processes <= 1 || d == GasDivision::whole) return false;
+  if (d == GasDivision::planes) return true;
+  const int slow = g.dims() - 1;
+  const std::size_t per_plane = g.cell_count() / static_cast<std::size_t>(g.n(slow));
+  for (int r = 0; r < processes; ++r) {
+    const auto [first, last] = planes_of(g.n(slow), r, processes);
+    if (per_plane * static_cast<std::size_t>(last - first) < min_divided_cells) return false;
+  }
+  return true;
+}
+
 #ifdef CDM_WITH_MPI
 
-PlaneShare::PlaneShare() {
+PlaneShare::PlaneShare(bool divided) {
+  if (!divided) return;
   const WorldPlace w = mpi_world();
   rank_ = w.rank;
   size_ = w.size;
@@ -41,7 +54,7 @@ double PlaneShare::max(double x) const {
 
 #else  // one process: every plane is this one's
 
-PlaneShare::PlaneShare() = default;
+PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
 double PlaneShare::max(double x) const { return x; }
 

@@ -9,7 +9,8 @@
 /// not converge (relative residual 0.7 after one iteration, or 4e-4 after 1000).
 ///
 /// Shared among ranks: under mpirun every process holds the whole gas and steps it alike
-/// (rank_split.hpp), and the solve is the one part of the gas step they divide. Each rank
+/// (rank_split.hpp), dividing the step's loops and this solve where that pays
+/// (PressureSolverSpec::divided, plane_share.hpp). Each rank
 /// owns a run of whole planes of the slowest axis (z in 3D, y in 2D; owned_box), gives
 /// hypre its part of the operator and of b, and the parts of φ are gathered back to every
 /// rank after the solve. Every process must therefore construct the solver and call
@@ -185,7 +186,7 @@ PressureSolver::Multigrid::Multigrid(const StaggeredGrid& g, const PressureSolve
   Hypre& h = *h_;
   int world = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &world);
-  if (world > 1) h.comm = MPI_COMM_WORLD;
+  if (world > 1 && spec.divided) h.comm = MPI_COMM_WORLD;
   MPI_Comm_rank(h.comm, &h.rank);
   MPI_Comm_size(h.comm, &h.size);
   h.ndim = g.dims();

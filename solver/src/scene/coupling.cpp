@@ -39,6 +39,7 @@ void read_solved_gas(const Reader& rd, const toml::table& gt, SceneSpec& spec) {
                            (mg ? ", or pressure_solver = \"multigrid\" to solve to it"
                                : " (this cdm was built without MPI and hypre: no multigrid solve)"));
   }
+  spec.gas_division = rd.keyword(gt, "division", "gas", fluid::gas_division_keywords, fluid::GasDivision::automatic);
   spec.gas_initial_velocity = rd.vec3(gt, "initial_velocity", "gas", Dim::velocity).value_or(Vec3{});
   spec.mean_pressure_gradient = rd.vec3(gt, "mean_pressure_gradient", "gas", Dim::pressure_gradient).value_or(Vec3{});
   if (spec.gas_spec.grid.two_d && spec.gas_initial_velocity.z != 0.0)

@@ -134,7 +134,7 @@ void read_gas(const Reader& rd, SceneSpec& spec) {
     read_solved_gas(rd, *gt, spec);
     return;
   }
-  for (const char* k : {"dt", "advection", "pressure_solver", "pressure_tolerance", "initial_velocity",
+  for (const char* k : {"dt", "advection", "pressure_solver", "pressure_tolerance", "division", "initial_velocity",
                         "mean_pressure_gradient"})
     rd.reject_unused(*gt, k, "gas", "modules.gas is \"prescribed\" (these set up a solved gas)");
   if (const toml::node* cn = rd.root().get("coupling"))

@@ -2,7 +2,8 @@
 /// @file restart_origin.hpp
 /// @brief What a restart may change in the scene it continues. The steps already taken
 /// stay valid when only keys that do not change their physics differ: the end time
-/// (integrator.end_time) and everything under [output] (tables, VTK, intervals, the
+/// (integrator.end_time), how processes share the gas step (gas.division: the same
+/// results either way) and everything under [output] (tables, VTK, intervals, the
 /// checkpoint interval). Everything else is compared by value: the scene files are
 /// parsed and the --set overrides applied to each, so layout, comments, key order and
 /// number spelling (1e7 or 10000000.0) do not count.

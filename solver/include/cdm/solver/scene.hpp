@@ -96,6 +96,7 @@ struct SceneSpec {
   double gas_dt = 0.0;               // gas step [s]; particles sub-step inside it
   fluid::AdvectionScheme advection = fluid::AdvectionScheme::central;
   fluid::PressureSolverSpec pressure_solver;  // gas.pressure_solver, gas.pressure_tolerance
+  fluid::GasDivision gas_division = fluid::GasDivision::automatic;  // gas.division
   Vec3 gas_initial_velocity;         // [m/s]
   Vec3 mean_pressure_gradient;       // imposed ∇P̄ [Pa/m] (solved gas)
   bool two_way = false;              // the particles act on the gas (ε and drag reaction)

@@ -64,6 +64,8 @@ struct GasSolverSpec {
   Vec3 mean_pressure_gradient;
   /// The linear solver of the pressure equation and its tolerance.
   PressureSolverSpec pressure;
+  /// How the processes of an MPI run share the step (plane_share.hpp).
+  GasDivision division = GasDivision::automatic;
 };
 
 class GasSolver {
@@ -109,6 +111,8 @@ class GasSolver {
   std::size_t factorisations() const { return pressure_->setups(); }
   const PressureSolveStats& last_pressure_solve() const { return last_solve_; }
   const PressureSolver& pressure_solver() const { return *pressure_; }
+  /// Whether the processes of an MPI run divide the step (else each steps the whole gas).
+  bool divided() const { return share_.processes() > 1; }
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {

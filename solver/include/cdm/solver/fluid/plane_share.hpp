@@ -9,16 +9,42 @@
 /// Each value is computed by the same arithmetic whichever process computes it, so the
 /// gas is the same to the bit on any number of processes. With one process (or a build
 /// without MPI) a process's planes are all of them and gather() does nothing.
+///
+/// Dividing costs every gas step its exchanges (the gathers, and the multigrid solve's
+/// halo exchanges and reductions on each of its levels), about a millisecond a step on
+/// this machine's two cores whatever the grid, and saves the share of the work the other
+/// processes take. On a small grid the exchanges cost more than they save, so there every
+/// process steps the whole gas alone (the same arithmetic as one process, so the same
+/// bits): GasDivision::automatic divides only where every process gets at least
+/// min_divided_cells cells of the multigrid solve's planes (bench/README.md, "The gas step
+/// divided or whole").
 #include <cstddef>
 #include <utility>
 #include <vector>
 
+#include "cdm/solver/fluid/staggered_grid.hpp"
+#include "cdm/solver/keywords.hpp"
+
 namespace cdm::fluid {
+
+/// How the processes of an MPI run share the gas step (gas.division).
+enum class GasDivision { automatic, planes, whole };
+inline constexpr Keywords<GasDivision, 3> gas_division_keywords{
+    {{"auto", GasDivision::automatic}, {"planes", GasDivision::planes}, {"whole", GasDivision::whole}}};
+inline const char* to_string(GasDivision d) { return keyword_of(gas_division_keywords, d); }
 
 class PlaneShare {
  public:
-  /// Among the processes of the MPI world (mpi_world()).
-  PlaneShare();
+  /// The fewest cells a process must get for GasDivision::automatic to divide the gas step.
+  static constexpr std::size_t min_divided_cells = 2048;
+  /// Among the processes of the MPI world (mpi_world()) when @p divided, else this
+  /// process alone: it computes every plane, as every other process does.
+  explicit PlaneShare(bool divided = true);
+  /// Whether @p d divides the gas step on @p g among @p processes processes: planes
+  /// does (given more than one), whole does not, automatic does where each process's run
+  /// of planes of the multigrid solve's slowest axis (the last) holds min_divided_cells
+  /// cells or more.
+  static bool divides(GasDivision d, const StaggeredGrid& g, int processes);
   /// The planes [first, last) of @p planes that process @p rank of @p size computes:
   /// contiguous runs by rank (the multigrid pressure solve owns the same).
   static std::pair<int, int> planes_of(int planes, int rank, int size) {
@@ -32,6 +58,8 @@ class PlaneShare {
   void gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
   /// The largest of @p x over the processes.
   double max(double x) const;
+  /// The processes sharing the planes (1 when each computes them all).
+  int processes() const { return size_; }
 
  private:
   int rank_ = 0, size_ = 1;

@@ -25,7 +25,8 @@
 ///    Jacobi with them), on hypre's Struct interface over MPI_COMM_WORLD: under
 ///    mpirun the processes divide the solve (each owns whole planes of cells) and every
 ///    process gets the whole φ, the same to the bit as one process's, so every process
-///    must construct and call it alike (pressure_multigrid.cpp).
+///    must construct and call it alike (pressure_multigrid.cpp); or, where the spec says
+///    it is not divided, each solves the whole alone.
 ///    Converged when ‖b − Aφ‖₂ ≤ tolerance ‖b‖₂. Work and memory O(N) in the cells.
 ///  - direct: Eigen's sparse LDLᵀ factorisation, O(N^{5/3}) or worse in 3D, kept until d
 ///    changes; exact to round-off. The reference the multigrid solver is tested against,
@@ -57,6 +58,9 @@ struct PressureSolverSpec {
   /// (verification/cases/gas_mms/README.md).
   double tolerance = 1e-10;
   static constexpr double min_tolerance = 1e-14, max_tolerance = 1e-3;
+  /// Under mpirun: whether the processes divide the multigrid solve among them (true),
+  /// or each solves the whole alone (the gas step's division, plane_share.hpp).
+  bool divided = true;
 };
 
 /// Outcome of one solve.
