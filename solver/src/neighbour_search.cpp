@@ -144,7 +144,11 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
     return m;
   };
   const bool periodic = box.any();
-  // Particle i's pairs with every j > i, appended to @p out in order of j.
+  const bool keyed = keyed_.rows != nullptr;
+  const std::uint32_t* const rank = keyed_.rank;
+  // Whether particle a comes before b: by slot, or by rank.
+  auto before = [keyed, rank](std::uint32_t a, std::uint32_t b) { return keyed ? rank[a] < rank[b] : a < b; };
+  // Particle i's pairs with every j after it, appended to @p out in order of j.
   auto row = [&](std::size_t i, std::vector<ContactPair>& out) {
     const std::size_t first = out.size();
     long nx[3], ny[3], nz[3];
@@ -156,22 +160,28 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
           const long c = (nz[a] * dims[1] + ny[b]) * dims[0] + nx[e];
           for (std::uint32_t s = cell_start[c]; s < cell_start[c + 1]; ++s) {
             const std::uint32_t j = sorted[s];
-            if (j <= i) continue;
-            double ov;
             const auto ii = static_cast<std::uint32_t>(i);
+            if (j == ii || !before(ii, j)) continue;
+            double ov;
             if (periodic ? test_pair<true>(p, ii, j, margin, ov, box) : test_pair<false>(p, ii, j, margin, ov, box))
               out.push_back({ii, j, ov});
           }
         }
-    // i's pairs follow those of every lower i, so sorting each row sorts the whole list
-    // (a few pairs each, not a sort of them all).
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), by_pair);
+    // i's pairs follow those of every row before it, so sorting each row sorts the whole
+    // list (a few pairs each, not a sort of them all).
+    const auto b = out.begin() + static_cast<std::ptrdiff_t>(first);
+    if (!keyed) {
+      std::sort(b, out.end(), by_pair);
+      return;
+    }
+    std::sort(b, out.end(), [&](const ContactPair& x, const ContactPair& y) { return before(x.j, y.j); });
   };
-  const std::size_t r0 = std::min(rows_.first, n), r1 = std::min(rows_.second, n);
+  const std::size_t nrows = keyed ? keyed_.rows->size() : n;
+  auto row_at = [&](std::size_t k) -> std::size_t { return keyed ? (*keyed_.rows)[k] : k; };
   if (!threads) {
     chunks[0].reserve(expected);
-    for (std::size_t i = r0; i < r1; ++i) {
-      row(i, chunks[0]);
+    for (std::size_t k = 0; k < nrows; ++k) {
+      row(row_at(k), chunks[0]);
       if (chunks[0].size() > limit) return false;
     }
     return true;
@@ -190,11 +200,10 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
       chunks.resize(nt);
       for (auto& c : chunks) c.clear();
     }
-    const auto [k0, k1] = thread_range(r1 - r0);
-    const std::size_t i0 = r0 + k0, i1 = r0 + k1;
+    const auto [k0, k1] = thread_range(nrows);
     chunks[t].reserve(expected / nt + 64);
-    for (std::size_t i = i0; i < i1; ++i) {
-      row(i, chunks[t]);
+    for (std::size_t k = k0; k < k1; ++k) {
+      row(row_at(k), chunks[t]);
       if (chunks[t].size() > limit) {
 #pragma omp atomic write
         whole = false;

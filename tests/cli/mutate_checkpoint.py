@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write a copy of a cdm checkpoint (format 11) with one value of its state changed and
+"""Write a copy of a cdm checkpoint (format 12) with one value of its state changed and
 its checksum recomputed, as a corrupted or hand-edited checkpoint would be.
 Usage: mutate_checkpoint.py IN OUT FIELD VALUE
 FIELD: time, steps, x0 (particle 0's x, in the stored order) or vx0."""
@@ -18,7 +18,7 @@ def fnv1a64(data):
 src, dst, field, value = sys.argv[1:5]
 raw = bytearray(open(src, "rb").read())
 header = 8 + 4 + 8 + 8
-assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 11, "not a format 11 checkpoint"
+assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 12, "not a format 12 checkpoint"
 body = raw[header:]
 at = 0
 

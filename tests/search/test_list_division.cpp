@@ -23,10 +23,6 @@ class ThreadShare {
   class Member final : public cdm::SearchShare {
    public:
     Member(ThreadShare& s, int rank) : s_(s), rank_(rank) {}
-    std::pair<std::size_t, std::size_t> rows(std::size_t n) const override {
-      const auto r = static_cast<std::size_t>(rank_), p = static_cast<std::size_t>(s_.size_);
-      return {n * r / p, n * (r + 1) / p};
-    }
     int share_rank() const override { return rank_; }
     int share_size() const override { return s_.size_; }
     void sum(std::vector<std::uint64_t>& v) override {

@@ -51,6 +51,48 @@ TEST(NeighbourSearch, CellListEqualsAllPairsOnRandomPolydisperseParticles) {
   }
 }
 
+TEST(NeighbourSearch, KeyedRowsListEachPairOnceFromTheLowerRankInRankOrder) {
+  // Rows of their own (VerletList::key_order's): every particle ranked by a random
+  // permutation, the rows the particles of ranks [2000, 9000) in rank order. Each pair
+  // with a row particle of the lower rank is listed once, from it, (i, j) = (that row's
+  // particle, its partner), the pairs in (rank i, rank j) order: the all-pairs reference's
+  // pairs with the lower-ranked particle among the rows, so ordered.
+  const cdm::ParticleStore p = random_packing(12000, 9, 0.05, 0.5e-3, 2e-3);
+  const std::size_t n = p.size();
+  std::vector<std::uint32_t> order(n), rank(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(3));
+  for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
+  const std::vector<std::uint32_t> rows(order.begin() + 2000, order.begin() + 9000);
+  std::vector<cdm::ContactPair> brute;
+  cdm::AllPairsSearch().find_contacts(p, 0.2e-3, brute);
+  std::vector<cdm::ContactPair> expected;
+  for (cdm::ContactPair c : brute) {
+    if (rank[c.j] < rank[c.i]) std::swap(c.i, c.j);
+    if (rank[c.i] >= 2000 && rank[c.i] < 9000) expected.push_back(c);
+  }
+  std::sort(expected.begin(), expected.end(), [&](const cdm::ContactPair& a, const cdm::ContactPair& b) {
+    return rank[a.i] != rank[b.i] ? rank[a.i] < rank[b.i] : rank[a.j] < rank[b.j];
+  });
+  ASSERT_GT(expected.size(), 1000u);
+  cdm::CellListSearch cl;
+  cl.set_rows({&rows, rank.data()});
+  const int threads_before = omp_get_max_threads();
+  for (int nt : {1, 2, 3}) {
+    omp_set_num_threads(nt);
+    std::vector<std::vector<cdm::ContactPair>> chunks;
+    cl.find_contacts(p, 0.2e-3, chunks);
+    std::vector<cdm::ContactPair> flat;
+    for (const auto& c : chunks) flat.insert(flat.end(), c.begin(), c.end());
+    ASSERT_EQ(flat.size(), expected.size()) << nt << " threads";
+    for (std::size_t k = 0; k < flat.size(); ++k) {
+      ASSERT_EQ(flat[k].i, expected[k].i) << k;
+      ASSERT_EQ(flat[k].j, expected[k].j) << k;
+    }
+  }
+  omp_set_num_threads(threads_before);
+}
+
 TEST(NeighbourSearch, PerThreadChunksConcatenateToTheOneList) {
   // Above the parallel threshold each thread lists its own particles' pairs into a
   // chunk; in order the chunks must be the list one thread makes, for any team size.

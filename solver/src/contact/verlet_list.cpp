@@ -127,50 +127,69 @@ std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
 }
 
 std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) const {
-  const std::size_t n = p.size();
   const Slabs g = slabs(p);
+  return key_order(SearchPoints::of(p), p.id.empty() ? nullptr : p.id.data(), g, 0, g.count, nullptr);
+}
+
+std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
+                                                 std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank) {
+  const std::size_t n = at.n;
   // The slab first, so that each slab's particles, and so each thread's and each rank's,
-  // are one run of slots; then cell coordinates (edge = one interaction range, 17 bits
-  // per axis: a wider box only coarsens the order), the slab axis most significant, then
-  // the other two; then the slot, which makes the order total.
-  const std::vector<double>* data[3] = {&p.x, &p.y, &p.z};
+  // are one run; then cell coordinates (edge = one interaction range, 17 bits per axis:
+  // a wider box only coarsens the order), the slab axis most significant, then the other
+  // two; then the identity, which makes the order total and independent of the slots.
+  const double* data[3] = {at.x, at.y, at.z};
   const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
   const double h = g.range > 0.0 ? g.range : 1.0;
   constexpr double cmax = double((1 << 17) - 1);
-  const double lo_axis = g.lo[g.axis];
-  // The slab as rebuild() will cut it from these positions.
-  auto slab = [&](std::size_t i) {
-    return g.count == 1 ? std::size_t{0}
-                        : std::min<std::size_t>(g.count - 1, static_cast<std::size_t>(((*data[g.axis])[i] - lo_axis) / g.width));
+  const SlabOf slab{data[g.axis], g.lo[g.axis], g.width, g.count};
+  auto cells = [&](std::size_t i) {
+    std::uint64_t c3 = 0;
+    for (int a : ax) {
+      const double c = std::clamp(std::floor((data[a][i] - g.lo[a]) / h), 0.0, cmax);
+      c3 = (c3 << 17) | static_cast<std::uint64_t>(c);
+    }
+    return c3;
   };
-  // By slab first (a counting sort, stable), then each slab's particles by their cells: a
-  // key and slot per particle of one slab at a time, not of all of them at once.
-  std::vector<std::uint32_t> start(g.count + 1, 0), from(n);
-  for (std::size_t i = 0; i < n; ++i) ++start[slab(i) + 1];
+  auto id_of = [id](std::uint32_t i) { return id ? id[i] : i; };
+  // By slab first (a counting sort, stable), then each slab's particles by their cells and
+  // identities: a key per particle of one slab at a time, not of all of them at once.
+  std::vector<std::uint32_t> start(g.count + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++start[slab(static_cast<std::uint32_t>(i)) + 1];
   for (std::size_t s = 0; s < g.count; ++s) start[s + 1] += start[s];
+  const std::uint32_t base = start[s0];
+  std::vector<std::uint32_t> from(start[s1] - base);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) from[fill[slab(i)]++] = static_cast<std::uint32_t>(i);
-  }
-  auto order_slab = [&](std::size_t s) {
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> key(start[s + 1] - start[s]);
-    for (std::size_t k = 0; k < key.size(); ++k) {
-      const std::uint32_t i = from[start[s] + k];
-      std::uint64_t c3 = 0;
-      for (int a : ax) {
-        const double c = std::clamp(std::floor(((*data[a])[i] - g.lo[a]) / h), 0.0, cmax);
-        c3 = (c3 << 17) | static_cast<std::uint64_t>(c);
-      }
-      key[k] = {c3, i};
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t s = slab(static_cast<std::uint32_t>(i));
+      if (s >= s0 && s < s1) from[fill[s]++ - base] = static_cast<std::uint32_t>(i);
     }
-    std::sort(key.begin(), key.end());
-    for (std::size_t k = 0; k < key.size(); ++k) from[start[s] + k] = key[k].second;
+  }
+  struct Key {
+    std::uint64_t cells;
+    std::uint32_t id, slot;
   };
-  if (n > parallel_threshold) {
+  auto order_slab = [&](std::size_t s) {
+    std::vector<Key> key(start[s + 1] - start[s]);
+    for (std::size_t k = 0; k < key.size(); ++k) {
+      const std::uint32_t i = from[start[s] - base + k];
+      key[k] = {cells(i), id_of(i), i};
+    }
+    std::sort(key.begin(), key.end(),
+              [](const Key& a, const Key& b) { return a.cells != b.cells ? a.cells < b.cells : a.id < b.id; });
+    for (std::size_t k = 0; k < key.size(); ++k) from[start[s] - base + k] = key[k].slot;
+  };
+  if (from.size() > parallel_threshold) {
 #pragma omp parallel for schedule(dynamic)
-    for (std::size_t s = 0; s < g.count; ++s) order_slab(s);
+    for (std::size_t s = s0; s < s1; ++s) order_slab(s);
   } else {
-    for (std::size_t s = 0; s < g.count; ++s) order_slab(s);
+    for (std::size_t s = s0; s < s1; ++s) order_slab(s);
+  }
+  if (rank) {
+    rank->resize(n);
+    parallel_for(n, [&](std::size_t i) { (*rank)[i] = start[slab(static_cast<std::uint32_t>(i))]; });
+    for (std::size_t k = 0; k < from.size(); ++k) (*rank)[from[k]] = static_cast<std::uint32_t>(base + k);
   }
   return from;
 }
@@ -246,11 +265,35 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // they rarely grow by doubling. One chunk per thread (each lists its own particles'
   // pairs), in (i, j) order chunk after chunk.
   std::vector<std::vector<ContactPair>> candidates;
-  if (share_) {
-    const auto [first, last] = share_->rows(n);
-    search_.set_rows(first, last);
+  {
+    // The rows in order of their keys (key_order): the pairs then come in an order that
+    // does not depend on the particles' slots, the same on any number of processes. Each
+    // process lists the rows of a run of whole slabs, about its share of the particles,
+    // the runs in process order, so that their pairs in process order are the one-process
+    // order.
+    std::size_t s0 = 0, s1 = nslab;
+    std::vector<std::size_t> count(nslab + 1, 0);  // particles before each slab
+    for (std::size_t i = 0; i < n; ++i) ++count[slab_of(static_cast<std::uint32_t>(i)) + 1];
+    for (std::size_t s = 0; s < nslab; ++s) count[s + 1] += count[s];
+    if (divided) {
+      const auto size = static_cast<std::size_t>(share_->share_size()), r = static_cast<std::size_t>(share_->share_rank());
+      auto first_of = [&](std::size_t q) {
+        if (q >= size) return nslab;
+        return static_cast<std::size_t>(std::lower_bound(count.begin(), count.end() - 1, n * q / size) - count.begin());
+      };
+      s0 = first_of(r);
+      s1 = std::max(s0, first_of(r + 1));
+    }
+    // Ranked: the rows' slabs and the slab either side, where their partners are.
+    const std::size_t a = s0 > 0 ? s0 - 1 : 0, b = std::min(nslab, s1 + 1);
+    std::vector<std::uint32_t> rank;
+    std::vector<std::uint32_t> rows = key_order(at, p.id.empty() ? nullptr : p.id.data(), g, a, b, &rank);
+    rows.resize(count[s1] - count[a]);
+    rows.erase(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]));
+    search_.set_rows({&rows, rank.data()});
+    search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
+    search_.set_rows({});
   }
-  search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
   // Two fixed particles never move: their contact does nothing, so it is not listed.
   if (!p.fixed_flag.empty())
     for (auto& chunk : candidates)
@@ -294,17 +337,26 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   std::vector<std::uint32_t>().swap(owner);
   if (history_) {
     // Carry the history of every pair in contact at the last evaluation (each is in
-    // both lists): a new pair looks for its j among the few carried pairs of its i.
+    // both lists): a new pair looks for its j among the few carried pairs of its i, or,
+    // listed the other way round before (its particles' keys changed order since), for
+    // its i among those of its j, the history then seen from the other particle (the
+    // negative).
     std::vector<Vec3> hist(pi.size());
     std::vector<std::uint8_t> touch(pi.size(), 0);
     if (!carry.empty()) {
+      auto carried = [&](std::uint32_t a, std::uint32_t b) -> const PairContact* {
+        for (std::uint32_t q = carry_first[a]; q < carry_first[a + 1]; ++q)
+          if (carry[q].j == b) return &carry[q];
+        return nullptr;
+      };
       for (std::size_t k = 0; k < pi.size(); ++k) {
         const std::uint32_t i = pi[k], j = pj[k];
-        for (std::uint32_t q = carry_first[i]; q < carry_first[i + 1]; ++q) {
-          if (carry[q].j != j) continue;
-          hist[k] = carry[q].h;
+        if (const PairContact* c = carried(i, j)) {
+          hist[k] = c->h;
           touch[k] = 1;
-          break;
+        } else if (const PairContact* r = carried(j, i)) {
+          hist[k] = -r->h;
+          touch[k] = 1;
         }
       }
     }

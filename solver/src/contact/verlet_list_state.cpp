@@ -113,7 +113,8 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   // Contacts of particles listed, each pair once (in list order), and the wall
   // contacts in strictly increasing (i, w) order.
   ok = ok && (history_ || nc == 0);
-  for (std::size_t k = 0; ok && k < pair_carry_.size(); ++k) ok = pair_carry_[k].i < pair_carry_[k].j && pair_carry_[k].j < n;
+  for (std::size_t k = 0; ok && k < pair_carry_.size(); ++k)
+    ok = pair_carry_[k].i != pair_carry_[k].j && pair_carry_[k].i < n && pair_carry_[k].j < n;
   ok = ok && ww.size() == wi.size() && wh.size() == wi.size() && (history_ || wi.empty());
   for (std::size_t k = 0; ok && k < wi.size(); ++k)
     ok = wi[k] < n && ww[k] < walls_.size() && (k == 0 || wall_key(wi[k - 1], ww[k - 1]) < wall_key(wi[k], ww[k]));
@@ -142,17 +143,14 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
 }
 
 void VerletList::renumber_pair_carry(const std::vector<std::uint32_t>& to) {
-  // As permute and remap renumber listed pairs: i < j kept, the history seen from i.
+  // As permute and remap renumber listed pairs: each pair stays (i, j) as its build
+  // listed it (key_order), whatever the slots, the history seen from i.
   std::erase_if(pair_carry_, [&](const PairContact& c) {
     return c.j >= to.size() || to[c.i] == new_particle || to[c.j] == new_particle;
   });
   for (PairContact& c : pair_carry_) {
     c.i = to[c.i];
     c.j = to[c.j];
-    if (c.i > c.j) {
-      std::swap(c.i, c.j);
-      c.h = -c.h;
-    }
   }
   std::sort(pair_carry_.begin(), pair_carry_.end(), PairContact::by_key);
   carry_sorted_ = true;
@@ -163,16 +161,11 @@ void VerletList::permute(const std::vector<std::uint32_t>& from) {
   if (x0_.size() != n) return;  // nothing listed yet: the next evaluation builds
   std::vector<std::uint32_t> to(n);
   for (std::size_t i = 0; i < n; ++i) to[from[i]] = static_cast<std::uint32_t>(i);
-  // Pairs keep i < j: a pair whose order flips has its history seen from the other
-  // particle, the tangential displacement of j relative to i (the negative).
+  // Each pair keeps its particles in the order its build listed them (key_order), which
+  // a new order of the slots does not change, and so its history.
   for (std::size_t k = 0; k < pi_.size(); ++k) {
-    std::uint32_t i = to[pi_[k]], j = to[pj_[k]];
-    if (i > j) {
-      std::swap(i, j);
-      if (history_) hist_[k] = -hist_[k];
-    }
-    pi_[k] = i;
-    pj_[k] = j;
+    pi_[k] = to[pi_[k]];
+    pj_[k] = to[pj_[k]];
   }
   if (pairs_pending_) renumber_pair_carry(to);
   set_aside_wall_history(&to);
@@ -191,24 +184,19 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
   for (std::size_t i = 0; i < n; ++i)
     if (from[i] != new_particle && from[i] < n_old) to[from[i]] = static_cast<std::uint32_t>(i);
   // Pairs of two particles left keep their slab (each particle stays where it was) and
-  // their history, seen from the lower slot (as permute keeps them); the slab starts
+  // their history, as their build listed them (as permute keeps them); the slab starts
   // count the pairs kept.
   std::size_t kept = 0;
   for (std::size_t s = 0; s + 1 < slab_start_.size(); ++s) {
     const std::size_t begin = slab_start_[s], end = slab_start_[s + 1];
     slab_start_[s] = static_cast<std::uint32_t>(kept);
     for (std::size_t k = begin; k < end; ++k) {
-      std::uint32_t i = pi_[k] < n_old ? to[pi_[k]] : new_particle, j = pj_[k] < n_old ? to[pj_[k]] : new_particle;
+      const std::uint32_t i = pi_[k] < n_old ? to[pi_[k]] : new_particle, j = pj_[k] < n_old ? to[pj_[k]] : new_particle;
       if (i == new_particle || j == new_particle) continue;
-      Vec3 h = history_ ? hist_[k] : Vec3{};
-      if (i > j) {
-        std::swap(i, j);
-        h = -h;
-      }
       pi_[kept] = i;
       pj_[kept] = j;
       if (history_) {
-        hist_[kept] = h;
+        hist_[kept] = hist_[k];
         touch_[kept] = touch_[k];
       }
       ++kept;

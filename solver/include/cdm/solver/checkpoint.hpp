@@ -50,8 +50,10 @@ struct OutputMarks {
 /// on its fixed faces (GasField::drag_gradient); 9: the contact list's wall history as
 /// the wall contacts only (particle, wall, displacement), not a slot per particle and wall;
 /// 10: the pair contacts, not the listed pairs; 11: the slabs the pairs were listed in,
-/// which a list kept after removals no longer derives from its build positions.
-constexpr std::uint32_t checkpoint_format_version = 11;
+/// which a list kept after removals no longer derives from its build positions; 12: each
+/// pair contact (i, j) as its build listed it, i the particle of the lower key
+/// (VerletList::key_order), not the lower slot, its history seen from i.
+constexpr std::uint32_t checkpoint_format_version = 12;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary

@@ -2,7 +2,7 @@
 /// @file neighbour_search.hpp
 /// @brief Particle–particle contact detection. CellListSearch is O(N) (cell-linked
 /// lists, cell edge = largest diameter + margin); AllPairsSearch is the O(N^2)
-/// reference the tests compare it with. Both return pairs i < j sorted by (i, j).
+/// reference the tests compare it with. Both return pairs i < j sorted by (i, j) (CellListSearch, unless given rows of its own: set_rows).
 /// With a PeriodicBox, distances are to the nearest image along its periodic axes
 /// (particles must lie inside the box along those axes).
 #include <cstddef>
@@ -57,13 +57,20 @@ class CellListSearch {
   }
   bool find_contacts(const SearchPoints& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX);
-  /// Only the rows of particles i in [first, last) (their pairs with every j > i) are
-  /// listed by the chunked find_contacts: processes that share the search each list a
-  /// run of rows (RankSplit). All rows when never set.
-  void set_rows(std::size_t first, std::size_t last) { rows_ = {first, last}; }
+  /// Rows in an order of their own, for the chunked find_contacts (VerletList): the
+  /// particles of @p rows, in order of their ranks (rank[i], every particle's, distinct
+  /// among the rows and from every other particle they meet), each listing its pairs
+  /// (i, j) with every particle j of a higher rank, in order of rank. The pairs then
+  /// come, and are oriented, in an order that does not depend on the particles' slots.
+  /// The arrays must outlive the searches; all rows in slot order (i < j) when never set.
+  struct KeyedRows {
+    const std::vector<std::uint32_t>* rows = nullptr;
+    const std::uint32_t* rank = nullptr;
+  };
+  void set_rows(const KeyedRows& rows) { keyed_ = rows; }
 
  private:
-  std::pair<std::size_t, std::size_t> rows_{0, SIZE_MAX};  // set_rows
+  KeyedRows keyed_;  // set_rows
 };
 
 }  // namespace cdm

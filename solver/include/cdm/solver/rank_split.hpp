@@ -45,7 +45,8 @@
 /// removal between them), which is gathered to rank 0 alone (gather_to_writer) and
 /// evaluated there from the whole list. Before the
 /// list is built again every rank gets the positions only: every rank then does the same
-/// sort and slab cut, each searches a run of rows, the slabs are dealt out from the pairs
+/// sort and slab cut, each searches the rows of a run of slabs (in the order of their
+/// keys, VerletList::key_order, which the pairs keep), the slabs are dealt out from the pairs
 /// per slab summed over the ranks, and each pair, and each pair contact's history, goes
 /// to the ranks that hold its slab (VerletList::divide). assign() then sends each particle whose slab now
 /// belongs to another rank with its whole state (the arrays below, its mass, 1/m and 1/I,
@@ -289,9 +290,11 @@ class RankSplit final : public SearchShare {
   /// alike, in the one-rank order.
   void share_records(std::vector<std::uint64_t>& keys, std::vector<double>& values, std::size_t per) const;
 
-  // The contact search and list at a build (SearchShare): rank r lists the r-th of
-  // size() equal runs of rows, and each pair goes to the ranks that hold its slab.
-  std::pair<std::size_t, std::size_t> rows(std::size_t n) const override { return row_run(n, rank_); }
+  /// This rank's run of @p n rows (the r-th of size() equal runs): what it reads of a
+  /// checkpoint at a restart.
+  std::pair<std::size_t, std::size_t> rows(std::size_t n) const { return row_run(n, rank_); }
+  // The contact search and list at a build (SearchShare): each pair goes to the ranks
+  // that hold its slab.
   int share_rank() const override { return rank_; }
   int share_size() const override { return size_; }
   void sum(std::vector<std::uint64_t>& v) override;

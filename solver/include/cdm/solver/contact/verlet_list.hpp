@@ -28,6 +28,13 @@
 /// on. Among MPI processes (SearchShare) the slabs are dealt out likewise, one run per
 /// process, and each process holds only its slabs' pairs and those of the slab below
 /// them (its shadow slab, whose pairs reach into its first slab): the list is divided.
+///
+/// Order: within a slab the pairs come in the order of their particles' keys (key_order:
+/// the slab, the cells one interaction range wide, then the identity), each pair (i, j)
+/// listed from i, the particle with the lower key at the build, its partners j in key
+/// order, its history seen from i (a pair listed the other way round at a later build
+/// takes the negative). None of it depends on the slots the particles sit in, so a sort,
+/// or any other storage order, leaves every force's sum the same to the bit.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,14 +50,13 @@
 namespace cdm {
 
 /// Processes that share the contact search and the list (RankSplit). At a build each
-/// lists the rows rows(n) of the candidates (particle i's pairs with every j > i); the
-/// slabs are dealt out in contiguous runs, one per process, from the slabs' particles and
+/// lists the rows of a run of whole slabs, about its share of the particles, in the
+/// order of their keys (VerletList::key_order); the slabs are dealt out in contiguous runs, one per process, from the slabs' particles and
 /// pairs summed over the processes; and each pair goes to the process whose slab holds it,
 /// and to the one above when its slab is that process's shadow slab. Each process then
 /// holds the pairs of its slabs and of its shadow slab only, in the one-process order.
 class SearchShare {
  public:
-  virtual std::pair<std::size_t, std::size_t> rows(std::size_t n) const = 0;
   virtual int share_rank() const = 0;
   virtual int share_size() const = 0;
   /// Every process gets the sums of @p v over the processes.
@@ -151,9 +157,10 @@ class VerletList {
     if (drift_bound_ < drift_limit()) displacement_ = drift_bound_ * drift_bound_;
   }
   /// A spatial order of the particles (for ParticleStore::permute): by slab, then by cells one
-  /// interaction range wide, the slab axis slowest, so that each slab's particles, and
-  /// the partners of a particle, sit close together in memory. Deterministic: ties keep
-  /// the current order.
+  /// interaction range wide, the slab axis slowest, then by identity (key_order): the
+  /// order in which a build lists the pairs, so that each slab's particles, and the
+  /// partners of a particle, sit close together in memory. It does not depend on the
+  /// current order.
   std::vector<std::uint32_t> spatial_order(const ParticleStore& p) const;
   /// The particles were reordered (ForceModule::permute).
   void permute(const std::vector<std::uint32_t>& from);
@@ -165,7 +172,7 @@ class VerletList {
   /// that history over), so that the new ones find their partners.
   void remap(const std::vector<std::uint32_t>& from, const ParticleStore& p);
 
-  // Listed pairs (i < j) in processing order, slab by slab.
+  // Listed pairs (i, j), i listed first (key_order), in processing order, slab by slab.
   std::size_t size() const { return pi_.size(); }
   const std::vector<std::uint32_t>& pair_i() const { return pi_; }
   const std::vector<std::uint32_t>& pair_j() const { return pj_; }
@@ -238,10 +245,7 @@ class VerletList {
                                                                                             : no_slab;
   }
   /// Share the search at each build among processes (nullptr: search alone).
-  void set_search_share(SearchShare* s) {
-    share_ = s;
-    if (!s) search_.set_rows(0, SIZE_MAX);
-  }
+  void set_search_share(SearchShare* s) { share_ = s; }
   /// The slabs the pair loop visits: this rank's (set_rank_slabs), or all.
   std::pair<std::size_t, std::size_t> rank_slabs() const {
     return rank_split_ ? rank_slabs_ : std::pair<std::size_t, std::size_t>{0, slab_count()};
@@ -260,7 +264,7 @@ class VerletList {
   /// the build positions: listed(n) particles.
   std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;
 
-  /// One pair contact's history (i < j).
+  /// One pair contact's history, seen from i (the pair as listed).
   struct PairContact {
     std::uint32_t i, j;  // particles
     Vec3 h;              // tangential displacement [m]
@@ -347,6 +351,14 @@ class VerletList {
     std::size_t count = 1; // slabs
     double width = 1.0;    // slab width along axis [m]
   };
+  /// The particles of slabs [@p s0, @p s1) of @p g, positions @p at, identities @p id
+  /// (null: the slots), in order of their keys: the slab, the cells (edge one interaction
+  /// range, the cut axis first), the identity. With @p rank each particle's rank (all of
+  /// them) for CellListSearch::KeyedRows: its place in that order among all particles
+  /// for those returned; for the others, the place of their slab's first particle, which
+  /// orders them against every particle of another slab (not among themselves).
+  static std::vector<std::uint32_t> key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
+                                              std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank);
   Slabs slabs(const ParticleStore& p) const { return slabs(p.x.data(), p.y.data(), p.z.data(), p.radius, p.size()); }
   Slabs slabs(const double* x, const double* y, const double* z, const std::vector<double>& radius,
               std::size_t n) const;
@@ -382,7 +394,7 @@ class VerletList {
   double skin_;
   CellListSearch search_;
   PeriodicBox box_;
-  // Listed pairs (i < j) in processing order: slab by slab, pairs of slab s in
+  // Listed pairs (i, j) (key_order) in processing order: slab by slab, pairs of slab s in
   // [slab_start_[s], slab_start_[s+1]).
   std::vector<std::uint32_t> pi_, pj_, slab_start_;
   // For splitting the slabs among threads only: each slab's pairs in contact at the
