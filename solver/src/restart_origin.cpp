@@ -25,9 +25,12 @@ toml::table effective_scene(const RunOrigin& o, const std::string& what) {
     throw CheckpointError(what + ": the scene does not parse as TOML: " + std::string(e.description()));
   }
   for (const auto& ov : o.overrides) apply_override(root, ov, o.scene_name);
-  root.erase("output");
-  if (toml::table* integ = root["integrator"].as_table()) integ->erase("end_time");
-  if (toml::table* gas = root["gas"].as_table()) gas->erase("division");
+  for (const std::string& key : restart_changeable_keys()) {  // "table.key", or "table.*" for the whole table
+    const std::size_t dot = key.find('.');
+    const std::string table = key.substr(0, dot), name = key.substr(dot + 1);
+    if (name == "*") root.erase(table);
+    else if (toml::table* t = root[table].as_table()) t->erase(name);
+  }
   return root;
 }
 
@@ -86,8 +89,7 @@ void check_restart_origin(const RunOrigin& saved, const RunOrigin& now, const st
                         shown(at(a, *d)) + "; '" + now.scene_name + "' with the --set overrides given now has " +
                         shown(at(b, *d)) +
                         ". A restart may change only integrator.end_time, gas.division and the keys under [output]; "
-                        "restart with "
-                        "the scene and overrides the run started with");
+                        "restart with the scene and overrides the run started with");
 }
 
 }  // namespace cdm

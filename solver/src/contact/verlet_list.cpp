@@ -128,11 +128,12 @@ std::pair<std::size_t, std::size_t> VerletList::thread_slabs() const {
 
 std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) const {
   const Slabs g = slabs(p);
-  return key_order(SearchPoints::of(p), p.id.empty() ? nullptr : p.id.data(), g, 0, g.count, nullptr);
+  return key_order(SearchPoints::of(p), p.id.empty() ? nullptr : p.id.data(), g, 0, g.count, nullptr, nullptr);
 }
 
 std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
-                                                 std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank) {
+                                                 std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank,
+                                                 const std::vector<std::uint32_t>* before) {
   const std::size_t n = at.n;
   // The slab first, so that each slab's particles, and so each thread's and each rank's,
   // are one run; then cell coordinates (edge = one interaction range, 17 bits per axis:
@@ -154,9 +155,14 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
   auto id_of = [id](std::uint32_t i) { return id ? id[i] : i; };
   // By slab first (a counting sort, stable), then each slab's particles by their cells and
   // identities: a key per particle of one slab at a time, not of all of them at once.
-  std::vector<std::uint32_t> start(g.count + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++start[slab(static_cast<std::uint32_t>(i)) + 1];
-  for (std::size_t s = 0; s < g.count; ++s) start[s + 1] += start[s];
+  std::vector<std::uint32_t> start;
+  if (before) {
+    start = *before;
+  } else {
+    start.assign(g.count + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[slab(static_cast<std::uint32_t>(i)) + 1];
+    for (std::size_t s = 0; s < g.count; ++s) start[s + 1] += start[s];
+  }
   const std::uint32_t base = start[s0];
   std::vector<std::uint32_t> from(start[s1] - base);
   {
@@ -272,7 +278,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     // the runs in process order, so that their pairs in process order are the one-process
     // order.
     std::size_t s0 = 0, s1 = nslab;
-    std::vector<std::size_t> count(nslab + 1, 0);  // particles before each slab
+    std::vector<std::uint32_t> count(nslab + 1, 0);  // particles before each slab
     for (std::size_t i = 0; i < n; ++i) ++count[slab_of(static_cast<std::uint32_t>(i)) + 1];
     for (std::size_t s = 0; s < nslab; ++s) count[s + 1] += count[s];
     if (divided) {
@@ -287,7 +293,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     // Ranked: the rows' slabs and the slab either side, where their partners are.
     const std::size_t a = s0 > 0 ? s0 - 1 : 0, b = std::min(nslab, s1 + 1);
     std::vector<std::uint32_t> rank;
-    std::vector<std::uint32_t> rows = key_order(at, p.id.empty() ? nullptr : p.id.data(), g, a, b, &rank);
+    std::vector<std::uint32_t> rows = key_order(at, p.id.empty() ? nullptr : p.id.data(), g, a, b, &rank, &count);
     rows.resize(count[s1] - count[a]);
     rows.erase(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]));
     search_.set_rows({&rows, rank.data()});
