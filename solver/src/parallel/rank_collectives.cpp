@@ -169,37 +169,33 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
   if (n != owner_.size()) return a.put(v);  // not one value per particle (an empty array)
   a.put(static_cast<std::uint64_t>(n));
   const auto size = static_cast<std::size_t>(size_), me = static_cast<std::size_t>(rank_);
-  // Each rank's particles of slots [s0, s1) are own[at[r] .. end[r]) of its list, in
-  // slot order: every slot is one rank's.
-  std::vector<std::size_t> at(size, 0), end(size, 0);
+  // Each round of slots [s0, s1): each rank sends its own particles' values in slot order.
   std::vector<int> counts(size), displs(size);
+  std::vector<std::size_t> next(size);
   std::vector<double> round;
   for (std::size_t s0 = 0; s0 < n; s0 += round_values()) {
     const std::size_t s1 = std::min(n, s0 + round_values());
+    std::fill(counts.begin(), counts.end(), 0);
+    send_.clear();
+    for (std::size_t i = s0; i < s1; ++i) {
+      ++counts[owner_[i]];
+      if (owner_[i] == me) send_.push_back(v[i]);
+    }
     std::size_t total = 0;
     for (std::size_t r = 0; r < size; ++r) {
-      const std::vector<std::uint32_t>& own = rank_particles_[r];
-      end[r] = at[r];
-      while (end[r] < own.size() && own[end[r]] < s1) ++end[r];
-      counts[r] = static_cast<int>(end[r] - at[r]);
       displs[r] = static_cast<int>(total);
-      total += end[r] - at[r];
+      next[r] = total;
+      total += static_cast<std::size_t>(counts[r]);
     }
-    const std::vector<std::uint32_t>& mine = rank_particles_[me];
-    send_.resize(end[me] - at[me]);
-    for (std::size_t k = at[me]; k < end[me]; ++k) send_[k - at[me]] = v[mine[k]];
     if (rank_ == 0) recv_.resize(total);
     mpi_check(MPI_Gatherv(send_.data(), counts[me], MPI_DOUBLE, recv_.data(), counts.data(), displs.data(), MPI_DOUBLE,
                           0, MPI_COMM_WORLD),
               "MPI_Gatherv");
     if (rank_ == 0) {
       round.resize(s1 - s0);
-      for (std::size_t r = 0; r < size; ++r)
-        for (std::size_t k = at[r]; k < end[r]; ++k)
-          round[rank_particles_[r][k] - s0] = recv_[static_cast<std::size_t>(displs[r]) + (k - at[r])];
+      for (std::size_t i = s0; i < s1; ++i) round[i - s0] = recv_[next[owner_[i]]++];
       a.put_values(round.data(), round.size());
     }
-    at.swap(end);
   }
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <string>
 #include <stdexcept>
 #include <type_traits>
 
@@ -64,13 +66,13 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
     for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
   // Where only the positions were gathered, or a restart read each rank's rows, each
   // particle's state is its old owner's.
-  std::vector<int> before;
+  std::vector<Owner> before;
   if (moving_ || held_rows_) {
     if (owner_.size() != n) throw std::logic_error("RankSplit: particles changed while their owners change");
     before.swap(owner_);
   }
   owner_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) owner_[i] = slab_owner_[slab_of[i]];
+  for (std::size_t i = 0; i < n; ++i) owner_[i] = static_cast<Owner>(slab_owner_[slab_of[i]]);
   own_from_owners();
   const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
   drop_boundaries();
@@ -108,7 +110,8 @@ void RankSplit::hold_rows(std::size_t n) {
   owner_.resize(n);
   for (int r = 0; r < size_; ++r) {
     const auto [first, last] = row_run(n, r);
-    std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last), r);
+    std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last),
+              static_cast<Owner>(r));
   }
   own_from_owners();
   drop_boundaries();
@@ -143,12 +146,10 @@ void RankSplit::release_foreign(ParticleStore& p) {
 void RankSplit::own_from_owners() {
   ++ownership_changes_;
   const std::size_t n = owner_.size();
-  rank_particles_.assign(static_cast<std::size_t>(size_), {});
-  for (std::size_t i = 0; i < n; ++i)
-    rank_particles_[static_cast<std::size_t>(owner_[i])].push_back(static_cast<std::uint32_t>(i));
   owned_.assign(n, 0);
   runs_.clear();
-  for (std::uint32_t i : rank_particles_[static_cast<std::size_t>(rank_)]) {
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (owner_[i] != rank_) continue;
     owned_[i] = 1;
     if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
     else runs_.push_back({i, i + 1});
@@ -163,7 +164,7 @@ void RankSplit::keep(const std::vector<std::uint32_t>& from) {
   if (!assigned_) return;
   const std::size_t n_old = owner_.size();
   std::vector<std::uint32_t> to(n_old, new_particle);
-  std::vector<int> o(from.size());
+  std::vector<Owner> o(from.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
     o[i] = owner_[from[i]];
     to[from[i]] = static_cast<std::uint32_t>(i);
@@ -219,6 +220,9 @@ RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
 std::unique_ptr<RankSplit> RankSplit::create() {
   const WorldPlace w = mpi_world();
   if (w.size <= 1) return nullptr;
+  if (w.size > std::numeric_limits<Owner>::max() + 1)
+    throw std::runtime_error("cdm runs on at most " + std::to_string(std::numeric_limits<Owner>::max() + 1) +
+                             " MPI processes, not " + std::to_string(w.size));
   return std::unique_ptr<RankSplit>(new RankSplit(w.rank, w.size));
 }
 
@@ -344,7 +348,7 @@ void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
   gathered_ = gathered_ || rank_ == 0;
 }
 
-void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before) {
+void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<Owner>& before) {
   const auto size = static_cast<std::size_t>(size_);
   std::vector<std::vector<std::uint32_t>> out(size), in(size);
   for (std::size_t i = 0; i < owner_.size(); ++i) {
@@ -384,7 +388,7 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<in
   if (meshes_) migrate_mesh_contacts(before);
 }
 
-void RankSplit::migrate_mesh_contacts(const std::vector<int>& before) {
+void RankSplit::migrate_mesh_contacts(const std::vector<Owner>& before) {
   // Each particle that changed owner takes its mesh contacts (their history) along. The
   // list keeps this rank's own particles' only: it may hold the others' since a gather.
   using Contact = MeshContacts::Contact;
@@ -423,35 +427,31 @@ std::size_t RankSplit::round_values() {
 
 void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays, const WallRows& rows,
                                 bool to_writer) {
-  const std::size_t per = arrays.size() + rows.count;
-  const auto size = static_cast<std::size_t>(size_);
-  const std::vector<std::uint32_t>& mine = rank_particles_[static_cast<std::size_t>(rank_)];
-  // In rounds of at most `batch` particles from each rank, so that the buffers stay near
-  // round_values() whatever the state's size (a million particles' whole state is about
-  // 400 MB).
-  std::size_t most = 0;
-  for (const auto& own : rank_particles_) most = std::max(most, own.size());
-  const std::size_t batch = std::max<std::size_t>(1, round_values() / std::max<std::size_t>(1, per * size));
+  const std::size_t per = arrays.size() + rows.count, n = owner_.size();
+  const auto size = static_cast<std::size_t>(size_), me = static_cast<std::size_t>(rank_);
+  // In rounds of slots, each rank sending its own particles of the round in slot order, so
+  // that the buffers stay near round_values() whatever the state's size (a million
+  // particles' whole state is about 400 MB).
+  const std::size_t batch = std::max<std::size_t>(1, round_values() / std::max<std::size_t>(1, per));
   std::vector<int> counts(size), displs(size);
-  for (std::size_t b0 = 0; b0 < most; b0 += batch) {
-    auto part = [&](const std::vector<std::uint32_t>& own) {
-      return std::pair{std::min(b0, own.size()), std::min(b0 + batch, own.size())};
-    };
-    const auto [m0, m1] = part(mine);
-    send_.resize((m1 - m0) * per);
+  std::vector<std::size_t> next(size);
+  for (std::size_t s0 = 0; s0 < n; s0 += batch) {
+    const std::size_t s1 = std::min(n, s0 + batch);
+    std::fill(counts.begin(), counts.end(), 0);
+    for (std::size_t i = s0; i < s1; ++i) counts[owner_[i]] += static_cast<int>(per);
+    send_.resize(static_cast<std::size_t>(counts[me]));
     std::size_t at = 0;
-    for (std::size_t k = m0; k < m1; ++k) {
-      const std::uint32_t i = mine[k];
+    for (std::size_t i = s0; i < s1; ++i) {
+      if (owner_[i] != me) continue;
       for (const auto* a : arrays) send_[at++] = (*a)[i];
-      if (rows.count) rows.put(i, &send_[at]);
+      if (rows.count) rows.put(static_cast<std::uint32_t>(i), &send_[at]);
       at += rows.count;
     }
     std::size_t total = 0;
     for (std::size_t r = 0; r < size; ++r) {
-      const auto [k0, k1] = part(rank_particles_[r]);
-      counts[r] = static_cast<int>((k1 - k0) * per);
       displs[r] = static_cast<int>(total);
-      total += (k1 - k0) * per;
+      next[r] = total;
+      total += static_cast<std::size_t>(counts[r]);
     }
     if (to_writer) {
       if (rank_ == 0) recv_.resize(total);
@@ -465,15 +465,13 @@ void RankSplit::share_particles(const std::vector<std::vector<double>*>& arrays,
                                displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
                 "MPI_Allgatherv");
     }
-    at = 0;
-    for (const auto& own : rank_particles_) {
-      const auto [k0, k1] = part(own);
-      for (std::size_t k = k0; k < k1; ++k) {
-        const std::uint32_t i = own[k];
-        for (auto* a : arrays) (*a)[i] = recv_[at++];
-        if (rows.count) rows.get(i, &recv_[at]);
-        at += rows.count;
-      }
+    for (std::size_t i = s0; i < s1; ++i) {
+      const std::size_t r = owner_[i];
+      if (r == me) continue;  // this rank's own values, as they are
+      const double* in = &recv_[next[r]];
+      for (auto* a : arrays) (*a)[i] = *in++;
+      if (rows.count) rows.get(static_cast<std::uint32_t>(i), in);
+      next[r] += per;
     }
   }
 }
@@ -492,7 +490,7 @@ void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error(
 void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather_to_writer(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<int>&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<Owner>&) { throw std::logic_error("RankSplit without MPI"); }
 
 #endif
 

@@ -355,11 +355,12 @@ class RankSplit final : public SearchShare {
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
   std::uint64_t builds_ = 0;
   std::uint64_t ownership_changes_ = 0;  // ownership_changes
+  /// A particle's owner: 2 bytes a slot on every rank (create() refuses more ranks).
+  using Owner = std::uint16_t;
   std::vector<int> slab_owner_;                      // per slab
-  std::vector<int> owner_;                           // per particle slot
+  std::vector<Owner> owner_;                         // per particle slot
   std::vector<std::uint32_t> slab_first_;            // per rank: first slab (size_ + 1 entries)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> runs_;
-  std::vector<std::vector<std::uint32_t>> rank_particles_;  // per rank, in slot order
   std::vector<std::uint8_t> owned_;
   // The lower boundary: this rank's first slab (sent down), shared with rank below_;
   // the upper one: the first slab of rank above_ (ghosts).
@@ -378,12 +379,12 @@ class RankSplit final : public SearchShare {
   void share_contact_records(VerletList& list, bool to_writer = false);
   /// No boundary slabs and no neighbouring ranks, until assign() finds them.
   void drop_boundaries();
-  /// This rank's particles' runs, flags and lists from owner_.
+  /// This rank's particles' runs and flags from owner_.
   void own_from_owners();
   /// The particles whose owner was @p before and is owner_ now travel with their state.
-  void migrate(ParticleStore& p, VerletList& list, const std::vector<int>& before);
+  void migrate(ParticleStore& p, VerletList& list, const std::vector<Owner>& before);
   /// migrate()'s mesh contacts: each moving particle's go with it.
-  void migrate_mesh_contacts(const std::vector<int>& before);
+  void migrate_mesh_contacts(const std::vector<Owner>& before);
   /// Sends out[r] to rank r (released) and returns what each rank sent, in rank order.
   std::vector<std::uint8_t> swap_bytes(std::vector<std::vector<std::uint8_t>>& out);
   /// Every rank, or with @p to_writer rank 0 alone, gets each rank's particles' values
