@@ -3,7 +3,7 @@
 # results bit-identical to one process: the particle tables, run logs, wall-force monitors, VTK files (with the
 # contact network) and final checkpoints of a settling bed (walls, friction; 5000
 # particles, so that 2 threads per process split the slabs too) and of a periodic chute
-# (a fixed base; slabs along the one axis that is not periodic) and of the fluidisation
+# (a fixed base; slabs along its periodic x, which wrap) and of the fluidisation
 # case's bed (a gas, two-way drag) are compared, byte for
 # byte, on 1 process without a launcher against 2, 3 and 4 (oversubscribed) processes and
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
@@ -144,6 +144,10 @@ shared "paper Euler" 3 "${settle[@]}" --set 'integrator.scheme="paper_euler"'
 rolling=("${settle[@]}" --set 'modules.rolling_resistance="constant_torque"' --set 'contacts[0].rolling_mu=0.1'
          --set 'contacts[1].rolling_mu=0.2')
 shared "rolling resistance" 3 "${rolling[@]}"
+# The chute's slabs wrap around its periodic x: on 2 processes each is the other's
+# neighbour both ways, and the torques on both boundary slabs pass between the same two.
+shared "chute with rolling resistance" 2 "${chute[@]}" --set 'modules.rolling_resistance="constant_torque"' \
+  --set 'contacts[0].rolling_mu=0.1' --set 'contacts[1].rolling_mu=0.2'
 
 # Hertz-Mindlin friction reads both particles' step velocities and spins, a ghost's too,
 # and the pile's rolling resistance their spins: the pile on 3 processes.
@@ -314,4 +318,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"

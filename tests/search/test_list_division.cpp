@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <barrier>
+#include <cmath>
 #include <random>
 #include <thread>
 
@@ -74,6 +75,20 @@ cdm::ParticleStore bed(std::size_t n, std::uint64_t seed) {
   return p;
 }
 
+/// The bed's box periodic along x, [0, 0.08) m: the slabs then wrap, the last slab's pairs
+/// reaching into the first.
+cdm::PeriodicBox periodic_x() {
+  cdm::PeriodicBox box;
+  box.on[0] = true;
+  box.len[0] = 0.08;
+  return box;
+}
+
+/// Positions back into the box after a move.
+void wrap(cdm::ParticleStore& p, const cdm::PeriodicBox& box) {
+  for (std::size_t i = 0; i < p.size(); ++i) p.x[i] = box.wrap(p.x[i], 0);
+}
+
 /// A tangential history as a function of the pair alone, so that any list can set it.
 cdm::Vec3 history_of(std::uint32_t i, std::uint32_t j) { return {1e-7 * i, -1e-7 * j, 1e-9 * (i + j)}; }
 
@@ -132,16 +147,28 @@ void expect_divided(cdm::VerletList& whole, std::vector<cdm::VerletList>& parts)
   EXPECT_EQ(owned, whole.size());  // the processes' own slabs are every slab once
 }
 
-TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowThePairs) {
+void divided_and_carried(bool periodic) {
   const cdm::ParticleStore p0 = bed(3000, 3);
+  const cdm::PeriodicBox box = periodic ? periodic_x() : cdm::PeriodicBox{};
   for (int size : {2, 3, 4}) {
     SCOPED_TRACE(size);
     cdm::ParticleStore p = p0;
     cdm::VerletList whole(std::vector<cdm::Wall>{}, true, 0.1e-3);
+    whole.set_periodic_box(box);
     whole.update(p);
+    ASSERT_EQ(whole.slabs_wrap(), periodic);
     std::vector<cdm::ParticleStore> stores(static_cast<std::size_t>(size), p);
-    std::vector<cdm::VerletList> parts = build_shared(size, stores, [](cdm::VerletList&, int) {});
+    auto prepare = [&box](cdm::VerletList& l, int) { l.set_periodic_box(box); };
+    std::vector<cdm::VerletList> parts = build_shared(size, stores, prepare);
     expect_divided(whole, parts);
+    if (periodic) {  // the first process's shadow slab is the last
+      EXPECT_EQ(parts[0].shadow_slab(), whole.slab_count() - 1);
+      std::size_t across = 0;  // pairs across the periodic faces, in the last slab
+      const std::size_t last = whole.slab_count() - 1;
+      for (std::size_t k = whole.slab_start()[last]; k < whole.slab_start()[last + 1]; ++k)
+        across += std::abs(p.x[whole.pair_i()[k]] - p.x[whole.pair_j()[k]]) > 0.04;
+      EXPECT_GE(across, 5u);
+    }
 
     // Every third listed pair in contact, with a history of its own, on each list that
     // holds it; then the particles move past half the skin, and the lists are built again.
@@ -158,10 +185,14 @@ TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowTheP
       for (std::size_t i = 0; i < s.size(); ++i) s.x[i] += (i % 2 ? 0.06e-3 : -0.06e-3);
     };
     move(p);
-    for (auto& s : stores) move(s);
+    wrap(p, box);
+    for (auto& s : stores) {
+      move(s);
+      wrap(s, box);
+    }
     whole.update(p);
     ASSERT_EQ(whole.builds(), 2u);
-    parts = build_shared(size, stores, [](cdm::VerletList&, int) {}, &parts);
+    parts = build_shared(size, stores, prepare, &parts);
     std::size_t carried = 0;
     for (std::size_t k = 0; k < whole.size(); ++k) carried += whole.pair_touch()[k];
     EXPECT_GT(carried, 100u);  // contacts were carried, and compared below
@@ -169,15 +200,21 @@ TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowTheP
   }
 }
 
+TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowThePairs) { divided_and_carried(false); }
+
+TEST(ListDivision, SlabsAlongAPeriodicAxisWrapAndAreDividedAlike) { divided_and_carried(true); }
+
 }  // namespace
 
 TEST(ListDivision, SlabsAreDealtSoTheLargestLoadIsTheLeastRunsCanGive) {
-  // A process's load: its run of slabs' cost plus, above the first, its shadow slab's
-  // work (the pairs it evaluates as the process below does). Against every way of
-  // cutting a few slabs into runs, the deal's largest load is the least.
+  // A process's load: its run of slabs' cost plus its shadow slab's work (the pairs it
+  // evaluates as the process below does): the slab below its run, none below slab 0, or
+  // where the slabs wrap the last one unless the run holds them all. Against every way
+  // of cutting a few slabs into runs, the deal's largest load is the least.
   std::mt19937 gen(11);
   std::uniform_int_distribution<std::uint64_t> pairs(0, 40), particles(0, 12);
-  for (int trial = 0; trial < 300; ++trial) {
+  for (int trial = 0; trial < 600; ++trial) {
+    const bool wrap = trial >= 300;
     const std::size_t nslab = 1 + static_cast<std::size_t>(trial % 9), size = 1 + static_cast<std::size_t>(trial % 4);
     std::vector<std::uint64_t> work(nslab), cost(nslab + 1, 0);
     for (std::size_t s = 0; s < nslab; ++s) {
@@ -189,11 +226,12 @@ TEST(ListDivision, SlabsAreDealtSoTheLargestLoadIsTheLeastRunsCanGive) {
       for (std::size_t r = 0; r < size; ++r) {
         const std::size_t b = first[r], e = first[r + 1];
         if (b == e) continue;
-        most = std::max(most, cost[e] - cost[b] + (r > 0 && b > 0 ? work[b - 1] : 0));
+        const std::uint64_t shadow = b > 0 ? work[b - 1] : wrap && e < nslab ? work[nslab - 1] : 0;
+        most = std::max(most, cost[e] - cost[b] + shadow);
       }
       return most;
     };
-    const std::vector<std::uint32_t> dealt = cdm::VerletList::deal_slabs(cost, work, size);
+    const std::vector<std::uint32_t> dealt = cdm::VerletList::deal_slabs(cost, work, size, wrap);
     ASSERT_EQ(dealt.size(), size + 1);
     EXPECT_EQ(dealt.front(), 0u);
     EXPECT_EQ(dealt.back(), nslab);
@@ -214,6 +252,6 @@ TEST(ListDivision, SlabsAreDealtSoTheLargestLoadIsTheLeastRunsCanGive) {
     };
     if (size == 1) best = largest(first);
     else every(every, 1);
-    EXPECT_EQ(largest(dealt), best) << "trial " << trial;
+    EXPECT_EQ(largest(dealt), best) << "trial " << trial << (wrap ? ", wrapping" : "");
   }
 }

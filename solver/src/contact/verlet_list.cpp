@@ -61,8 +61,10 @@ VerletList::Slabs VerletList::slabs(const double* x, const double* y, const doub
   // Slabs along the longest side of the particles' bounding box (below), each at least one
   // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
   // neighbouring slab. The slab count depends on the geometry only, never on threads.
-  // A periodic axis is never cut (partners across its faces would sit in the first and
-  // the last slab); with all three periodic, one slab.
+  // Along a periodic axis the side is the period, which the slabs tile: an even number
+  // of them (the last, odd, meets the first, even, so the pair loop's two phases still
+  // never touch one particle from two slabs at once), at least four (so the slabs either
+  // side of one are two others); an axis too short for four is not cut.
   const double* axis_data[3] = {x, y, z};
   Slabs g;
   double rmax = 0.0;
@@ -76,23 +78,32 @@ VerletList::Slabs VerletList::slabs(const double* x, const double* y, const doub
       rmax = std::max(rmax, radius[i]);
     }
   }
+  g.range = 2.0 * rmax + skin_;
+  auto slabs_along = [&](int a) -> std::size_t {
+    if (!(g.range > 0.0)) return box_.on[a] ? 0 : 1;
+    if (!box_.on[a]) return std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>((g.hi[a] - g.lo[a]) / g.range)));
+    const std::size_t k = std::min<std::size_t>(4096, static_cast<std::size_t>(box_.len[a] / g.range)) & ~std::size_t{1};
+    return k >= 4 ? k : 0;  // 0: not cut
+  };
+  auto side = [&](int a) { return box_.on[a] ? box_.len[a] : g.hi[a] - g.lo[a]; };
   // Of sides within a tenth of the longest, the first (x, y, z): a bed about as wide as it
   // is deep keeps its axis as its sides trade places by a grain, and with it the
   // particles' order and, among MPI ranks, their owners.
   double longest = 0.0;
   for (int a = 0; a < 3; ++a)
-    if (!box_.on[a]) longest = std::max(longest, g.hi[a] - g.lo[a]);
+    if (slabs_along(a) > 0) longest = std::max(longest, side(a));
   int axis = -1;
   for (int a = 0; a < 3 && axis < 0; ++a)
-    if (!box_.on[a] && g.hi[a] - g.lo[a] >= 0.9 * longest) axis = a;
+    if (slabs_along(a) > 0 && side(a) >= 0.9 * longest) axis = a;
   const bool cut = axis >= 0;
   g.axis = cut ? axis : 0;
-  g.range = 2.0 * rmax + skin_;
-  const double extent = cut ? g.hi[g.axis] - g.lo[g.axis] : 0.0;
-  g.count = g.range > 0.0
-                ? std::max<std::size_t>(1, std::min<std::size_t>(4096, static_cast<std::size_t>(extent / g.range)))
-                : 1;
-  g.width = g.count > 1 ? extent / static_cast<double>(g.count) : 1.0;
+  g.count = cut ? slabs_along(axis) : 1;
+  g.wrap = cut && box_.on[axis];
+  if (g.wrap) {
+    g.lo[axis] = box_.lo[axis];
+    g.hi[axis] = box_.lo[axis] + box_.len[axis];
+  }
+  g.width = g.count > 1 ? (g.hi[g.axis] - g.lo[g.axis]) / static_cast<double>(g.count) : 1.0;
   return g;
 }
 
@@ -112,12 +123,10 @@ std::vector<std::uint32_t> VerletList::particle_slabs(const ParticleStore& p) co
   // As the pairs were listed (x0_ is the build's p.x).
   const std::size_t n = x0_.size();
   const Slabs g = cut_known_ ? cut_ : slabs(x0_.data(), y0_.data(), z0_.data(), p.radius, n);
-  const std::vector<double>& c = g.axis == 0 ? x0_ : g.axis == 1 ? y0_ : z0_;
+  const SlabOf slab = slab_map(g, {x0_.data(), y0_.data(), z0_.data(), p.radius.data(), n});
   std::vector<std::uint32_t> out(n, 0);
   if (g.count == 1) return out;
-  const double lo_axis = g.lo[g.axis];
-  for (std::size_t i = 0; i < n; ++i)
-    out[i] = static_cast<std::uint32_t>(std::min(g.count - 1, static_cast<std::size_t>((c[i] - lo_axis) / g.width)));
+  for (std::size_t i = 0; i < n; ++i) out[i] = slab(static_cast<std::uint32_t>(i));
   return out;
 }
 
@@ -143,7 +152,7 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
   const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
   const double h = g.range > 0.0 ? g.range : 1.0;
   constexpr double cmax = double((1 << 17) - 1);
-  const SlabOf slab{data[g.axis], g.lo[g.axis], g.width, g.count};
+  const SlabOf slab = slab_map(g, at);
   auto cells = [&](std::size_t i) {
     std::uint64_t c3 = 0;
     for (int a : ax) {
@@ -212,8 +221,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   cut_ = g;
   cut_known_ = true;
   const std::size_t nslab = g.count;
-  const double* const axis_data[3] = {at.x, at.y, at.z};
-  const SlabOf slab_of{axis_data[g.axis], g.lo[g.axis], g.width, nslab};
+  const SlabOf slab_of = slab_map(g, at);
   // The rebuild sets the run's peak memory, so what it keeps alive at once is kept
   // small. First the history to carry over: only the pairs in contact have any (a pair
   // not in contact starts afresh), so their partner and history are set apart, by
@@ -293,7 +301,14 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     // Ranked: the rows' slabs and the slab either side, where their partners are.
     const std::size_t a = s0 > 0 ? s0 - 1 : 0, b = std::min(nslab, s1 + 1);
     std::vector<std::uint32_t> rank;
-    std::vector<std::uint32_t> rows = key_order(at, p.id.empty() ? nullptr : p.id.data(), g, a, b, &rank, &count);
+    const std::uint32_t* const id = p.id.empty() ? nullptr : p.id.data();
+    std::vector<std::uint32_t> rows = key_order(at, id, g, a, b, &rank, &count);
+    // Where the slabs wrap, slab 0's rows meet the last slab's particles: ranked too, as
+    // on one process, so that their pairs come in the same order.
+    if (g.wrap && s0 == 0 && s1 > 0 && b < nslab) {
+      const std::vector<std::uint32_t> last = key_order(at, id, g, nslab - 1, nslab, nullptr, &count);
+      for (std::size_t k = 0; k < last.size(); ++k) rank[last[k]] = static_cast<std::uint32_t>(count[nslab - 1] + k);
+    }
     rows.resize(count[s1] - count[a]);
     rows.erase(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]));
     search_.set_rows({&rows, rank.data()});
@@ -321,7 +336,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     std::size_t k = 0;
     for (const auto& chunk : candidates)
       for (const ContactPair& cp : chunk) {
-        owner[k] = std::min(slab_of(cp.i), slab_of(cp.j));
+        owner[k] = slab_of.of_pair(cp.i, cp.j);
         ++start[owner[k++] + 1];
       }
   }

@@ -38,19 +38,25 @@ void VerletList::list_held_again() {
 }
 
 std::vector<std::uint32_t> VerletList::deal_slabs(const std::vector<std::uint64_t>& cost,
-                                                   const std::vector<std::uint64_t>& work, std::size_t size) {
+                                                   const std::vector<std::uint64_t>& work, std::size_t size,
+                                                   bool wrap) {
   // Runs of slabs, one per process in turn, each as long as its load stays within a bound
-  // L: a process's load is its slabs' cost (cost holds the running sums) and, above the
-  // first, its shadow slab's work, which it evaluates as the process below does. The
-  // smallest L for which the runs cover every slab is found by bisection, so the largest
-  // load over the processes is as small as runs of whole slabs can make it.
+  // L: a process's load is its slabs' cost (cost holds the running sums) and its shadow
+  // slab's work, which it evaluates as the process below does. The smallest L for which
+  // the runs cover every slab is found by bisection, so the largest load over the
+  // processes is as small as runs of whole slabs can make it.
   const std::size_t nslab = work.size();
   std::vector<std::uint32_t> first(size + 1, static_cast<std::uint32_t>(nslab));
   auto cover = [&](std::uint64_t bound) {
     std::size_t b = 0;
     for (std::size_t r = 0; r < size; ++r) {
       first[r] = static_cast<std::uint32_t>(b);
-      const std::uint64_t shadow = r > 0 && b > 0 && b < nslab ? work[b - 1] : 0;
+      if (b >= nslab) continue;
+      if (b == 0 && cost[nslab] <= bound) {  // every slab: no shadow slab
+        b = nslab;
+        continue;
+      }
+      const std::uint64_t shadow = b > 0 ? work[b - 1] : wrap ? work[nslab - 1] : 0;
       if (shadow > bound) continue;
       // The last slab boundary e with cost[e] - cost[b] + shadow <= bound.
       b = static_cast<std::size_t>(std::upper_bound(cost.begin() + static_cast<std::ptrdiff_t>(b), cost.end(),
@@ -75,7 +81,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   SearchShare& share = *share_;
   const auto size = static_cast<std::size_t>(share.share_size());
   const auto me = static_cast<std::size_t>(share.share_rank());
-  auto slab = [&](std::uint32_t i, std::uint32_t j) { return std::min(slab_of(i), slab_of(j)); };
+  auto slab = [&](std::uint32_t i, std::uint32_t j) { return slab_of.of_pair(i, j); };
   // Each slab's work: its listed pairs (the pair loop), those in contact at the last
   // evaluation kTouchCost times more (a contact's geometry and force law), summed over the
   // processes; with its particles (the integrator's pass; every process holds every
@@ -89,15 +95,17 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   std::vector<std::uint64_t> cost(nslab + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++cost[slab_of(static_cast<std::uint32_t>(i)) + 1];
   for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s] + work[s];
-  rank_slab_first_ = deal_slabs(cost, work, size);
+  rank_slab_first_ = deal_slabs(cost, work, size, slab_of.wrap);
   std::vector<std::uint32_t> owner(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
     for (std::size_t s = rank_slab_first_[r]; s < rank_slab_first_[r + 1]; ++s) owner[s] = static_cast<std::uint32_t>(r);
   // A pair of slab s goes to its owner and, when s is the shadow slab of the process
-  // above (whose first slab is s + 1), to that process too.
+  // above (whose first slab is the next, slab 0 after the last where they wrap), to that
+  // process too.
   auto each_process = [&](std::uint32_t s, auto&& to) {
     to(owner[s]);
-    if (s + 1 < nslab && owner[s + 1] != owner[s]) to(owner[s + 1]);
+    const std::size_t next = s + 1 < nslab ? s + 1 : slab_of.wrap ? 0 : nslab;
+    if (next < nslab && owner[next] != owner[s]) to(owner[next]);
   };
   {
     std::vector<std::vector<std::uint32_t>> out(size);

@@ -107,9 +107,12 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   cut.count = count;
   const std::size_t n = x0_.size();
   ok = y0_.size() == n && z0_.size() == n;
-  // The slabs, as a build cuts them: at most 4096 along one axis, of a finite width.
+  // The slabs, as a build cuts them: at most 4096 along one axis, of a finite width;
+  // along a periodic axis an even number, at least four, that wrap.
   ok = ok && known <= 1 && axis < 3 && count >= 1 && count <= 4096 && std::isfinite(cut.width) && cut.width > 0.0 &&
        std::isfinite(cut.lo[axis]);
+  cut.wrap = ok && count > 1 && box_.on[axis];
+  ok = ok && (!cut.wrap || (count >= 4 && count % 2 == 0));
   // Contacts of particles listed, each pair once (in list order), and the wall
   // contacts in strictly increasing (i, w) order.
   ok = ok && (history_ || nc == 0);

@@ -76,20 +76,25 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   own_from_owners();
   const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
   drop_boundaries();
+  // The slabs either side of the rank's run, another rank's: below its first (the last
+  // slab below slab 0 where the slabs wrap) and after its last (slab 0 after the last).
+  // Where they wrap the slab count is even, so a slab's parity is that of its place.
+  const bool wrap = list.slabs_wrap();
+  const std::size_t sb = s0 > 0 ? s0 - 1 : wrap ? nslab - 1 : nslab, sa = s1 < nslab ? s1 : wrap ? 0 : nslab;
   if (s0 < s1) {
-    if (s0 > 0) {
-      below_ = slab_owner_[s0 - 1];
+    if (sb < nslab && slab_owner_[sb] != rank_) {
+      below_ = slab_owner_[sb];
       lower_odd_ = (s0 & 1) != 0;
       for (std::size_t i = 0; i < n; ++i) {
         if (slab_of[i] == s0) lower_.push_back(static_cast<std::uint32_t>(i));
-        if (slab_of[i] == s0 - 1) under_.push_back(static_cast<std::uint32_t>(i));
+        if (slab_of[i] == sb) under_.push_back(static_cast<std::uint32_t>(i));
       }
     }
-    if (s1 < nslab) {
-      above_ = slab_owner_[s1];
+    if (sa < nslab && slab_owner_[sa] != rank_) {
+      above_ = slab_owner_[sa];
       upper_odd_ = (s1 & 1) != 0;
       for (std::size_t i = 0; i < n; ++i) {
-        if (slab_of[i] == s1) upper_.push_back(static_cast<std::uint32_t>(i));
+        if (slab_of[i] == sa) upper_.push_back(static_cast<std::uint32_t>(i));
         if (slab_of[i] == s1 - 1) top_.push_back(static_cast<std::uint32_t>(i));
       }
     }
@@ -227,10 +232,14 @@ std::unique_ptr<RankSplit> RankSplit::create() {
 }
 
 namespace {
-/// One message of an exchange: the values at @p idx, to or from @p rank.
+/// One message of an exchange: the values at @p idx, to or from @p rank, going @p up (to
+/// the rank above the sender, where the slabs are dealt out) or not. Two ranks may be
+/// each other's neighbours both ways (slabs that wrap): the direction tells the messages
+/// apart.
 struct Leg {
   const std::vector<std::uint32_t>* idx;
   int rank;
+  bool up = false;
 };
 
 /// Sends each of @p sends and receives each of @p recvs, the values of @p arrays at the
@@ -248,7 +257,8 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     in[m].resize(recvs[m].idx->size() * k);
     req.emplace_back();
-    mpi_check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, tag, MPI_COMM_WORLD,
+    mpi_check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, 2 * tag + recvs[m].up,
+                        MPI_COMM_WORLD,
                         &req.back()),
               "MPI_Irecv");
   }
@@ -262,7 +272,8 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
       at += rows.count;
     }
     req.emplace_back();
-    mpi_check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, tag, MPI_COMM_WORLD,
+    mpi_check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, 2 * tag + sends[m].up,
+                        MPI_COMM_WORLD,
                         &req.back()),
               "MPI_Isend");
   }
@@ -282,12 +293,12 @@ void RankSplit::exchange_ghosts(ParticleStore& p, bool with_masses) {
   if (!assigned_) return;
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) {
-    sends.push_back({&lower_, below_});
-    recvs.push_back({&under_, below_});
+    sends.push_back({&lower_, below_, false});
+    recvs.push_back({&under_, below_, true});
   }
   if (above_ >= 0) {
-    sends.push_back({&top_, above_});
-    recvs.push_back({&upper_, above_});
+    sends.push_back({&top_, above_, true});
+    recvs.push_back({&upper_, above_, false});
   }
   std::vector<std::vector<double>*> arrays = ghost_arrays(p);
   if (with_masses)
@@ -298,8 +309,8 @@ void RankSplit::exchange_ghosts(ParticleStore& p, bool with_masses) {
 void RankSplit::exchange_ghost_torques(ParticleStore& p) {
   if (!assigned_) return;
   std::vector<Leg> sends, recvs;
-  if (below_ >= 0) sends.push_back({&lower_, below_});
-  if (above_ >= 0) recvs.push_back({&upper_, above_});
+  if (below_ >= 0) sends.push_back({&lower_, below_, false});
+  if (above_ >= 0) recvs.push_back({&upper_, above_, false});
   exchange({&p.tx, &p.ty, &p.tz}, sends, recvs, 14, legs_, {});
 }
 
@@ -313,14 +324,14 @@ void RankSplit::boundary_torques(ParticleStore& p, int pass) {
   // down, the lower one adds in the odd phase and hands them back.
   std::vector<Leg> sends, recvs;
   if (below_ >= 0) {
-    if (pass == 0 && lower_odd_) recvs.push_back({&lower_, below_});
-    if (pass == 0 && !lower_odd_) sends.push_back({&lower_, below_});
-    if (pass == 1 && !lower_odd_) recvs.push_back({&lower_, below_});
+    if (pass == 0 && lower_odd_) recvs.push_back({&lower_, below_, true});
+    if (pass == 0 && !lower_odd_) sends.push_back({&lower_, below_, false});
+    if (pass == 1 && !lower_odd_) recvs.push_back({&lower_, below_, true});
   }
   if (above_ >= 0) {
-    if (pass == 0 && upper_odd_) sends.push_back({&upper_, above_});
-    if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_});
-    if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_});
+    if (pass == 0 && upper_odd_) sends.push_back({&upper_, above_, true});
+    if (pass == 0 && !upper_odd_) recvs.push_back({&upper_, above_, false});
+    if (pass == 1 && !upper_odd_) sends.push_back({&upper_, above_, true});
   }
   exchange(f, sends, recvs, 15 + pass, legs_, {});
 }
@@ -374,7 +385,7 @@ void RankSplit::migrate(ParticleStore& p, VerletList& list, const std::vector<Ow
       const std::vector<std::uint32_t>& all = r < size ? out[r] : in[r - size];
       part[r].assign(all.begin() + static_cast<std::ptrdiff_t>(std::min(k0, all.size())),
                      all.begin() + static_cast<std::ptrdiff_t>(std::min(k0 + batch, all.size())));
-      if (!part[r].empty()) (r < size ? sends : recvs).push_back({&part[r], static_cast<int>(r % size)});
+      if (!part[r].empty()) (r < size ? sends : recvs).push_back({&part[r], static_cast<int>(r % size), false});
     }
     if (sends.empty() && recvs.empty()) break;
     exchange(arrays, sends, recvs, 17, buffers, rows);

@@ -15,7 +15,9 @@
 ///    paper's Euler step);
 ///  - exchange_ghosts(): each rank receives the moved state of the first slab of the
 ///    rank above (the pairs of its last slab reach into it) and of the last slab of the
-///    rank below (the shadow slab, whose pairs reach into its first slab);
+///    rank below (the shadow slab, whose pairs reach into its first slab); where the
+///    slabs wrap around a periodic axis the rank holding slab 0 has the one holding the
+///    last slab below it, and two ranks may be each other's neighbours both ways;
 ///  - the pair loop's even phase, then its odd phase, over the rank's slabs and the
 ///    shadow slab: the rank evaluates the shadow slab's pairs as the rank below does, so
 ///    that its first slab's particles receive every contribution in the one-rank order

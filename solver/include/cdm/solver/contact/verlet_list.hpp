@@ -16,9 +16,12 @@
 /// near a wall pay for them, not the whole bed.
 ///
 /// Slabs: at each build the particles' bounding box is cut into slabs along its longest
-/// side (the first, x before y before z, of the sides within a tenth of it), at least one
-/// interaction range wide, and each pair belongs to the lower of its particles' slabs, so
-/// it touches only particles of that slab and the next. Even slabs may run in parallel,
+/// side (the first, x before y before z, of the sides within a tenth of it; along a
+/// periodic axis the side is the period), at least one interaction range wide, and each
+/// pair belongs to the lower of its particles' slabs, so it touches only particles of that
+/// slab and the next. Along a periodic axis the slabs tile the period, an even number of
+/// them and at least four, and wrap: the last slab's next is the first, and a pair across
+/// the periodic faces belongs to the last slab. Even slabs may run in parallel,
 /// then odd ones, each slab one thread's, in a fixed order: every particle receives its
 /// contributions in the same order whatever the number of threads. Each thread takes one
 /// contiguous run of slabs with about an equal share of their estimated cost (listed
@@ -239,11 +242,17 @@ class VerletList {
   /// The slab just below this rank's share, another rank's, whose pairs reach into this
   /// rank's first slab: the contact pair loop evaluates its pairs too, in its phase, for
   /// their forces on this rank's particles (rank_split.hpp). no_slab on one rank, on a
-  /// rank without slabs, and on the rank holding slab 0.
+  /// rank without slabs, and on the rank holding slab 0 unless the slabs wrap (then its
+  /// shadow slab is the last, unless that is its own too).
   std::size_t shadow_slab() const {
-    return rank_split_ && rank_slabs_.first > 0 && rank_slabs_.first < rank_slabs_.second ? rank_slabs_.first - 1
-                                                                                            : no_slab;
+    const auto [first, last] = rank_slabs_;
+    if (!rank_split_ || first >= last) return no_slab;
+    if (first > 0) return first - 1;
+    return slabs_wrap() && last < slab_count() ? slab_count() - 1 : no_slab;
   }
+  /// Whether the slabs of the last build wrap around a periodic axis (see the file
+  /// comment): the slab below the first is the last.
+  bool slabs_wrap() const { return cut_known_ && cut_.wrap; }
   /// Share the search at each build among processes (nullptr: search alone).
   void set_search_share(SearchShare* s) { share_ = s; }
   /// The slabs the pair loop visits: this rank's (set_rank_slabs), or all.
@@ -303,10 +312,12 @@ class VerletList {
   const std::vector<std::uint32_t>& rank_slab_first() const { return rank_slab_first_; }
   /// The first slab of each of @p size processes, and the slab count after them: runs of
   /// slabs whose largest load is as small as it can be, a run's load being its slabs' cost
-  /// (@p cost: running sums from 0, one more entry than slabs) plus, but for the first
-  /// process's, the @p work (its pairs' estimated cost) of the slab below it.
+  /// (@p cost: running sums from 0, one more entry than slabs) plus the @p work (its pairs'
+  /// estimated cost) of the slab below it, its shadow slab: none below slab 0, or where
+  /// the slabs @p wrap the last one unless the run holds every slab.
   static std::vector<std::uint32_t> deal_slabs(const std::vector<std::uint64_t>& cost,
-                                               const std::vector<std::uint64_t>& work, std::size_t size);
+                                               const std::vector<std::uint64_t>& work, std::size_t size,
+                                               bool wrap);
 
   /// The list's contacts and build positions, for checkpoints: the pairs (in list order,
   /// the same on any number of processes) and the particle–wall entries (in (i, w)
@@ -328,9 +339,16 @@ class VerletList {
     const double* c;  // the positions along the cut axis [m]
     double lo, width;
     std::size_t count;
+    bool wrap;  // the slabs wrap around a periodic axis (Slabs::wrap)
     std::uint32_t operator()(std::uint32_t i) const {
       return count == 1 ? 0 : static_cast<std::uint32_t>(std::min(count - 1, static_cast<std::size_t>((c[i] - lo) / width)));
     }
+    /// The slab a pair of particles in slabs @p a and @p b belongs to: the lower, or the
+    /// last across the periodic faces.
+    std::uint32_t pair(std::uint32_t a, std::uint32_t b) const {
+      return wrap && (a == 0 || b == 0) && std::max(a, b) + 1 == count ? std::max(a, b) : std::min(a, b);
+    }
+    std::uint32_t of_pair(std::uint32_t i, std::uint32_t j) const { return pair((*this)(i), (*this)(j)); }
   };
   /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
   /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
@@ -350,7 +368,13 @@ class VerletList {
     double range = 0.0;    // interaction range 2 r_max + skin [m]
     std::size_t count = 1; // slabs
     double width = 1.0;    // slab width along axis [m]
+    bool wrap = false;     // along a periodic axis: the last slab's next is the first
   };
+  /// Each particle's slab in cut @p g, from the positions @p at.
+  static SlabOf slab_map(const Slabs& g, const SearchPoints& at) {
+    const double* const axis_data[3] = {at.x, at.y, at.z};
+    return {axis_data[g.axis], g.lo[g.axis], g.width, g.count, g.wrap};
+  }
   /// The particles of slabs [@p s0, @p s1) of @p g, positions @p at, identities @p id
   /// (null: the slots), in order of their keys: the slab, the cells (edge one interaction
   /// range, the cut axis first), the identity. With @p rank each particle's rank (all of
