@@ -11,7 +11,9 @@
 
 namespace cdm {
 
-std::vector<std::string> restart_changeable_keys() { return {"integrator.end_time", "gas.division", "output.*"}; }
+std::vector<std::string> restart_changeable_keys() {
+  return {"integrator.end_time", "gas.division", "neighbour_list.sort_interval", "output.*"};
+}
 
 namespace {
 
@@ -88,7 +90,8 @@ void check_restart_origin(const RunOrigin& saved, const RunOrigin& now, const st
   throw CheckpointError(path + ": written from scene '" + saved.scene_name + "' where " + *d + " = " +
                         shown(at(a, *d)) + "; '" + now.scene_name + "' with the --set overrides given now has " +
                         shown(at(b, *d)) +
-                        ". A restart may change only integrator.end_time, gas.division and the keys under [output]; "
+                        ". A restart may change only integrator.end_time, gas.division, neighbour_list.sort_interval and the keys "
+                        "under [output]; "
                         "restart with the scene and overrides the run started with");
 }
 

@@ -12,7 +12,7 @@
 #   hertz_pile.toml), whose constant-torque rule stops a contact's rolling given the
 #   torques of the contacts visited before it: sorted and unsorted runs bit-identical;
 # - the small periodic chute (wrapping particles, fixed base): sorted against unsorted,
-#   bit-identical.
+#   bit-identical, also when a restart changes the sort interval.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -52,4 +52,18 @@ cargs=(run "$chute" --set 'lattices[0].count=[20,10,1]' --set 'lattices[1].count
 "$cdm" "${cargs[@]}" --set neighbour_list.sort_interval=0 -o "$work/chute_plain" > /dev/null || fail "unsorted chute"
 "$cdm" "${cargs[@]}" --set neighbour_list.sort_interval=200 -o "$work/chute_sorted" > /dev/null || fail "sorted chute"
 same "$work/chute_plain/particles.dat" "$work/chute_sorted/particles.dat" "chute, unsorted and sorted"
-echo "sorting: sorted runs bit-identical to unsorted ones (settle, a rolling pile, the chute), on 1 and 2 threads and across a restart"
+# A restart may change the sort interval: the sorted chute stopped after 3000 steps and
+# continued unsorted, and the unsorted one continued sorted every 50 steps, end with the
+# tables of the runs not stopped.
+for way in "200 0 sorted" "0 50 chute_plain"; do
+  read -r before after whole <<< "$way"
+  [ "$whole" = sorted ] && whole=chute_sorted
+  dir="$work/chute_resorted_$before"
+  "$cdm" "${cargs[@]}" --set neighbour_list.sort_interval="$before" -o "$dir" --max-steps 3000 > /dev/null ||
+    fail "chute sorted every $before steps, first part"
+  cp "$dir/checkpoint.cdmck" "$work/half_$before.cdmck"
+  "$cdm" "${cargs[@]}" --set neighbour_list.sort_interval="$after" -o "$dir" --restart "$work/half_$before.cdmck" \
+    > /dev/null || fail "chute sorted every $before steps, restarted sorting every $after"
+  same "$work/$whole/particles.dat" "$dir/particles.dat" "chute, sort interval $before then $after after a restart"
+done
+echo "sorting: sorted runs bit-identical to unsorted ones (settle, a rolling pile, the chute), on 1 and 2 threads and across a restart, also one that changes the sort interval"
