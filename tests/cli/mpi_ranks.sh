@@ -148,6 +148,13 @@ shared "rolling resistance" 3 "${rolling[@]}"
 # neighbour both ways, and the torques on both boundary slabs pass between the same two.
 shared "chute with rolling resistance" 2 "${chute[@]}" --set 'modules.rolling_resistance="constant_torque"' \
   --set 'contacts[0].rolling_mu=0.1' --set 'contacts[1].rolling_mu=0.2'
+# The fewest slabs a periodic axis is cut into, four (a 4.6 mm period), on 3 and 4
+# processes: one slab each, the first process's shadow slab the last.
+for np in 3 4; do
+  shared "four wrapping slabs" "$np" "$src/bench/scenes/chute32k.toml" --set 'periodic.x=[0.0,0.0046]' \
+    --set 'periodic.y=[0.0,0.0033]' --set 'lattices[0].count=[4,3,1]' --set 'lattices[1].count=[4,3,2]' \
+    --set integrator.end_time=0.02 --set output.interval=0.005 --set output.particles=true
+done
 
 # Hertz-Mindlin friction reads both particles' step velocities and spins, a ghost's too,
 # and the pile's rolling resistance their spins: the pile on 3 processes.
@@ -318,4 +325,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
