@@ -141,7 +141,7 @@ void Simulation::remap(const std::vector<std::uint32_t>& from) {
   integrator_->masses_changed();
 }
 
-void Simulation::compute_forces(double t, integrators::ForceStart start) {
+void Simulation::ready_for_list(double t) {
   if (contact_) contact_->set_time(t);
   if (ranks_) {
     // Where the integrator's drift bound reached the margin without a measure, the list
@@ -156,6 +156,10 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
     else ranks_->exchange_ghosts(particles_);
   }
   sort_if_due();
+}
+
+void Simulation::compute_forces(double t, integrators::ForceStart start) {
+  ready_for_list(t);
   // Else the integrator zeroed the forces as it read them, or set them to the weight.
   if (start == integrators::ForceStart::stale) particles_.clear_forces();
   const ForceModule* applied = start == integrators::ForceStart::weight ? gravity_ : nullptr;
@@ -169,9 +173,7 @@ void Simulation::list_first() {
   if (!contact_ || contact_->list().built()) return;
   // The first build as the first step's forces would make it (compute_forces), with
   // nothing evaluated: each process holds the whole state until it.
-  contact_->set_time(time_);
-  if (ranks_) synchronise_ranks(true);
-  sort_if_due();
+  ready_for_list(time_);
   contact_->update_list(particles_);
 }
 

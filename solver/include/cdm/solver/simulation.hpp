@@ -217,6 +217,10 @@ class Simulation : private integrators::StepHost {
   /// output reads the run's own list (and among MPI processes each process its own part
   /// of it, as at any later step) instead of a copy listing every pair again.
   void list_first();
+  /// Before the contact list's update for the positions at time @p t: the walls moved
+  /// there; among MPI processes every position where the list is due to be built, else
+  /// the ghosts; the particles sorted where due (sort_if_due).
+  void ready_for_list(double t);
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
   void sort_if_due();
