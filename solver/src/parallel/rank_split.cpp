@@ -81,24 +81,18 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   // Where they wrap the slab count is even, so a slab's parity is that of its place.
   const bool wrap = list.slabs_wrap();
   const std::size_t sb = s0 > 0 ? s0 - 1 : wrap ? nslab - 1 : nslab, sa = s1 < nslab ? s1 : wrap ? 0 : nslab;
-  if (s0 < s1) {
-    if (sb < nslab && slab_owner_[sb] != rank_) {
-      below_ = slab_owner_[sb];
-      lower_odd_ = (s0 & 1) != 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (slab_of[i] == s0) lower_.push_back(static_cast<std::uint32_t>(i));
-        if (slab_of[i] == sb) under_.push_back(static_cast<std::uint32_t>(i));
-      }
+  if (s0 < s1 && sb < nslab && slab_owner_[sb] != rank_) below_ = slab_owner_[sb];
+  if (s0 < s1 && sa < nslab && slab_owner_[sa] != rank_) above_ = slab_owner_[sa];
+  lower_odd_ = (s0 & 1) != 0;
+  upper_odd_ = (s1 & 1) != 0;
+  if (below_ >= 0 || above_ >= 0)  // one pass over the particles for the four boundary slabs
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto k = static_cast<std::uint32_t>(i);
+      if (below_ >= 0 && slab_of[i] == s0) lower_.push_back(k);
+      if (below_ >= 0 && slab_of[i] == sb) under_.push_back(k);
+      if (above_ >= 0 && slab_of[i] == sa) upper_.push_back(k);
+      if (above_ >= 0 && slab_of[i] == s1 - 1) top_.push_back(k);
     }
-    if (sa < nslab && slab_owner_[sa] != rank_) {
-      above_ = slab_owner_[sa];
-      upper_odd_ = (s1 & 1) != 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (slab_of[i] == sa) upper_.push_back(static_cast<std::uint32_t>(i));
-        if (slab_of[i] == s1 - 1) top_.push_back(static_cast<std::uint32_t>(i));
-      }
-    }
-  }
   list.set_rank_slabs(s0, s1);
   assigned_ = true;
   builds_ = list.builds();
@@ -257,9 +251,8 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
   for (std::size_t m = 0; m < recvs.size(); ++m) {
     in[m].resize(recvs[m].idx->size() * k);
     req.emplace_back();
-    mpi_check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank, 2 * tag + recvs[m].up,
-                        MPI_COMM_WORLD,
-                        &req.back()),
+    mpi_check(MPI_Irecv(in[m].data(), static_cast<int>(in[m].size()), MPI_DOUBLE, recvs[m].rank,
+                        2 * tag + recvs[m].up, MPI_COMM_WORLD, &req.back()),
               "MPI_Irecv");
   }
   for (std::size_t m = 0; m < sends.size(); ++m) {
@@ -273,8 +266,7 @@ void exchange(const std::vector<std::vector<double>*>& arrays, const std::vector
     }
     req.emplace_back();
     mpi_check(MPI_Isend(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, sends[m].rank, 2 * tag + sends[m].up,
-                        MPI_COMM_WORLD,
-                        &req.back()),
+                        MPI_COMM_WORLD, &req.back()),
               "MPI_Isend");
   }
   mpi_check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
