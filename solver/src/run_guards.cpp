@@ -95,11 +95,7 @@ void RunGuards::check(double time, std::uint64_t step, double nonfinite, bool ga
 }
 
 void RunGuards::check_gas(const fluid::GasSolver& gs, double dtg, double time) const {
-  const double cfl = gs.max_cfl(dtg);
-  bool finite = true;
-  for (double x : gas_->u) finite = finite && std::isfinite(x);
-  for (double x : gas_->v) finite = finite && std::isfinite(x);
-  for (double x : gas_->w) finite = finite && std::isfinite(x);
+  const auto [cfl, finite] = gs.health(dtg);
   if (finite && cfl <= 1.0) return;
   std::ostringstream os;
   os << "the gas " << (finite ? "velocity exceeds one cell per gas step" : "state is no longer finite") << " at t = "

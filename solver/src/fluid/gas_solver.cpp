@@ -82,15 +82,26 @@ std::vector<char> GasSolver::unknown_faces(int axis) const {
   return u;
 }
 
-double GasSolver::max_cfl(double dt) const {
+double GasSolver::max_cfl(double dt) const { return health(dt).courant; }
+
+GasSolver::Health GasSolver::health(double dt) const {
   const StaggeredGrid& g = gas_.grid();
-  double c = 0.0;
   const std::vector<double>* comp[3] = {&gas_.u, &gas_.v, &gas_.w};
+  // This process's planes of the cells, and its share of each stored array: a maximum
+  // and a conjunction are the same over any division.
+  const auto [k0, k1] = share_.mine(g.n(2));
+  double c = 0.0;
   for (int a = 0; a < g.dims(); ++a)
-    for (int k = 0; k < g.n(2); ++k)
+    for (int k = k0; k < k1; ++k)
       for (int j = 0; j < g.n(1); ++j)
         for (int i = 0; i < g.n(0); ++i) c = std::max(c, std::abs((*comp[a])[g.at(i, j, k)]) * dt / g.h(a));
-  return c;
+  bool finite = true;
+  const auto r = static_cast<std::size_t>(share_.rank()), n = static_cast<std::size_t>(share_.processes());
+  for (const auto* v : comp)
+    for (std::size_t i = v->size() * r / n; i < v->size() * (r + 1) / n; ++i) finite = finite && std::isfinite((*v)[i]);
+  double worst[2] = {c, finite ? 0.0 : 1.0};
+  share_.max(worst, 2);
+  return {worst[0], worst[1] == 0.0};
 }
 
 double GasSolver::diffusion_number(double dt) const {
@@ -234,16 +245,20 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
       }
     });
   }
-  gather_velocity(star);
+  // The divergence below reads u* and v* on this process's planes of cells, all set
+  // here, and w* up to the faces above them, which the next process may have set.
+  if (dims == 3) gather_samples(share_, g, Staggering::w, ws_);
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
   // The coefficient of −∇·(d ∇φ) on every face 0..n along each axis: d = ε_f^{n+1}, or
   // ε_f²/(ε_f + Δt β/ρ) with the implicit drag.
+  // Those the pressure solve reads: on this process's planes where it divides the solve.
+  const std::pair<int, int> read = pressure_->coefficient_planes();
   for (int a = 0; a < dims; ++a) {
     double* const D = d_[a].data();
-    const int n0 = a == 0 ? nx + 1 : nx, n1 = a == 1 ? ny + 1 : ny, n2 = a == 2 ? nz + 1 : nz;
+    const int n0 = a == 0 ? nx + 1 : nx, n1 = a == 1 ? ny + 1 : ny, n2 = std::min(a == 2 ? nz + 1 : nz, read.second);
 #pragma omp parallel for schedule(static) if (threads)
-    for (int k = 0; k < n2; ++k)
+    for (int k = read.first; k < n2; ++k)
       for (int j = 0; j < n1; ++j)
         for (int i = 0; i < n0; ++i) {
           const std::ptrdiff_t f = static_cast<std::ptrdiff_t>(g.at(i, j, k));
@@ -279,7 +294,8 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   } else {
     own_cells_of(rhs);
   }
-  share_.gather(b_cells_, 0, static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), nz);
+  if (!pressure_->reads_own_planes())
+    share_.gather(b_cells_, 0, static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), nz);
   // A = −L, so L φ = rhs becomes A φ = −rhs, and b already carries the minus sign.
   // φ starts from zero, not from the previous step's φ: that warm start saved 3 % of the
   // iterations on bench/scenes/gas_scaling.toml, and it would make a run restarted from

@@ -52,11 +52,18 @@ double PlaneShare::max(double x) const {
   return out;
 }
 
+void PlaneShare::max(double* x, int n) const {
+  if (size_ <= 1) return;
+  if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the gas step's largest values failed");
+}
+
 #else  // one process: every plane is this one's
 
 PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
 double PlaneShare::max(double x) const { return x; }
+void PlaneShare::max(double*, int) const {}
 
 #endif
 

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/fluid/pressure_solver.hpp"
@@ -45,6 +46,10 @@ class PressureSolver::Multigrid {
   void set_operator(const PressureSolver& ps, const FaceCoefficients& d);
   PressureSolveStats solve(const std::vector<double>& b, std::vector<double>& phi);
   std::string method() const;
+  /// This process's planes [first, last) of cells along the slowest axis (z in 3D).
+  std::pair<int, int> own_planes() const;
+  /// Whether @p here holds on every process dividing the solve.
+  bool everywhere(bool here) const;
 
  private:
   struct Hypre;  // the hypre objects (keeps hypre's headers out of this one)

@@ -249,6 +249,18 @@ PressureSolver::Multigrid::~Multigrid() {
 
 std::string PressureSolver::Multigrid::method() const { return "PCG + PFMG (hypre)"; }
 
+std::pair<int, int> PressureSolver::Multigrid::own_planes() const {
+  return owned_planes(g_.n(g_.dims() - 1), h_->rank, h_->size);
+}
+
+bool PressureSolver::Multigrid::everywhere(bool here) const {
+  if (h_->size <= 1) return here;
+  int all = here ? 1 : 0;
+  if (MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, h_->comm) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of whether the pressure operator changed failed");
+  return all != 0;
+}
+
 void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const FaceCoefficients& d) {
   destroy_solver();
   Hypre& h = *h_;

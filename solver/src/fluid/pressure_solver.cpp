@@ -155,15 +155,33 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
   const std::size_t ncell = grid_.cell_count();
   if (b.size() != ncell || phi.size() != ncell)
     throw std::logic_error("PressureSolver::solve: b and phi need one value per cell");
+  // The values of d that solve() reads: every one, or the planes coefficient_planes() names.
+  const auto [k0, k1] = coefficient_planes();
+  const bool whole = k0 == 0 && k1 == grid_.n(2) + 1;
+  const int G = StaggeredGrid::ghosts;
+  const auto read = [&](const std::vector<double>& v) {
+    return whole ? std::pair{v.begin(), v.end()}
+                 : std::pair{v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k0)),
+                             v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k1))};
+  };
   bool same = true;
-  for (int a = 0; a < grid_.dims(); ++a)
-    same = same && d_set_[a].size() == d[a]->size() && std::equal(d[a]->begin(), d[a]->end(), d_set_[a].begin());
+  for (int a = 0; a < grid_.dims(); ++a) {
+    const auto [first, last] = read(*d[a]);
+    same = same && d_set_[a].size() == d[a]->size() && std::equal(first, last, d_set_[a].begin() + (first - d[a]->begin()));
+  }
+#ifdef CDM_WITH_MPI
+  if (multigrid_) same = multigrid_->everywhere(same);
+#endif
   if (!same) {
     if (direct_) direct_->set_operator(*this, d);
 #ifdef CDM_WITH_MPI
     else multigrid_->set_operator(*this, d);
 #endif
-    for (int a = 0; a < grid_.dims(); ++a) d_set_[a] = *d[a];
+    for (int a = 0; a < grid_.dims(); ++a) {
+      d_set_[a].resize(d[a]->size());
+      const auto [first, last] = read(*d[a]);
+      std::copy(first, last, d_set_[a].begin() + (first - d[a]->begin()));
+    }
     ++setups_;
   }
   if (!has_outlet_) {
@@ -178,6 +196,17 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
   if (multigrid_) return multigrid_->solve(b, phi);
 #endif
   return direct_->solve(b, phi);
+}
+
+std::pair<int, int> PressureSolver::coefficient_planes() const {
+  const int n = grid_.n(2);
+#ifdef CDM_WITH_MPI
+  if (multigrid_ && grid_.dims() == 3) {
+    const auto [k0, k1] = multigrid_->own_planes();
+    return {k0, k0 == k1 ? k0 : k1 + 1};
+  }
+#endif
+  return {0, n + 1};
 }
 
 // ---------------------------------------------------------------------------------------

@@ -100,9 +100,18 @@ class GasSolver {
   /// centres (verification only): ∂ε/∂t + ∇·(ε u) = s.
   std::function<double(Vec3, double)> mass_source;
 
-  /// Largest |u| Δt/h and μ Δt/(ρ h²) over the grid for the current velocities.
+  /// Largest |u| Δt/h and μ Δt/(ρ h²) over the grid for the current velocities. Where
+  /// divided() each process scans its planes and the largest is reduced: every process
+  /// sharing the step must call max_cfl() and health() alike.
   double max_cfl(double dt) const;
   double diffusion_number(double dt) const;
+  /// max_cfl() and whether every stored velocity (the ghosts too) is finite, in one
+  /// reduction where divided().
+  struct Health {
+    double courant = 0.0;
+    bool finite = true;
+  };
+  Health health(double dt) const;
   /// Largest |∇·(ε_f u) + (ε^{n+1} − ε^n)/Δt − s| after the last step [1/s] (the
   /// continuity residual: round-off for the direct solve, bounded by the tolerance for
   /// the multigrid one).

@@ -58,6 +58,10 @@ class PlaneShare {
   void gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
   /// The largest of @p x over the processes.
   double max(double x) const;
+  /// Each of @p x[0 … n) replaced by its largest over the processes.
+  void max(double* x, int n) const;
+  /// This process's rank among those sharing the planes (0 when each computes them all).
+  int rank() const { return rank_; }
   /// The processes sharing the planes (1 when each computes them all).
   int processes() const { return size_; }
 

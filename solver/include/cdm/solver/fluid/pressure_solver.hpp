@@ -38,6 +38,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/fluid/staggered_grid.hpp"
@@ -116,6 +117,17 @@ class PressureSolver {
   std::string method() const;
   /// The backend in use (never automatic: what it resolved to).
   PressureBackend backend() const { return spec_.backend; }
+  /// Whether solve() reads of b only the cells of this process's planes (its run of
+  /// PlaneShare::planes_of the z axis), so that the other processes' parts need not be
+  /// sent to it: a 3D grid's multigrid solve with an outlet. A direct solve reads every
+  /// cell, and so does the removal of b's mean without an outlet.
+  bool reads_own_planes() const { return multigrid_ && grid_.dims() == 3 && has_outlet_; }
+  /// The planes [first, last) of the z axis whose face coefficients (d, all three
+  /// components) solve() reads: this process's planes of cells and the plane of faces
+  /// above them, where a 3D grid's multigrid solve is divided among the processes, else
+  /// every plane. The other planes of d need not be set; the processes then decide
+  /// together whether d changed.
+  std::pair<int, int> coefficient_planes() const;
 
   /// The operator's coefficients for one cell: diagonal and the off-diagonal entry to
   /// each neighbour, sides ordered (−x, +x, −y, +y, −z, +z); an entry is 0 where the face
