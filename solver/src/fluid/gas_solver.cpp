@@ -250,9 +250,9 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   if (dims == 3) gather_samples(share_, g, Staggering::w, ws_);
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
-  // The coefficient of −∇·(d ∇φ) on every face 0..n along each axis: d = ε_f^{n+1}, or
+  // The coefficient of −∇·(d ∇φ) on the faces 0..n along each axis that the pressure
+  // solve reads (this process's planes where it divides the solve): d = ε_f^{n+1}, or
   // ε_f²/(ε_f + Δt β/ρ) with the implicit drag.
-  // Those the pressure solve reads: on this process's planes where it divides the solve.
   const std::pair<int, int> read = pressure_->coefficient_planes();
   for (int a = 0; a < dims; ++a) {
     double* const D = d_[a].data();

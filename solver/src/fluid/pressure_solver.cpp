@@ -155,14 +155,13 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
   const std::size_t ncell = grid_.cell_count();
   if (b.size() != ncell || phi.size() != ncell)
     throw std::logic_error("PressureSolver::solve: b and phi need one value per cell");
-  // The values of d that solve() reads: every one, or the planes coefficient_planes() names.
+  // The values of d that solve() reads: the planes coefficient_planes() names (its ghost
+  // planes are never set).
   const auto [k0, k1] = coefficient_planes();
-  const bool whole = k0 == 0 && k1 == grid_.n(2) + 1;
   const int G = StaggeredGrid::ghosts;
   const auto read = [&](const std::vector<double>& v) {
-    return whole ? std::pair{v.begin(), v.end()}
-                 : std::pair{v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k0)),
-                             v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k1))};
+    return std::pair{v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k0)),
+                     v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k1))};
   };
   bool same = true;
   for (int a = 0; a < grid_.dims(); ++a) {
