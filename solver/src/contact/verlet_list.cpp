@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm {
 
@@ -120,10 +121,12 @@ std::size_t VerletList::thread_first_slab(std::size_t t, std::size_t nt) const {
 }
 
 std::vector<std::uint32_t> VerletList::particle_slabs(const ParticleStore& p) const {
-  // As the pairs were listed (x0_ is the build's p.x).
+  // As the pairs were listed: from x0_, or where it holds the own particles' only (a
+  // divided build, which assign() follows at once) from p.x, which is the build's.
   const std::size_t n = x0_.size();
-  const Slabs g = cut_known_ ? cut_ : slabs(x0_.data(), y0_.data(), z0_.data(), p.radius, n);
-  const SlabOf slab = slab_map(g, {x0_.data(), y0_.data(), z0_.data(), p.radius.data(), n});
+  const SearchPoints at = own_only_ ? SearchPoints::of(p) : SearchPoints{x0_.data(), y0_.data(), z0_.data(), p.radius.data(), n};
+  const Slabs g = cut_known_ ? cut_ : slabs(at.x, at.y, at.z, p.radius, n);
+  const SlabOf slab = slab_map(g, at);
   std::vector<std::uint32_t> out(n, 0);
   if (g.count == 1) return out;
   for (std::size_t i = 0; i < n; ++i) out[i] = slab(static_cast<std::uint32_t>(i));
@@ -391,12 +394,36 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   if (divided) set_rank_slabs(rank_slab_first_[static_cast<std::size_t>(share_->share_rank())],
                               rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1]);
   if (build) {
-    x0_ = p.x; y0_ = p.y; z0_ = p.z;
+    if (divided) {
+      keep_own_build_positions(at, slab_of);
+    } else {
+      x0_ = p.x; y0_ = p.y; z0_ = p.z;
+      own_only_ = false;
+    }
     built_ = true;
     ++builds_;
     drift_bound_ = 0.0;
   }
-  list_wall_candidates(p);
+  list_wall_candidates(p, &at);
+}
+
+void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of) {
+  // A process reads the build positions of its own particles only (their displacement,
+  // their wall candidates between builds); the others' slots stay zero, uncommitted.
+  const std::size_t n = at.n, r = static_cast<std::size_t>(share_->share_rank());
+  const std::uint32_t s0 = rank_slab_first_[r], s1 = rank_slab_first_[r + 1];
+  const double* const from[3] = {at.x, at.y, at.z};
+  std::vector<double>* const to[3] = {&x0_, &y0_, &z0_};
+  for (int a = 0; a < 3; ++a) {
+    resize_zeroed(*to[a], n);
+    zero_all(*to[a]);
+  }
+  parallel_for(n, [&](std::size_t i) {
+    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    if (s < s0 || s >= s1) return;
+    for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
+  });
+  own_only_ = true;
 }
 
 void VerletList::weigh_slabs() {

@@ -45,7 +45,9 @@ void VerletList::save_state(OutArchive& a) const {
     wi[k] = wc[k].i; ww[k] = wc[k].w; wh[k] = wc[k].h;
   }
   a.put(wi); a.put(ww); a.put(wh);
-  a.put(x0_); a.put(y0_); a.put(z0_);
+  // Where each process holds its own particles' build positions only, they stream to
+  // the writer as the particles' arrays do.
+  a.put_particles(x0_); a.put_particles(y0_); a.put_particles(z0_);
   a.put(static_cast<std::uint8_t>(cut_known_ ? 1 : 0));
   a.put(static_cast<std::uint8_t>(cut_.axis));
   a.put(static_cast<std::uint64_t>(cut_.count));
@@ -94,6 +96,7 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   std::vector<Vec3> wh;
   a.get(wi); a.get(ww); a.get(wh);
   a.get(x0_); a.get(y0_); a.get(z0_);
+  own_only_ = walls_own_only_ = false;
   std::uint8_t known = 0, axis = 0;
   std::uint64_t count = 0;
   a.get(known); a.get(axis); a.get(count);
@@ -233,6 +236,7 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
   for (std::size_t i = 0; i < n; ++i) {
     x0_[i] = p.x[i]; y0_[i] = p.y[i]; z0_[i] = p.z[i];
   }
+  own_only_ = false;
   built_ = false;
   wall_candidates_stale_ = true;
 }

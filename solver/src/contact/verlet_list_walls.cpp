@@ -2,15 +2,24 @@
 #include "cdm/solver/contact/verlet_list.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace cdm {
 
-void VerletList::list_wall_candidates(const ParticleStore& p) {
-  // From the positions at the last build (x0_) and the walls where they stand now. A particle moves less than skin/2 before the next build, so one farther
+void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints* at) {
+  // From the positions at the last build (@p at, or x0_) and the walls where they stand
+  // now. A particle moves less than skin/2 before the next build, so one farther
   // than r + skin from a wall cannot reach it: each particle is listed with the walls it
   // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
-  // jump, so then every particle is listed with every wall.
+  // jump, so then every particle is listed with every wall. Where x0_ holds the own
+  // particles' only, only they are listed (a process resolves its own particles' walls).
   const std::size_t n = x0_.size(), nw = walls_.size();
+  const std::uint8_t* const own = !at && own_only_ && share_ ? share_->own_slots() : nullptr;
+  if (!at && own_only_ && !own) throw std::logic_error("VerletList: build positions held in part, without owners");
+  const double* const X0 = at ? at->x : x0_.data();
+  const double* const Y0 = at ? at->y : y0_.data();
+  const double* const Z0 = at ? at->z : z0_.data();
+  walls_own_only_ = own != nullptr && nw > 0;
   if (!wall_carry_pending_) set_aside_wall_history(nullptr);
   wall_begin_.assign(1, 0);
   wall_candidates_stale_ = false;
@@ -28,10 +37,11 @@ void VerletList::list_wall_candidates(const ParticleStore& p) {
   auto carry = wall_carry_.cbegin();
   const auto carry_end = wall_carry_.cend();
   for (std::size_t i = 0; i < n && nw; ++i) {
+    if (own && !own[i]) continue;
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = posed_[w];
-      const Vec3 X{x0_[i], y0_[i], z0_[i]};
+      const Vec3 X{X0[i], Y0[i], Z0[i]};
       const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
       if (filter && !(reach < p.radius[i] + skin_)) continue;
       wall_ids_.push_back(static_cast<std::uint32_t>(w));

@@ -94,6 +94,7 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
       if (above_ >= 0 && slab_of[i] == s1 - 1) top_.push_back(k);
     }
   list.set_rank_slabs(s0, s1);
+  list_ = &list;
   assigned_ = true;
   builds_ = list.builds();
   moving_ = written_ = held_rows_ = false;
@@ -105,85 +106,12 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   release_foreign(p);
 }
 
-void RankSplit::hold_rows(std::size_t n) {
-  owner_.resize(n);
-  for (int r = 0; r < size_; ++r) {
-    const auto [first, last] = row_run(n, r);
-    std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last),
-              static_cast<Owner>(r));
-  }
-  own_from_owners();
-  drop_boundaries();
-  assigned_ = stale_ = held_rows_ = true;
-  moving_ = written_ = gathered_ = false;
-}
-
-void RankSplit::drop_boundaries() {
-  for (auto* slab : {&lower_, &upper_, &top_, &under_}) slab->clear();
-  below_ = above_ = -1;
-}
-
-void RankSplit::release_foreign(ParticleStore& p) {
-  const std::size_t n = p.size();
-  std::vector<std::uint8_t> held = owned_;
-  held.resize(n, 0);
-  for (const auto* ghosts : {&under_, &upper_})
-    for (const std::uint32_t i : *ghosts) held[i] = 1;
-  SlotRuns foreign;
-  for (std::size_t i = 0; i < n;) {
-    if (held[i]) { ++i; continue; }
-    const std::size_t first = i;
-    while (i < n && !held[i]) ++i;
-    foreign.push_back({first, i});
-  }
-  for (auto* a : dynamic_arrays(p, true))
-    if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, foreign);
-  stale_ = true;
-  written_ = gathered_ = false;
-}
-
-void RankSplit::own_from_owners() {
-  ++ownership_changes_;
-  const std::size_t n = owner_.size();
-  owned_.assign(n, 0);
-  runs_.clear();
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (owner_[i] != rank_) continue;
-    owned_[i] = 1;
-    if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
-    else runs_.push_back({i, i + 1});
-  }
-}
-
-void RankSplit::permute(const std::vector<std::uint32_t>& from) {
-  if (owner_.size() == from.size()) keep(from);  // a reordering keeps every slot
-}
-
-void RankSplit::keep(const std::vector<std::uint32_t>& from) {
-  if (!assigned_) return;
-  const std::size_t n_old = owner_.size();
-  std::vector<std::uint32_t> to(n_old, new_particle);
-  std::vector<Owner> o(from.size());
-  for (std::size_t i = 0; i < from.size(); ++i) {
-    o[i] = owner_[from[i]];
-    to[from[i]] = static_cast<std::uint32_t>(i);
-  }
-  owner_.swap(o);
-  own_from_owners();
-  for (auto* slab : {&lower_, &upper_, &top_, &under_}) {
-    std::size_t kept = 0;
-    for (const std::uint32_t i : *slab)
-      if (to[i] != new_particle) (*slab)[kept++] = to[i];
-    slab->resize(kept);
-  }
-  written_ = false;
-}
-
-void RankSplit::added(std::size_t count) {
-  if (!assigned_) return;
-  owner_.resize(owner_.size() + count, 0);
-  own_from_owners();
-  written_ = false;
+std::vector<std::vector<double>*> RankSplit::whole_state_arrays(ParticleStore& p, VerletList& list) {
+  std::vector<std::vector<double>*> arrays = dynamic_arrays(p, true);
+  if (list.listed(p.size()) && list.build_positions_own_only())
+    for (auto* a : list.build_position_arrays()) arrays.push_back(a);
+  if (list.wall_entries_own_only() && list.wall_entries_current()) list.set_aside_walls();
+  return arrays;
 }
 
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
@@ -336,8 +264,10 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   if (positions_only) {
     share_particles({&p.x, &p.y, &p.z}, {});
   } else {
-    share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()));
+    const std::vector<std::vector<double>*> arrays = whole_state_arrays(p, list);
+    share_particles(arrays, wall_rows(list, p.size()));
     share_contact_records(list);
+    if (list.listed(p.size())) list.build_positions_whole();
     gathered_ = true;
   }
   stale_ = moving_ = positions_only;
@@ -345,8 +275,10 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
 
 void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
   if (!stale_ || written_) return;
-  share_particles(dynamic_arrays(p, true), wall_rows(list, p.size()), true);
+  const std::vector<std::vector<double>*> arrays = whole_state_arrays(p, list);
+  share_particles(arrays, wall_rows(list, p.size()), true);
   share_contact_records(list, true);
+  if (rank_ == 0 && list.listed(p.size())) list.build_positions_whole();
   written_ = true;
   gathered_ = gathered_ || rank_ == 0;
 }

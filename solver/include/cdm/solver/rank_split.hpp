@@ -105,9 +105,16 @@
 /// other values (the masses too) are zero and their pages are returned to the system after each
 /// assign() and after a whole-state gather once the rank moves on (release_foreign(),
 /// slot_pages.hpp), and a sort's or a removal's permutation commits no page of them.
+/// The list's build positions are held for the rank's own particles only: a divided
+/// build keeps its own slabs' (VerletList::build_positions_own_only), whose slots are
+/// then the rank's particles at assign(), which reads every particle's slab from the
+/// positions it just built from. The wall candidates listed again between builds are
+/// the own particles' then, so a gather of the whole state joins the wall contacts as
+/// records instead of rows, and brings the build positions along (for a checkpoint, or
+/// for rank 0 to list the whole list's pairs again from them), let go of with the rest.
 ///
-/// Limits: memory is divided for the pair list and the particles' state but their
-/// positions, build positions, radii and identities (each rank holds those of all the
+/// Limits: memory is divided for the pair list, the particles' state and the build
+/// positions but the positions, radii and identities (each rank holds those of all the
 /// particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, and
@@ -299,6 +306,7 @@ class RankSplit final : public SearchShare {
   // that hold its slab.
   int share_rank() const override { return rank_; }
   int share_size() const override { return size_; }
+  const std::uint8_t* own_slots() const override { return assigned_ ? owned_.data() : nullptr; }
   void sum(std::vector<std::uint64_t>& v) override;
   std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) override;
   std::vector<double> swap_values(std::vector<std::vector<double>>& out) override;
@@ -338,6 +346,11 @@ class RankSplit final : public SearchShare {
   /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
   /// particles. The rank no longer holds the whole state (stale_).
   void release_foreign(ParticleStore& p);
+  /// The arrays a gather of the whole state sends besides the particles' (@p list's build
+  /// positions, where a process holds its own particles' only), having set @p list's wall
+  /// contacts aside where its entries cannot take the others' rows
+  /// (VerletList::wall_entries_own_only).
+  std::vector<std::vector<double>*> whole_state_arrays(ParticleStore& p, VerletList& list);
 
   /// Rank @p r's run of rows of @p n: the r-th of size() equal runs.
   std::pair<std::size_t, std::size_t> row_run(std::size_t n, int r) const {
@@ -350,6 +363,7 @@ class RankSplit final : public SearchShare {
   std::vector<const std::vector<double>*> ghost_extras_;  // set_ghost_extras
   bool ghost_extras_set_ = false;
   MeshContacts* meshes_ = nullptr;
+  VerletList* list_ = nullptr;  // the list assign() dealt out, whose build positions release_foreign() lets go of
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()

@@ -68,6 +68,9 @@ class SearchShare {
   /// order; @p out is released.
   virtual std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) = 0;
   virtual std::vector<double> swap_values(std::vector<std::vector<double>>& out) = 0;
+  /// 1 where a slot holds this process's own particle (once the slabs are dealt out),
+  /// else nullptr: every process then holds every particle.
+  virtual const std::uint8_t* own_slots() const { return nullptr; }
 
  protected:
   ~SearchShare() = default;
@@ -134,6 +137,16 @@ class VerletList {
   /// The positions [m] at the last build, per axis (listed(n) particles), for an
   /// integrator that measures displacement() in a loop of its own.
   const double* build_positions(int axis) const { return axis == 0 ? x0_.data() : axis == 1 ? y0_.data() : z0_.data(); }
+  /// Whether the build positions are held for this process's own particles only: after
+  /// a build divided among processes, whose slots of the others' particles read zero
+  /// (their pages uncommitted, slot_pages.hpp) until a gather of the whole state brings
+  /// them (RankSplit). displacement() then applies to the own particles alone.
+  bool build_positions_own_only() const { return own_only_; }
+  /// The build positions' three arrays, which RankSplit gathers whole with the state
+  /// (then build_positions_whole()) and lets go of with it (build_positions_released()).
+  std::vector<std::vector<double>*> build_position_arrays() { return {&x0_, &y0_, &z0_}; }
+  void build_positions_whole() { own_only_ = false; }
+  void build_positions_released() { own_only_ = true; }
   /// The largest displacement() over the particles, at the current positions, measured
   /// by the integrator in its own pass: the next update takes it instead of a pass of
   /// its own. Used once; ignored if negative. The drift bound (displacement_needed)
@@ -199,6 +212,17 @@ class VerletList {
   /// Whether the wall entries are those of the current order: false from a reordering
   /// or load_state until the next update lists the candidates again.
   bool wall_entries_current() const { return !wall_carry_pending_; }
+  /// Whether the wall entries list this process's own particles only: listed again
+  /// between builds from build positions held for those alone (build_positions_own_only).
+  /// The others' rows then cannot be read into them: a gather of the whole state sets the
+  /// wall contacts aside first (set_aside_walls), and joins them as records.
+  bool wall_entries_own_only() const { return walls_own_only_; }
+  /// Sets the wall contacts aside (pending_wall_contacts) until the next update lists the
+  /// candidates again, as a change of the particles' slots does.
+  void set_aside_walls() {
+    set_aside_wall_history(nullptr);
+    wall_candidates_stale_ = true;
+  }
   /// A wall contact's history, kept by particle and wall.
   struct WallContact {
     std::uint32_t i, w;  // particle, wall
@@ -391,7 +415,13 @@ class VerletList {
   /// Thread t's first slab of nt in thread_slabs.
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
   void rebuild(const ParticleStore& p);
-  void list_wall_candidates(const ParticleStore& p);
+  /// Lists the wall candidates from @p at, every particle's positions at the build (a
+  /// build or a loaded list's listing), or without it from x0_: every particle's, or
+  /// where the build positions are held for the own particles only, theirs.
+  void list_wall_candidates(const ParticleStore& p, const SearchPoints* at = nullptr);
+  /// After a build divided among processes: x0_ takes @p at (the build's positions) for
+  /// the particles of this process's slabs only, the others' slots zero.
+  void keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of);
   /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
   static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
@@ -450,6 +480,8 @@ class VerletList {
   bool wall_carry_pending_ = false;
   bool wall_candidates_stale_ = true;  // after load_state or permute: list again from x0_, y0_, z0_
   std::vector<double> x0_, y0_, z0_;    // positions at the last build
+  bool own_only_ = false;               // build_positions_own_only
+  bool walls_own_only_ = false;         // wall_entries_own_only
   // The slabs the pairs were listed in: cut at a build, kept when particles are removed
   // and in checkpoints, so that listing the pairs again from x0_ gives the same list.
   Slabs cut_;

@@ -1,0 +1,111 @@
+/// @file rank_ownership.cpp
+/// @brief Which MPI process owns which particle slot (RankSplit), as the slots are read
+/// from a checkpoint, reordered, removed and added, and the memory that follows it: the
+/// slots of other processes' particles let go of (release_foreign).
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "cdm/solver/contact/verlet_list.hpp"
+#include "cdm/solver/rank_split.hpp"
+#include "cdm/solver/slot_pages.hpp"
+
+namespace cdm {
+
+namespace {
+/// The runs of slots [0, @p n) where @p held is not set (past its end, none is).
+SlotRuns runs_not_held(const std::vector<std::uint8_t>& held, std::size_t n) {
+  SlotRuns runs;
+  auto is_held = [&](std::size_t i) { return i < held.size() && held[i] != 0; };
+  for (std::size_t i = 0; i < n;) {
+    if (is_held(i)) { ++i; continue; }
+    const std::size_t first = i;
+    while (i < n && !is_held(i)) ++i;
+    runs.push_back({first, i});
+  }
+  return runs;
+}
+}  // namespace
+
+void RankSplit::hold_rows(std::size_t n) {
+  owner_.resize(n);
+  for (int r = 0; r < size_; ++r) {
+    const auto [first, last] = row_run(n, r);
+    std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(first), owner_.begin() + static_cast<std::ptrdiff_t>(last),
+              static_cast<Owner>(r));
+  }
+  own_from_owners();
+  drop_boundaries();
+  assigned_ = stale_ = held_rows_ = true;
+  moving_ = written_ = gathered_ = false;
+}
+
+void RankSplit::drop_boundaries() {
+  for (auto* slab : {&lower_, &upper_, &top_, &under_}) slab->clear();
+  below_ = above_ = -1;
+}
+
+void RankSplit::release_foreign(ParticleStore& p) {
+  const std::size_t n = p.size();
+  std::vector<std::uint8_t> held = owned_;
+  held.resize(n, 0);
+  for (const auto* ghosts : {&under_, &upper_})
+    for (const std::uint32_t i : *ghosts) held[i] = 1;
+  const SlotRuns foreign = runs_not_held(held, n);
+  for (auto* a : dynamic_arrays(p, true))
+    if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, foreign);
+  // The build positions: the own particles' only (the list holds no ghosts' either).
+  if (list_ && list_->listed(n) && !list_->build_positions_own_only()) {
+    const SlotRuns others = runs_not_held(owned_, n);
+    for (auto* a : list_->build_position_arrays()) zero_slots(*a, others);
+    list_->build_positions_released();
+  }
+  stale_ = true;
+  written_ = gathered_ = false;
+}
+
+void RankSplit::own_from_owners() {
+  ++ownership_changes_;
+  const std::size_t n = owner_.size();
+  owned_.assign(n, 0);
+  runs_.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (owner_[i] != rank_) continue;
+    owned_[i] = 1;
+    if (!runs_.empty() && runs_.back().second == i) ++runs_.back().second;
+    else runs_.push_back({i, i + 1});
+  }
+}
+
+void RankSplit::permute(const std::vector<std::uint32_t>& from) {
+  if (owner_.size() == from.size()) keep(from);  // a reordering keeps every slot
+}
+
+void RankSplit::keep(const std::vector<std::uint32_t>& from) {
+  if (!assigned_) return;
+  const std::size_t n_old = owner_.size();
+  std::vector<std::uint32_t> to(n_old, new_particle);
+  std::vector<Owner> o(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    o[i] = owner_[from[i]];
+    to[from[i]] = static_cast<std::uint32_t>(i);
+  }
+  owner_.swap(o);
+  own_from_owners();
+  for (auto* slab : {&lower_, &upper_, &top_, &under_}) {
+    std::size_t kept = 0;
+    for (const std::uint32_t i : *slab)
+      if (to[i] != new_particle) (*slab)[kept++] = to[i];
+    slab->resize(kept);
+  }
+  written_ = false;
+}
+
+void RankSplit::added(std::size_t count) {
+  if (!assigned_) return;
+  owner_.resize(owner_.size() + count, 0);
+  own_from_owners();
+  written_ = false;
+}
+
+}  // namespace cdm
