@@ -10,7 +10,7 @@
 # as the uninterrupted one, and restarted on 3 with no step left writes one process's
 # checkpoint (and so, between 2 and 3 either way, the fluidisation bed with
 # the drag once per gas step, the bed fed from above and the mesh pile); the settling bed with rolling resistance, and moved by the
-# paper's Euler step, is compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
+# paper's Euler step, and moving walls are compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
 # on 3), the fluidisation bed with the cell-average drag on 2, and the Mueller bed with the gas taking the drag implicitly on 3; the run logs, monitors and outlet tables are summed by each process over its own particles; a scene the shared step does not cover yet (a gas without contacts) runs
@@ -160,6 +160,13 @@ done
 # and the pile's rolling resistance their spins: the pile on 3 processes.
 shared "Hertz-Mindlin pile" 3 "$src/tests/cli/scenes/hertz_pile.toml" --set integrator.end_time=0.004 \
   --set output.interval=0.0005
+
+# Moving walls (translating, oscillating, turning; friction and rolling resistance): the
+# wall candidates are listed again between builds, for each process's own particles
+# (whose build positions alone it holds), and a frame's contact network and a checkpoint
+# read every particle's wall contacts: on 3 processes.
+shared "moving walls" 3 "$src/tests/cli/scenes/moving_walls.toml" --set integrator.end_time=0.01 \
+  --set output.interval=0.001 --set output.vtk=true --set output.contacts=true --set output.checkpoint_interval=0.005
 
 # Insertions (from 0.05 s) and an outlet (the lattice's corner leaves at once): every
 # process gets the positions and inserts the same particles, process 0's until the next
