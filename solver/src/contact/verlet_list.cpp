@@ -414,14 +414,18 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
   const std::uint32_t s0 = rank_slab_first_[r], s1 = rank_slab_first_[r + 1];
   const double* const from[3] = {at.x, at.y, at.z};
   std::vector<double>* const to[3] = {&x0_, &y0_, &z0_};
+  auto own = [&](std::size_t i) {
+    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    return s >= s0 && s < s1;
+  };
+  const SlotRuns others = runs_not_held(n, own);
   for (int a = 0; a < 3; ++a) {
     resize_zeroed(*to[a], n);
-    zero_all(*to[a]);
+    zero_slots(*to[a], others);
   }
   parallel_for(n, [&](std::size_t i) {
-    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
-    if (s < s0 || s >= s1) return;
-    for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
+    if (own(i))
+      for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
   });
   own_only_ = true;
 }

@@ -12,21 +12,6 @@
 
 namespace cdm {
 
-namespace {
-/// The runs of slots [0, @p n) where @p held is not set (past its end, none is).
-SlotRuns runs_not_held(const std::vector<std::uint8_t>& held, std::size_t n) {
-  SlotRuns runs;
-  auto is_held = [&](std::size_t i) { return i < held.size() && held[i] != 0; };
-  for (std::size_t i = 0; i < n;) {
-    if (is_held(i)) { ++i; continue; }
-    const std::size_t first = i;
-    while (i < n && !is_held(i)) ++i;
-    runs.push_back({first, i});
-  }
-  return runs;
-}
-}  // namespace
-
 void RankSplit::hold_rows(std::size_t n) {
   owner_.resize(n);
   for (int r = 0; r < size_; ++r) {
@@ -51,12 +36,12 @@ void RankSplit::release_foreign(ParticleStore& p) {
   held.resize(n, 0);
   for (const auto* ghosts : {&under_, &upper_})
     for (const std::uint32_t i : *ghosts) held[i] = 1;
-  const SlotRuns foreign = runs_not_held(held, n);
+  const SlotRuns foreign = runs_not_held(n, [&](std::size_t i) { return held[i] != 0; });
   for (auto* a : dynamic_arrays(p, true))
     if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, foreign);
   // The build positions: the own particles' only (the list holds no ghosts' either).
   if (list_ && list_->listed(n) && !list_->build_positions_own_only()) {
-    const SlotRuns others = runs_not_held(owned_, n);
+    const SlotRuns others = runs_not_held(n, [&](std::size_t i) { return i < owned_.size() && owned_[i] != 0; });
     for (auto* a : list_->build_position_arrays()) zero_slots(*a, others);
     list_->build_positions_released();
   }

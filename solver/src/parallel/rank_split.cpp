@@ -106,20 +106,14 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
   release_foreign(p);
 }
 
-std::vector<std::vector<double>*> RankSplit::whole_state_arrays(ParticleStore& p, VerletList& list) {
-  std::vector<std::vector<double>*> arrays = dynamic_arrays(p, true);
-  if (list.listed(p.size()) && list.build_positions_own_only())
-    for (auto* a : list.build_position_arrays()) arrays.push_back(a);
-  if (list.wall_entries_own_only() && list.wall_entries_current()) list.set_aside_walls();
-  return arrays;
-}
-
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
   const std::size_t nw = list.walls().size();
   if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};
-  // Every rank lists the same candidates (from the build's positions), so a particle's
-  // row names its listed walls' entries on either side; the others travel as zeros. While
-  // the entries are set aside (share_contact_records) none travel.
+  // At a build every rank lists every particle's candidates (from the build's
+  // positions), so a particle's row names its listed walls' entries on either side; the
+  // others travel as zeros. While the entries are set aside (share_contact_records) none
+  // travel; listed again between builds, a rank's are its own particles' only, and a
+  // gather of the whole state sets them aside first (share_whole_state).
   if (!list.wall_entries_current()) return {};
   VerletList* const l = &list;
   return {4 * nw,
@@ -256,6 +250,19 @@ void RankSplit::boundary_torques(ParticleStore& p, int pass) {
   exchange(f, sends, recvs, 15 + pass, legs_, {});
 }
 
+void RankSplit::share_whole_state(ParticleStore& p, VerletList& list, bool to_writer) {
+  std::vector<std::vector<double>*> arrays = dynamic_arrays(p, true);
+  const bool own_x0 = list.listed(p.size()) && list.build_positions_own_only();
+  if (own_x0)
+    for (auto* a : list.build_position_arrays()) arrays.push_back(a);
+  // Wall entries listed for the own particles only cannot take the others' rows: the
+  // contacts are set aside and joined as records (share_contact_records).
+  if (list.wall_entries_own_only() && list.wall_entries_current()) list.set_aside_walls();
+  share_particles(arrays, wall_rows(list, p.size()), to_writer);
+  share_contact_records(list, to_writer);
+  if (own_x0 && (!to_writer || rank_ == 0)) list.build_positions_whole();
+}
+
 void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
   if (!stale_ || (moving_ && for_build)) return;
   // A build reads the positions; the rest of the state (the mesh contacts too) moves with
@@ -264,10 +271,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   if (positions_only) {
     share_particles({&p.x, &p.y, &p.z}, {});
   } else {
-    const std::vector<std::vector<double>*> arrays = whole_state_arrays(p, list);
-    share_particles(arrays, wall_rows(list, p.size()));
-    share_contact_records(list);
-    if (list.listed(p.size())) list.build_positions_whole();
+    share_whole_state(p, list, false);
     gathered_ = true;
   }
   stale_ = moving_ = positions_only;
@@ -275,10 +279,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
 
 void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
   if (!stale_ || written_) return;
-  const std::vector<std::vector<double>*> arrays = whole_state_arrays(p, list);
-  share_particles(arrays, wall_rows(list, p.size()), true);
-  share_contact_records(list, true);
-  if (rank_ == 0 && list.listed(p.size())) list.build_positions_whole();
+  share_whole_state(p, list, true);
   written_ = true;
   gathered_ = gathered_ || rank_ == 0;
 }

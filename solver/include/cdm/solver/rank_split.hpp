@@ -346,11 +346,12 @@ class RankSplit final : public SearchShare {
   /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
   /// particles. The rank no longer holds the whole state (stale_).
   void release_foreign(ParticleStore& p);
-  /// The arrays a gather of the whole state sends besides the particles' (@p list's build
-  /// positions, where a process holds its own particles' only), having set @p list's wall
-  /// contacts aside where its entries cannot take the others' rows
-  /// (VerletList::wall_entries_own_only).
-  std::vector<std::vector<double>*> whole_state_arrays(ParticleStore& p, VerletList& list);
+  /// Every rank, or with @p to_writer rank 0 alone, gets the whole state (synchronise(),
+  /// gather_to_writer()): every particle's arrays, @p list's build positions where a rank
+  /// holds its own particles' only, the wall history (as rows, or as records where the
+  /// entries list the own particles only: VerletList::wall_entries_own_only) and the
+  /// contacts kept per particle.
+  void share_whole_state(ParticleStore& p, VerletList& list, bool to_writer);
 
   /// Rank @p r's run of rows of @p n: the r-th of size() equal runs.
   std::pair<std::size_t, std::size_t> row_run(std::size_t n, int r) const {

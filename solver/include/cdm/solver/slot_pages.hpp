@@ -24,6 +24,18 @@ using SlotRuns = std::vector<std::pair<std::size_t, std::size_t>>;
 /// @p runs in order, those that touch or overlap joined into one: zero_slots() returns
 /// only the pages that lie wholly inside one run.
 SlotRuns merged(SlotRuns runs);
+/// The runs of slots [0, @p n) where @p held(i) is false: those a process lets go of.
+template <class Held>
+SlotRuns runs_not_held(std::size_t n, Held&& held) {
+  SlotRuns runs;
+  for (std::size_t i = 0; i < n;) {
+    if (held(i)) { ++i; continue; }
+    const std::size_t first = i;
+    while (i < n && !held(i)) ++i;
+    runs.push_back({first, i});
+  }
+  return runs;
+}
 /// Set every slot of @p v in @p runs to zero. The pages lying wholly inside a run are
 /// returned to the system; the others are written only where a value is not zero
 /// already (so that a page never written stays uncommitted).
