@@ -63,7 +63,11 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin, std::ve
 bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
                                    std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
                                    std::size_t expected, std::size_t limit) {
-  const std::size_t n = p.n;
+  // The particles binned: the rows' possible partners where given (KeyedRows::points),
+  // else every particle; point(k) is the k-th one's slot.
+  const std::vector<std::uint32_t>* const points = keyed_.rows ? keyed_.points : nullptr;
+  const std::size_t n = points ? points->size() : p.n;
+  auto point = [points](std::size_t k) -> std::size_t { return points ? (*points)[k] : k; };
   const bool threads = n > parallel_threshold;
   if (!threads) {  // one chunk; with threads, one per thread (sized in the parallel region)
     chunks.resize(1);
@@ -74,7 +78,8 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
                   std::numeric_limits<double>::max()};
   double hi[3] = {-lo[0], -lo[1], -lo[2]};
   double rmax = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = point(k);
     const double c[3] = {p.x[i], p.y[i], p.z[i]};
     for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], c[k]); hi[k] = std::max(hi[k], c[k]); }
     rmax = std::max(rmax, p.r[i]);
@@ -120,14 +125,15 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
   std::vector<std::uint32_t> cell_start(ncell + 1, 0), sorted(n);
   {
     std::vector<std::uint32_t> cell_of(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = point(k);
       const long c = (coord(p.z[i], 2) * dims[1] + coord(p.y[i], 1)) * dims[0] + coord(p.x[i], 0);
-      cell_of[i] = static_cast<std::uint32_t>(c);
+      cell_of[k] = static_cast<std::uint32_t>(c);
       ++cell_start[c + 1];
     }
     for (std::size_t c = 0; c < ncell; ++c) cell_start[c + 1] += cell_start[c];
     std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) sorted[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t k = 0; k < n; ++k) sorted[fill[cell_of[k]]++] = static_cast<std::uint32_t>(point(k));
   }
   // The neighbouring cell coordinates along axis k of cell coordinate c: c-1..c+1 cut at
   // the ends, or wrapped along a periodic axis (each cell once when there are < 3).

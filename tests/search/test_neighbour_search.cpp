@@ -93,6 +93,41 @@ TEST(NeighbourSearch, KeyedRowsListEachPairOnceFromTheLowerRankInRankOrder) {
   omp_set_num_threads(threads_before);
 }
 
+TEST(NeighbourSearch, KeyedRowsAmongTheirPointsFindTheSamePairsAsAmongAll) {
+  // A divided build searches among the particles of its slabs and the slab either side
+  // only (KeyedRows::points): rows more than one interaction range inside those points
+  // must list the same pairs, in the same order and to the bit, as among all particles.
+  const cdm::ParticleStore p = random_packing(12000, 21, 0.05, 0.5e-3, 2e-3);
+  const std::size_t n = p.size();
+  std::vector<std::uint32_t> order(n), rank(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(4));
+  for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
+  std::vector<std::uint32_t> rows, points;
+  for (std::uint32_t i : order) {  // the rows in rank order; reach 2 rmax + margin = 4.2 mm
+    if (p.x[i] >= 0.015 && p.x[i] < 0.035) points.push_back(i);
+    if (p.x[i] >= 0.02 && p.x[i] < 0.03) rows.push_back(i);
+  }
+  cdm::CellListSearch cl;
+  auto listed = [&](const std::vector<std::uint32_t>* among) {
+    cl.set_rows({&rows, rank.data(), among});
+    std::vector<std::vector<cdm::ContactPair>> chunks;
+    cl.find_contacts(p, 0.2e-3, chunks);
+    std::vector<cdm::ContactPair> flat;
+    for (const auto& c : chunks) flat.insert(flat.end(), c.begin(), c.end());
+    return flat;
+  };
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::vector<cdm::ContactPair> all = listed(nullptr);
+  ASSERT_GT(all.size(), 1000u);
+  for (int nt : {1, 2, 3}) {
+    omp_set_num_threads(nt);
+    expect_same(listed(&points), all);
+  }
+  omp_set_num_threads(threads_before);
+}
+
 TEST(NeighbourSearch, PerThreadChunksConcatenateToTheOneList) {
   // Above the parallel threshold each thread lists its own particles' pairs into a
   // chunk; in order the chunks must be the list one thread makes, for any team size.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "cdm/solver/parallel.hpp"
@@ -144,7 +145,7 @@ std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) con
 }
 
 std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
-                                                 std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank,
+                                                 std::size_t s0, std::size_t s1, std::uint32_t* rank,
                                                  const std::vector<std::uint32_t>* before) {
   const std::size_t n = at.n;
   // The slab first, so that each slab's particles, and so each thread's and each rank's,
@@ -204,11 +205,8 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
   } else {
     for (std::size_t s = s0; s < s1; ++s) order_slab(s);
   }
-  if (rank) {
-    rank->resize(n);
-    parallel_for(n, [&](std::size_t i) { (*rank)[i] = start[slab(static_cast<std::uint32_t>(i))]; });
-    for (std::size_t k = 0; k < from.size(); ++k) (*rank)[from[k]] = static_cast<std::uint32_t>(base + k);
-  }
+  if (rank)
+    for (std::size_t k = 0; k < from.size(); ++k) rank[from[k]] = static_cast<std::uint32_t>(base + k);
   return from;
 }
 
@@ -301,20 +299,23 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
       s0 = first_of(r);
       s1 = std::max(s0, first_of(r + 1));
     }
-    // Ranked: the rows' slabs and the slab either side, where their partners are.
+    // Ranked, and searched: the rows' slabs and the slab either side, where their
+    // partners are (of the slab below, none ranks above a row). Only those slots' ranks
+    // are written, so the others' pages of the rank array are never committed.
     const std::size_t a = s0 > 0 ? s0 - 1 : 0, b = std::min(nslab, s1 + 1);
-    std::vector<std::uint32_t> rank;
+    const std::unique_ptr<std::uint32_t[]> rank(new std::uint32_t[n]);
     const std::uint32_t* const id = p.id.empty() ? nullptr : p.id.data();
-    std::vector<std::uint32_t> rows = key_order(at, id, g, a, b, &rank, &count);
+    std::vector<std::uint32_t> points = key_order(at, id, g, a, b, rank.get(), &count);
     // Where the slabs wrap, slab 0's rows meet the last slab's particles: ranked too, as
     // on one process, so that their pairs come in the same order.
     if (g.wrap && s0 == 0 && s1 > 0 && b < nslab) {
-      const std::vector<std::uint32_t> last = key_order(at, id, g, nslab - 1, nslab, nullptr, &count);
-      for (std::size_t k = 0; k < last.size(); ++k) rank[last[k]] = static_cast<std::uint32_t>(count[nslab - 1] + k);
+      const std::vector<std::uint32_t> last = key_order(at, id, g, nslab - 1, nslab, rank.get(), &count);
+      points.insert(points.end(), last.begin(), last.end());
     }
-    rows.resize(count[s1] - count[a]);
-    rows.erase(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]));
-    search_.set_rows({&rows, rank.data()});
+    const auto row0 = points.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]);
+    const std::vector<std::uint32_t> rows(row0, row0 + static_cast<std::ptrdiff_t>(count[s1] - count[s0]));
+    // One process searches among every particle; divided, among the ranked ones.
+    search_.set_rows({&rows, rank.get(), divided ? &points : nullptr});
     search_.find_contacts(at, skin_, candidates, box_, last_size + last_size / 8 + 64);
     search_.set_rows({});
   }

@@ -63,9 +63,12 @@ class CellListSearch {
   /// (i, j) with every particle j of a higher rank, in order of rank. The pairs then
   /// come, and are oriented, in an order that does not depend on the particles' slots.
   /// The arrays must outlive the searches; all rows in slot order (i < j) when never set.
+  /// @p points: the only particles the rows can meet (the rows among them), the only ones
+  /// binned, and the only ones whose ranks are read; every particle when null.
   struct KeyedRows {
     const std::vector<std::uint32_t>* rows = nullptr;
     const std::uint32_t* rank = nullptr;
+    const std::vector<std::uint32_t>* points = nullptr;
   };
   void set_rows(const KeyedRows& rows) { keyed_ = rows; }
 

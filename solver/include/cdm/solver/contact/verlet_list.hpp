@@ -401,13 +401,12 @@ class VerletList {
   }
   /// The particles of slabs [@p s0, @p s1) of @p g, positions @p at, identities @p id
   /// (null: the slots), in order of their keys: the slab, the cells (edge one interaction
-  /// range, the cut axis first), the identity. With @p rank each particle's rank (all of
-  /// them) for CellListSearch::KeyedRows: its place in that order among all particles
-  /// for those returned; for the others, the place of their slab's first particle, which
-  /// orders them against every particle of another slab (not among themselves). @p before:
-  /// the particles before each slab (nslab + 1 running counts), where the caller has them.
+  /// range, the cut axis first), the identity. With @p rank (one value a slot) the rank of
+  /// each particle returned, for CellListSearch::KeyedRows: its place in that order among
+  /// all particles; the other slots are not written. @p before: the particles before each
+  /// slab (nslab + 1 running counts), where the caller has them.
   static std::vector<std::uint32_t> key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
-                                              std::size_t s0, std::size_t s1, std::vector<std::uint32_t>* rank,
+                                              std::size_t s0, std::size_t s1, std::uint32_t* rank,
                                               const std::vector<std::uint32_t>* before);
   Slabs slabs(const ParticleStore& p) const { return slabs(p.x.data(), p.y.data(), p.z.data(), p.radius, p.size()); }
   Slabs slabs(const double* x, const double* y, const double* z, const std::vector<double>& radius,
