@@ -13,13 +13,26 @@ void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints
   // may touch. A wall not perpendicular to every periodic axis sees wrapped particles
   // jump, so then every particle is listed with every wall. Where x0_ holds the own
   // particles' only, only they are listed (a process resolves its own particles' walls).
+  // At a build divided among processes that already own their particles, those it owned
+  // (whose rows it sends as they change process) and those of its new slabs (whose rows
+  // it receives): among P processes about 2/P of the particles, not all of them.
   const std::size_t n = x0_.size(), nw = walls_.size();
   const std::uint8_t* const own = !at && own_only_ && share_ ? share_->own_slots() : nullptr;
   if (!at && own_only_ && !own) throw std::logic_error("VerletList: build positions held in part, without owners");
   const double* const X0 = at ? at->x : x0_.data();
   const double* const Y0 = at ? at->y : y0_.data();
   const double* const Z0 = at ? at->z : z0_.data();
-  walls_own_only_ = own != nullptr && nw > 0;
+  const std::uint8_t* const owned = at && share_ && !rank_slab_first_.empty() ? share_->own_slots() : nullptr;
+  const SlabOf slab_of = owned ? slab_map(cut_, *at) : SlabOf{};
+  const std::uint32_t s0 = owned ? rank_slab_first_[static_cast<std::size_t>(share_->share_rank())] : 0,
+                      s1 = owned ? rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1] : 0;
+  auto listed = [&](std::size_t i) {
+    if (own) return own[i] != 0;
+    if (!owned || owned[i]) return true;
+    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    return s >= s0 && s < s1;
+  };
+  walls_own_only_ = (own != nullptr || owned != nullptr) && nw > 0;
   if (!wall_carry_pending_) set_aside_wall_history(nullptr);
   wall_begin_.assign(1, 0);
   wall_candidates_stale_ = false;
@@ -37,7 +50,7 @@ void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints
   auto carry = wall_carry_.cbegin();
   const auto carry_end = wall_carry_.cend();
   for (std::size_t i = 0; i < n && nw; ++i) {
-    if (own && !own[i]) continue;
+    if (!listed(i)) continue;
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = posed_[w];

@@ -109,9 +109,10 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
   const std::size_t nw = list.walls().size();
   if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};
-  // At a build every rank lists every particle's candidates (from the build's
-  // positions), so a particle's row names its listed walls' entries on either side; the
-  // others travel as zeros. While the entries are set aside (share_contact_records) none
+  // At a build each rank lists the candidates of the particles it owned and of those its
+  // new slabs hold (of every particle before the slabs were first dealt out), from the
+  // build's positions, so a migrating particle's row names its listed walls' entries on
+  // either side; the others travel as zeros. While the entries are set aside (share_contact_records) none
   // travel; listed again between builds, a rank's are its own particles' only, and a
   // gather of the whole state sets them aside first (share_whole_state).
   if (!list.wall_entries_current()) return {};

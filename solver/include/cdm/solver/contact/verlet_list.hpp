@@ -212,8 +212,9 @@ class VerletList {
   /// Whether the wall entries are those of the current order: false from a reordering
   /// or load_state until the next update lists the candidates again.
   bool wall_entries_current() const { return !wall_carry_pending_; }
-  /// Whether the wall entries list this process's own particles only: listed again
-  /// between builds from build positions held for those alone (build_positions_own_only).
+  /// Whether the wall entries list some particles only: this process's own, listed again
+  /// between builds from build positions held for those alone (build_positions_own_only),
+  /// or at a divided build those it owned and those of its new slabs (list_wall_candidates).
   /// The others' rows then cannot be read into them: a gather of the whole state sets the
   /// wall contacts aside first (set_aside_walls), and joins them as records.
   bool wall_entries_own_only() const { return walls_own_only_; }
