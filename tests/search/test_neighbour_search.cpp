@@ -28,6 +28,19 @@ cdm::ParticleStore random_packing(std::size_t n, std::uint64_t seed, double box,
   return p;
 }
 
+// A random ranking of n particles: order[k] is the particle of rank k, rank[i] the rank of i.
+struct RandomRanks {
+  std::vector<std::uint32_t> order, rank;
+};
+
+RandomRanks random_ranks(std::size_t n, std::uint64_t seed) {
+  RandomRanks r{std::vector<std::uint32_t>(n), std::vector<std::uint32_t>(n)};
+  for (std::size_t i = 0; i < n; ++i) r.order[i] = static_cast<std::uint32_t>(i);
+  std::shuffle(r.order.begin(), r.order.end(), std::mt19937_64(seed));
+  for (std::size_t k = 0; k < n; ++k) r.rank[r.order[k]] = static_cast<std::uint32_t>(k);
+  return r;
+}
+
 void expect_same(const std::vector<cdm::ContactPair>& a, const std::vector<cdm::ContactPair>& b) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
@@ -58,11 +71,7 @@ TEST(NeighbourSearch, KeyedRowsListEachPairOnceFromTheLowerRankInRankOrder) {
   // particle, its partner), the pairs in (rank i, rank j) order: the all-pairs reference's
   // pairs with the lower-ranked particle among the rows, so ordered.
   const cdm::ParticleStore p = random_packing(12000, 9, 0.05, 0.5e-3, 2e-3);
-  const std::size_t n = p.size();
-  std::vector<std::uint32_t> order(n), rank(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-  std::shuffle(order.begin(), order.end(), std::mt19937_64(3));
-  for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
+  const auto [order, rank] = random_ranks(p.size(), 3);
   const std::vector<std::uint32_t> rows(order.begin() + 2000, order.begin() + 9000);
   std::vector<cdm::ContactPair> brute;
   cdm::AllPairsSearch().find_contacts(p, 0.2e-3, brute);
@@ -98,11 +107,7 @@ TEST(NeighbourSearch, KeyedRowsAmongTheirPointsFindTheSamePairsAsAmongAll) {
   // only (KeyedRows::points): rows more than one interaction range inside those points
   // must list the same pairs, in the same order and to the bit, as among all particles.
   const cdm::ParticleStore p = random_packing(12000, 21, 0.05, 0.5e-3, 2e-3);
-  const std::size_t n = p.size();
-  std::vector<std::uint32_t> order(n), rank(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-  std::shuffle(order.begin(), order.end(), std::mt19937_64(4));
-  for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
+  const auto [order, rank] = random_ranks(p.size(), 4);
   std::vector<std::uint32_t> rows, points;
   for (std::uint32_t i : order) {  // the rows in rank order; reach 2 rmax + margin = 4.2 mm
     if (p.x[i] >= 0.015 && p.x[i] < 0.035) points.push_back(i);
