@@ -118,13 +118,15 @@ std::vector<std::string> Simulation::module_names() const {
   return names;
 }
 
+bool Simulation::sort_due_at_build() const {
+  // At most every sort_interval steps, and at the first build.
+  return spec_.sort_interval && contact_ && (particles_.id.empty() || steps_ - last_sort_ >= spec_.sort_interval);
+}
+
 void Simulation::sort_if_due() {
-  // At a Verlet-list rebuild (the list is built anew from the sorted order anyway), at
-  // most every sort_interval steps, and at the first build.
-  if (!spec_.sort_interval || !contact_) return;
+  // At a Verlet-list rebuild (the list is built anew from the sorted order anyway).
   ParticleStore& p = particles_;
-  if (!p.id.empty() && steps_ - last_sort_ < spec_.sort_interval) return;
-  if (!contact_->list().rebuild_due(p)) return;
+  if (!sort_due_at_build() || !contact_->list().rebuild_due(p)) return;
   const std::vector<std::uint32_t> from = contact_->list().spatial_order(p);
   permute(from);
   last_sort_ = steps_;
@@ -150,10 +152,14 @@ void Simulation::ready_for_list(double t) {
     if (list.listed(particles_.size()) && !list.displacement_known())
       list.set_displacement(
           max_own(ranks_.get(), particles_.size(), [&](std::size_t i) { return list.displacement(particles_, i); }));
-    // The list is built (and the particles sorted) from every particle's state, the same
-    // on every rank; between builds a rank needs only the slab above its own.
-    if (list.rebuild_due(particles_)) synchronise_ranks(true);
-    else ranks_->exchange_ghosts(particles_);
+    // A build reads the positions of the particles near each rank's slabs, which their
+    // owners send; a sort reads every particle's, the same on every rank. Between builds
+    // a rank needs only the slabs either side of its own.
+    if (list.rebuild_due(particles_)) {
+      if (sort_due_at_build() || !ranks_->prepare_build(particles_, list)) synchronise_ranks(true);
+    } else {
+      ranks_->exchange_ghosts(particles_);
+    }
   }
   sort_if_due();
 }

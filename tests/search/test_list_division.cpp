@@ -41,6 +41,8 @@ class ThreadShare {
     std::vector<double> swap_values(std::vector<std::vector<double>>& out) override {
       return s_.swap(s_.f64_, out, rank_);
     }
+    const std::uint8_t* own_slots() const override { return own; }
+    const std::uint8_t* own = nullptr;  // this process's particles, once it owns some
 
    private:
     ThreadShare& s_;
@@ -200,7 +202,112 @@ void divided_and_carried(bool periodic) {
   }
 }
 
+/// A held build (VerletList::prepare_held_build): each process holds the current
+/// positions of its own particles and of the slabs either side of them only, the others'
+/// far off; the build brings what it reads from the owners and lists the same pairs,
+/// contacts, build positions and wall candidates as a build from every position.
+void held_build(bool periodic) {
+  const cdm::ParticleStore p0 = bed(3000, 5);
+  const cdm::PeriodicBox box = periodic ? periodic_x() : cdm::PeriodicBox{};
+  const std::vector<cdm::Wall> walls{cdm::Wall::plane("floor", {0, 0, 0}, {0, 1, 0}, 0)};
+  const std::size_t n = p0.size();
+  for (int size : {2, 3, 4}) {
+    SCOPED_TRACE(size);
+    const auto m = static_cast<std::size_t>(size);
+    cdm::ParticleStore p = p0;
+    cdm::VerletList whole(walls, true, 0.1e-3);
+    whole.set_periodic_box(box);
+    whole.update(p);
+    std::vector<cdm::ParticleStore> stores(m, p);
+    std::vector<cdm::VerletList> lists;
+    for (std::size_t r = 0; r < m; ++r) lists.emplace_back(walls, true, 0.1e-3);
+    ThreadShare share(size);
+    std::vector<ThreadShare::Member> members;
+    for (int r = 0; r < size; ++r) members.emplace_back(share, r);
+    auto on_each = [&](auto&& f) {
+      std::vector<std::thread> threads;
+      for (std::size_t r = 0; r < m; ++r) threads.emplace_back([&, r] { f(r); });
+      for (auto& t : threads) t.join();
+    };
+    on_each([&](std::size_t r) {
+      lists[r].set_search_share(&members[r]);
+      lists[r].set_periodic_box(box);
+      lists[r].update(stores[r]);
+    });
+    // Each process's particles: those of its slabs. The pairs in the lower third of the
+    // box in contact: those slabs then weigh more, and the build deals them out
+    // differently from the runs of rows it searches, so that a process's new slabs hold
+    // particles it neither held nor searched.
+    const std::vector<std::uint32_t> slab = whole.particle_slabs(p);
+    const std::vector<std::uint32_t>& first = lists[0].rank_slab_first();
+    const std::size_t nslab = whole.slab_count();
+    std::vector<std::vector<std::uint8_t>> own(m, std::vector<std::uint8_t>(n, 0));
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t r = 0; r < m; ++r) own[r][i] = slab[i] >= first[r] && slab[i] < first[r + 1];
+    auto touch = [&p](cdm::VerletList& l) {
+      for (std::size_t k = 0; k < l.size(); ++k)
+        if (p.x[l.pair_i()[k]] < 0.027) {
+          l.pair_touch()[k] = 1;
+          l.pair_history()[k] = history_of(l.pair_i()[k], l.pair_j()[k]);
+        }
+    };
+    touch(whole);
+    for (auto& l : lists) touch(l);
+    // Every particle moves past half the skin; a process's store keeps the new positions
+    // of its particles and of the slabs either side only (its ghosts).
+    auto move = [&](cdm::ParticleStore& s) {
+      for (std::size_t i = 0; i < n; ++i) s.x[i] = box.wrap(s.x[i] + (i % 2 ? 0.06e-3 : -0.06e-3), 0);
+    };
+    move(p);
+    whole.update(p);
+    ASSERT_EQ(whole.builds(), 2u);
+    std::size_t far = 0;
+    for (std::size_t r = 0; r < m; ++r) {
+      move(stores[r]);
+      auto near = [&](std::size_t s) {
+        const std::size_t below = s + 1 < nslab ? s + 1 : periodic ? 0 : s, above = s > 0 ? s - 1 : periodic ? nslab - 1 : s;
+        for (const std::size_t t : {s, below, above})
+          if (t >= first[r] && t < first[r + 1]) return true;
+        return false;
+      };
+      for (std::size_t i = 0; i < n; ++i)
+        if (!near(slab[i])) {
+          stores[r].x[i] = stores[r].y[i] = stores[r].z[i] = 5.0;  // not current here
+          ++far;
+        }
+    }
+    ASSERT_GT(far, n * (m - 1) / 2);
+    on_each([&](std::size_t r) {
+      members[r].own = own[r].data();
+      lists[r].prepare_held_build(stores[r]);
+      lists[r].update(stores[r]);
+    });
+    expect_divided(whole, lists);
+    const std::vector<std::uint32_t> slab2 = whole.particle_slabs(p);
+    for (std::size_t r = 0; r < m; ++r) {
+      const auto [s0, s1] = lists[r].rank_slabs();
+      std::size_t wall_entries = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (slab2[i] < s0 || slab2[i] >= s1) continue;
+        ASSERT_EQ(lists[r].build_positions(0)[i], p.x[i]) << "process " << r << ", particle " << i;
+        ASSERT_EQ(lists[r].build_positions(1)[i], p.y[i]);
+        ASSERT_EQ(lists[r].build_positions(2)[i], p.z[i]);
+        const auto [a0, a1] = whole.wall_entries(static_cast<std::uint32_t>(i));
+        const auto [b0, b1] = lists[r].wall_entries(static_cast<std::uint32_t>(i));
+        ASSERT_EQ(b1 - b0, a1 - a0) << "process " << r << ", particle " << i;
+        wall_entries += a1 - a0;
+      }
+      EXPECT_GT(wall_entries, 10u);
+    }
+  }
+}
+
 TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowThePairs) { divided_and_carried(false); }
+
+TEST(ListDivision, AHeldBuildReadsTheOwnersPositionsAndListsAsFromEveryPosition) {
+  held_build(false);
+  held_build(true);
+}
 
 TEST(ListDivision, SlabsAlongAPeriodicAxisWrapAndAreDividedAlike) { divided_and_carried(true); }
 

@@ -58,8 +58,22 @@ bool VerletList::needs_rebuild(const ParticleStore& p) const {
   return parallel_max(n, [&](std::size_t i) { return displacement(p, i); }) > lim2;
 }
 
-VerletList::Slabs VerletList::slabs(const double* x, const double* y, const double* z,
-                                    const std::vector<double>& radius, std::size_t n) const {
+SlabExtent VerletList::extent(const double* x, const double* y, const double* z, const double* r, std::size_t n,
+                              const std::uint8_t* only) {
+  const double* axis_data[3] = {x, y, z};
+  SlabExtent e;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (only && !only[i]) continue;
+    for (int a = 0; a < 3; ++a) {
+      e.lo[a] = std::min(e.lo[a], axis_data[a][i]);
+      e.hi[a] = std::max(e.hi[a], axis_data[a][i]);
+    }
+    e.rmax = std::max(e.rmax, r[i]);
+  }
+  return e;
+}
+
+VerletList::Slabs VerletList::cut_of(const SlabExtent& e) const {
   // Slabs along the longest side of the particles' bounding box (below), each at least one
   // interaction range (2 r_max + skin) wide, so listed partners are in the same or the
   // neighbouring slab. The slab count depends on the geometry only, never on threads.
@@ -67,19 +81,13 @@ VerletList::Slabs VerletList::slabs(const double* x, const double* y, const doub
   // of them (the last, odd, meets the first, even, so the pair loop's two phases still
   // never touch one particle from two slabs at once), at least four (so the slabs either
   // side of one are two others); an axis too short for four is not cut.
-  const double* axis_data[3] = {x, y, z};
   Slabs g;
-  double rmax = 0.0;
-  if (n) {
-    for (int a = 0; a < 3; ++a) g.lo[a] = g.hi[a] = axis_data[a][0];
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a) {
-        g.lo[a] = std::min(g.lo[a], axis_data[a][i]);
-        g.hi[a] = std::max(g.hi[a], axis_data[a][i]);
-      }
-      rmax = std::max(rmax, radius[i]);
+  if (!e.empty())
+    for (int a = 0; a < 3; ++a) {
+      g.lo[a] = e.lo[a];
+      g.hi[a] = e.hi[a];
     }
-  }
+  const double rmax = e.rmax;
   g.range = 2.0 * rmax + skin_;
   auto slabs_along = [&](int a) -> std::size_t {
     if (!(g.range > 0.0)) return box_.on[a] ? 0 : 1;
@@ -146,7 +154,7 @@ std::vector<std::uint32_t> VerletList::spatial_order(const ParticleStore& p) con
 
 std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
                                                  std::size_t s0, std::size_t s1, std::uint32_t* rank,
-                                                 const std::vector<std::uint32_t>* before) {
+                                                 const std::vector<std::uint32_t>* before, const std::uint8_t* held) {
   const std::size_t n = at.n;
   // The slab first, so that each slab's particles, and so each thread's and each rank's,
   // are one run; then cell coordinates (edge = one interaction range, 17 bits per axis:
@@ -173,7 +181,8 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
     start = *before;
   } else {
     start.assign(g.count + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) ++start[slab(static_cast<std::uint32_t>(i)) + 1];
+    for (std::size_t i = 0; i < n; ++i)
+      if (!held || held[i]) ++start[slab(static_cast<std::uint32_t>(i)) + 1];
     for (std::size_t s = 0; s < g.count; ++s) start[s + 1] += start[s];
   }
   const std::uint32_t base = start[s0];
@@ -181,6 +190,7 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) {
+      if (held && !held[i]) continue;
       const std::uint32_t s = slab(static_cast<std::uint32_t>(i));
       if (s >= s0 && s < s1) from[fill[s]++ - base] = static_cast<std::uint32_t>(i);
     }
@@ -218,7 +228,13 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // The slab cut first: a list shared among processes sends each pair, and each contact,
   // to the process of its slab. Listed again without a build, the pairs keep the cut
   // they were listed in (particles removed since may have changed the bounding box).
-  const Slabs g = build || !cut_known_ ? slabs(at.x, at.y, at.z, p.radius, n) : cut_;
+  // A held build (prepare_held_build) brought its cut and counts, and the positions it
+  // reads: the others' are not current here.
+  const bool held = held_build_.ready;
+  if (held && !(build && divided && held_build_.held.size() == n))
+    throw std::logic_error("VerletList: a held build prepared for another build");
+  const std::uint8_t* const held_slots = held ? held_build_.held.data() : nullptr;
+  const Slabs g = held ? held_build_.cut : build || !cut_known_ ? slabs(at.x, at.y, at.z, p.radius, n) : cut_;
   cut_ = g;
   cut_known_ = true;
   const std::size_t nslab = g.count;
@@ -280,36 +296,36 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // they rarely grow by doubling. One chunk per thread (each lists its own particles'
   // pairs), in (i, j) order chunk after chunk.
   std::vector<std::vector<ContactPair>> candidates;
+  std::vector<std::uint32_t> count;  // particles before each slab
+  std::vector<std::uint32_t> pair_slab;  // divided: each candidate's slab
   {
     // The rows in order of their keys (key_order): the pairs then come in an order that
     // does not depend on the particles' slots, the same on any number of processes. Each
     // process lists the rows of a run of whole slabs, about its share of the particles,
     // the runs in process order, so that their pairs in process order are the one-process
     // order.
-    std::size_t s0 = 0, s1 = nslab;
-    std::vector<std::uint32_t> count(nslab + 1, 0);  // particles before each slab
-    for (std::size_t i = 0; i < n; ++i) ++count[slab_of(static_cast<std::uint32_t>(i)) + 1];
-    for (std::size_t s = 0; s < nslab; ++s) count[s + 1] += count[s];
-    if (divided) {
-      const auto size = static_cast<std::size_t>(share_->share_size()), r = static_cast<std::size_t>(share_->share_rank());
-      auto first_of = [&](std::size_t q) {
-        if (q >= size) return nslab;
-        return static_cast<std::size_t>(std::lower_bound(count.begin(), count.end() - 1, n * q / size) - count.begin());
-      };
-      s0 = first_of(r);
-      s1 = std::max(s0, first_of(r + 1));
+    if (held) {
+      count.swap(held_build_.count);
+    } else {
+      count.assign(nslab + 1, 0);
+      for (std::size_t i = 0; i < n; ++i) ++count[slab_of(static_cast<std::uint32_t>(i)) + 1];
+      for (std::size_t s = 0; s < nslab; ++s) count[s + 1] += count[s];
     }
+    SearchSlabs rows_of{0, nslab, 0, nslab, false};
+    if (divided)
+      rows_of = SearchSlabs::of(count, static_cast<std::size_t>(share_->share_rank()),
+                                static_cast<std::size_t>(share_->share_size()), g.wrap);
     // Ranked, and searched: the rows' slabs and the slab either side, where their
     // partners are (of the slab below, none ranks above a row). Only those slots' ranks
     // are written, so the others' pages of the rank array are never committed.
-    const std::size_t a = s0 > 0 ? s0 - 1 : 0, b = std::min(nslab, s1 + 1);
+    const std::size_t s0 = rows_of.s0, s1 = rows_of.s1, a = rows_of.a, b = rows_of.b;
     const std::unique_ptr<std::uint32_t[]> rank(new std::uint32_t[n]);
     const std::uint32_t* const id = p.id.empty() ? nullptr : p.id.data();
-    std::vector<std::uint32_t> points = key_order(at, id, g, a, b, rank.get(), &count);
+    std::vector<std::uint32_t> points = key_order(at, id, g, a, b, rank.get(), &count, held_slots);
     // Where the slabs wrap, slab 0's rows meet the last slab's particles: ranked too, as
     // on one process, so that their pairs come in the same order.
-    if (g.wrap && s0 == 0 && s1 > 0 && b < nslab) {
-      const std::vector<std::uint32_t> last = key_order(at, id, g, nslab - 1, nslab, rank.get(), &count);
+    if (rows_of.last) {
+      const std::vector<std::uint32_t> last = key_order(at, id, g, nslab - 1, nslab, rank.get(), &count, held_slots);
       points.insert(points.end(), last.begin(), last.end());
     }
     const auto row0 = points.begin() + static_cast<std::ptrdiff_t>(count[s0] - count[a]);
@@ -326,7 +342,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
                                  [&](const ContactPair& c) { return p.is_fixed(c.i) && p.is_fixed(c.j); }),
                   chunk.end());
   if (divided) {
-    divide(candidates, slab_of, n, carry, carry_whole);
+    divide(candidates, slab_of, count, carry, carry_whole, pair_slab);
     if (history_) index_carry();
   } else {
     rank_slab_first_.clear();
@@ -340,7 +356,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     std::size_t k = 0;
     for (const auto& chunk : candidates)
       for (const ContactPair& cp : chunk) {
-        owner[k] = slab_of.of_pair(cp.i, cp.j);
+        owner[k] = divided ? pair_slab[k] : slab_of.of_pair(cp.i, cp.j);
         ++start[owner[k++] + 1];
       }
   }
@@ -360,6 +376,8 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   }
   std::vector<std::vector<ContactPair>>().swap(candidates);
   std::vector<std::uint32_t>().swap(owner);
+  std::vector<std::uint32_t>().swap(count);
+  std::vector<std::uint32_t>().swap(pair_slab);
   if (history_) {
     // Carry the history of every pair in contact at the last evaluation (each is in
     // both lists): a new pair looks for its j among the few carried pairs of its i, or,
@@ -406,29 +424,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     drift_bound_ = 0.0;
   }
   list_wall_candidates(p, &at);
-}
-
-void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of) {
-  // A process reads the build positions of its own particles only (their displacement,
-  // their wall candidates between builds); the others' slots stay zero, uncommitted.
-  const std::size_t n = at.n, r = static_cast<std::size_t>(share_->share_rank());
-  const std::uint32_t s0 = rank_slab_first_[r], s1 = rank_slab_first_[r + 1];
-  const double* const from[3] = {at.x, at.y, at.z};
-  std::vector<double>* const to[3] = {&x0_, &y0_, &z0_};
-  auto own = [&](std::size_t i) {
-    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
-    return s >= s0 && s < s1;
-  };
-  const SlotRuns others = runs_not_held(n, own);
-  for (int a = 0; a < 3; ++a) {
-    resize_zeroed(*to[a], n);
-    zero_slots(*to[a], others);
-  }
-  parallel_for(n, [&](std::size_t i) {
-    if (own(i))
-      for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
-  });
-  own_only_ = true;
+  held_build_ = HeldBuild{};
 }
 
 void VerletList::weigh_slabs() {

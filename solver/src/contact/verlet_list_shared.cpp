@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
+
 namespace cdm {
 
 std::pair<std::size_t, std::size_t> VerletList::own_pairs() const {
@@ -75,8 +78,9 @@ std::vector<std::uint32_t> VerletList::deal_slabs(const std::vector<std::uint64_
   return first;
 }
 
-void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
-                        std::vector<PairContact>& carry, bool whole) {
+void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of,
+                        const std::vector<std::uint32_t>& count, std::vector<PairContact>& carry, bool whole,
+                        std::vector<std::uint32_t>& pair_slab) {
   const std::size_t nslab = slab_of.count;
   SearchShare& share = *share_;
   const auto size = static_cast<std::size_t>(share.share_size());
@@ -93,8 +97,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     for (const PairContact& c : carry) work[slab(c.i, c.j)] += kTouchCost;
   share.sum(work);
   std::vector<std::uint64_t> cost(nslab + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++cost[slab_of(static_cast<std::uint32_t>(i)) + 1];
-  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] += cost[s] + work[s];
+  for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] = cost[s] + (count[s + 1] - count[s]) + work[s];
   rank_slab_first_ = deal_slabs(cost, work, size, slab_of.wrap);
   std::vector<std::uint32_t> owner(nslab, 0);
   for (std::size_t r = 0; r < size; ++r)
@@ -108,18 +111,26 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     if (next < nslab && owner[next] != owner[s]) to(owner[next]);
   };
   {
+    // Each pair with its slab, which the process that found it has the positions to tell.
     std::vector<std::vector<std::uint32_t>> out(size);
     for (auto& chunk : chunks) {
-      for (const ContactPair& c : chunk)
-        each_process(slab(c.i, c.j), [&](std::uint32_t r) { out[r].insert(out[r].end(), {c.i, c.j}); });
+      for (const ContactPair& c : chunk) {
+        const std::uint32_t s = slab(c.i, c.j);
+        each_process(s, [&](std::uint32_t r) { out[r].insert(out[r].end(), {c.i, c.j, s}); });
+      }
       std::vector<ContactPair>().swap(chunk);
     }
     // From each process its rows' pairs in row order, the processes in row order: the
     // one-process order of the candidates.
     const std::vector<std::uint32_t> in = share.swap_values(out);
     chunks.assign(1, {});
-    chunks[0].reserve(in.size() / 2);
-    for (std::size_t k = 0; k + 1 < in.size(); k += 2) chunks[0].push_back({in[k], in[k + 1], 0.0});
+    chunks[0].reserve(in.size() / 3);
+    pair_slab.clear();
+    pair_slab.reserve(in.size() / 3);
+    for (std::size_t k = 0; k + 2 < in.size(); k += 3) {
+      chunks[0].push_back({in[k], in[k + 1], 0.0});
+      pair_slab.push_back(in[k + 2]);
+    }
   }
   if (!history_) return;
   if (whole) {  // every process holds them all: each keeps its pairs'
@@ -142,6 +153,107 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     const double* v = &in[5 * k];
     carry[k] = {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]), {v[2], v[3], v[4]}};
   }
+}
+
+void VerletList::prepare_held_build(ParticleStore& p) {
+  SearchShare& share = *share_;
+  const std::uint8_t* const own = share.own_slots();
+  const std::size_t n = p.size(), size = static_cast<std::size_t>(share.share_size());
+  const auto me = static_cast<std::size_t>(share.share_rank());
+  if (!own) throw std::logic_error("VerletList: a held build without owners");
+  HeldBuild h;
+  // The cut: every process's own particles' extent, joined alike on every process (the
+  // same bits as one process's extent of all of them).
+  {
+    const SlabExtent e = extent(p.x.data(), p.y.data(), p.z.data(), p.radius.data(), n, own);
+    std::vector<std::vector<double>> out(size, std::vector<double>{e.lo[0], e.lo[1], e.lo[2], e.hi[0], e.hi[1], e.hi[2], e.rmax});
+    const std::vector<double> in = share.swap_values(out);
+    SlabExtent all;
+    for (std::size_t k = 0; k + 7 <= in.size(); k += 7) all.join({{in[k], in[k + 1], in[k + 2]}, {in[k + 3], in[k + 4], in[k + 5]}, in[k + 6]});
+    h.cut = cut_of(all);
+  }
+  const std::size_t nslab = h.cut.count;
+  const SlabOf slab_of = slab_map(h.cut, SearchPoints::of(p));
+  std::vector<std::uint64_t> per_slab(nslab, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (own[i]) ++per_slab[slab_of(static_cast<std::uint32_t>(i))];
+  share.sum(per_slab);
+  h.count.assign(nslab + 1, 0);
+  for (std::size_t s = 0; s < nslab; ++s) h.count[s + 1] = h.count[s] + static_cast<std::uint32_t>(per_slab[s]);
+  // Each own particle's position to the processes that search its slab.
+  std::vector<std::vector<std::uint32_t>> readers(nslab);
+  for (std::size_t q = 0; q < size; ++q) {
+    if (q == me) continue;
+    const SearchSlabs r = SearchSlabs::of(h.count, q, size, h.cut.wrap);
+    for (std::size_t s = 0; s < nslab; ++s)
+      if (r.reads(s, nslab)) readers[s].push_back(static_cast<std::uint32_t>(q));
+  }
+  std::vector<std::vector<double>> out(size);
+  h.held.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!own[i]) continue;
+    h.held[i] = 1;
+    for (const std::uint32_t q : readers[slab_of(static_cast<std::uint32_t>(i))])
+      out[q].insert(out[q].end(), {static_cast<double>(i), p.x[i], p.y[i], p.z[i]});
+  }
+  const std::vector<double> in = share.swap_values(out);
+  for (std::size_t k = 0; k + 4 <= in.size(); k += 4) {
+    const auto i = static_cast<std::size_t>(in[k]);
+    p.x[i] = in[k + 1];
+    p.y[i] = in[k + 2];
+    p.z[i] = in[k + 3];
+    h.held[i] = 1;
+  }
+  h.ready = true;
+  held_build_ = std::move(h);
+}
+
+void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of) {
+  // A process reads the build positions of its own particles only (their displacement,
+  // their wall candidates between builds); the others' slots stay zero, uncommitted.
+  const std::size_t n = at.n, r = static_cast<std::size_t>(share_->share_rank());
+  const std::uint32_t s0 = rank_slab_first_[r], s1 = rank_slab_first_[r + 1];
+  const double* const from[3] = {at.x, at.y, at.z};
+  std::vector<double>* const to[3] = {&x0_, &y0_, &z0_};
+  std::uint8_t* const held = held_build_.ready ? held_build_.held.data() : nullptr;
+  auto own = [&](std::size_t i) {
+    if (held && !(held[i] & 1)) return false;
+    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    return s >= s0 && s < s1;
+  };
+  // At a held build the particles of this process's new slabs that it does not hold
+  // come from their owners, each of which sends those of its own that change process.
+  std::vector<double> entering;
+  if (held) {
+    const std::uint8_t* const owned = share_->own_slots();
+    const std::size_t size = static_cast<std::size_t>(share_->share_size());
+    std::vector<std::uint32_t> owner(slab_of.count, 0);
+    for (std::size_t q = 0; q < size; ++q)
+      for (std::size_t s = rank_slab_first_[q]; s < rank_slab_first_[q + 1]; ++s) owner[s] = static_cast<std::uint32_t>(q);
+    std::vector<std::vector<double>> out(size);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!owned[i]) continue;
+      const std::uint32_t q = owner[slab_of(static_cast<std::uint32_t>(i))];
+      if (q != r) out[q].insert(out[q].end(), {static_cast<double>(i), at.x[i], at.y[i], at.z[i]});
+    }
+    entering = share_->swap_values(out);
+    for (std::size_t i = 0; i < n; ++i)
+      if (own(i)) held[i] |= 2;
+    for (std::size_t k = 0; k + 4 <= entering.size(); k += 4) held[static_cast<std::size_t>(entering[k])] |= 2;
+  }
+  auto mine = [&](std::size_t i) { return held ? (held[i] & 2) != 0 : own(i); };
+  const SlotRuns others = runs_not_held(n, mine);
+  for (int a = 0; a < 3; ++a) {
+    resize_zeroed(*to[a], n);
+    zero_slots(*to[a], others);
+  }
+  parallel_for(n, [&](std::size_t i) {
+    if (own(i))
+      for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
+  });
+  for (std::size_t k = 0; k + 4 <= entering.size(); k += 4)
+    for (int a = 0; a < 3; ++a) (*to[a])[static_cast<std::size_t>(entering[k])] = entering[k + 1 + a];
+  own_only_ = true;
 }
 
 }  // namespace cdm

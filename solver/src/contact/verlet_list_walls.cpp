@@ -26,9 +26,13 @@ void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints
   const SlabOf slab_of = owned ? slab_map(cut_, *at) : SlabOf{};
   const std::uint32_t s0 = owned ? rank_slab_first_[static_cast<std::size_t>(share_->share_rank())] : 0,
                       s1 = owned ? rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1] : 0;
+  // At a held build (prepare_held_build) the positions of the particles entering this
+  // process's slabs are in x0_ only (bit 1 of held: the process's after the build).
+  const std::uint8_t* const held = at && held_build_.ready ? held_build_.held.data() : nullptr;
   auto listed = [&](std::size_t i) {
     if (own) return own[i] != 0;
     if (!owned || owned[i]) return true;
+    if (held) return (held[i] & 2) != 0;
     const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
     return s >= s0 && s < s1;
   };
@@ -54,7 +58,7 @@ void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints
     const std::size_t before = wall_ids_.size();
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = posed_[w];
-      const Vec3 X{X0[i], Y0[i], Z0[i]};
+      const Vec3 X = held && (held[i] & 2) ? Vec3{x0_[i], y0_[i], z0_[i]} : Vec3{X0[i], Y0[i], Z0[i]};
       const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
       if (filter && !(reach < p.radius[i] + skin_)) continue;
       wall_ids_.push_back(static_cast<std::uint32_t>(w));

@@ -53,59 +53,6 @@ std::vector<std::vector<double>*> RankSplit::ghost_arrays(ParticleStore& p) cons
   return a;
 }
 
-void RankSplit::assign(VerletList& list, ParticleStore& p) {
-  const std::size_t n = p.size(), nslab = list.slab_count();
-  const std::vector<std::uint32_t> slab_of = list.particle_slabs(p);
-  // The slabs as the build dealt them out (VerletList::divide).
-  slab_first_ = list.rank_slab_first();
-  if (slab_first_.size() != static_cast<std::size_t>(size_) + 1)
-    throw std::logic_error("RankSplit: the list was not built shared among the ranks");
-  const auto size = static_cast<std::size_t>(size_);
-  slab_owner_.assign(nslab, 0);
-  for (std::size_t r = 0; r < size; ++r)
-    for (std::size_t s = slab_first_[r]; s < slab_first_[r + 1]; ++s) slab_owner_[s] = static_cast<int>(r);
-  // Where only the positions were gathered, or a restart read each rank's rows, each
-  // particle's state is its old owner's.
-  std::vector<Owner> before;
-  if (moving_ || held_rows_) {
-    if (owner_.size() != n) throw std::logic_error("RankSplit: particles changed while their owners change");
-    before.swap(owner_);
-  }
-  owner_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) owner_[i] = static_cast<Owner>(slab_owner_[slab_of[i]]);
-  own_from_owners();
-  const std::uint32_t s0 = slab_first_[static_cast<std::size_t>(rank_)], s1 = slab_first_[static_cast<std::size_t>(rank_) + 1];
-  drop_boundaries();
-  // The slabs either side of the rank's run, another rank's: below its first (the last
-  // slab below slab 0 where the slabs wrap) and after its last (slab 0 after the last).
-  // Where they wrap the slab count is even, so a slab's parity is that of its place.
-  const bool wrap = list.slabs_wrap();
-  const std::size_t sb = s0 > 0 ? s0 - 1 : wrap ? nslab - 1 : nslab, sa = s1 < nslab ? s1 : wrap ? 0 : nslab;
-  if (s0 < s1 && sb < nslab && slab_owner_[sb] != rank_) below_ = slab_owner_[sb];
-  if (s0 < s1 && sa < nslab && slab_owner_[sa] != rank_) above_ = slab_owner_[sa];
-  lower_odd_ = (s0 & 1) != 0;
-  upper_odd_ = (s1 & 1) != 0;
-  if (below_ >= 0 || above_ >= 0)  // one pass over the particles for the four boundary slabs
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto k = static_cast<std::uint32_t>(i);
-      if (below_ >= 0 && slab_of[i] == s0) lower_.push_back(k);
-      if (below_ >= 0 && slab_of[i] == sb) under_.push_back(k);
-      if (above_ >= 0 && slab_of[i] == sa) upper_.push_back(k);
-      if (above_ >= 0 && slab_of[i] == s1 - 1) top_.push_back(k);
-    }
-  list.set_rank_slabs(s0, s1);
-  list_ = &list;
-  assigned_ = true;
-  builds_ = list.builds();
-  moving_ = written_ = held_rows_ = false;
-  if (!before.empty()) {
-    stale_ = true;
-    migrate(p, list, before);
-    exchange_ghosts(p, true);
-  }
-  release_foreign(p);
-}
-
 RankSplit::WallRows RankSplit::wall_rows(VerletList& list, std::size_t n) {
   const std::size_t nw = list.walls().size();
   if (!list.keeps_history() || nw == 0 || !list.listed(n)) return {};

@@ -46,11 +46,20 @@
 /// and for a VTK frame whose list changed since the step's update (an insertion or a
 /// removal between them), which is gathered to rank 0 alone (gather_to_writer) and
 /// evaluated there from the whole list. Before the
-/// list is built again every rank gets the positions only: every rank then does the same
-/// sort and slab cut, each searches the rows of a run of slabs (in the order of their
-/// keys, VerletList::key_order, which the pairs keep), the slabs are dealt out from the pairs
-/// per slab summed over the ranks, and each pair, and each pair contact's history, goes
-/// to the ranks that hold its slab (VerletList::divide). assign() then sends each particle whose slab now
+/// list is built again (prepare_build, VerletList::prepare_held_build) each rank finds
+/// its own particles' extent and particles per slab, joined and summed over the ranks
+/// into the same slab cut on every rank (the bits one rank's would have), and sends its
+/// particles' positions to the ranks whose search reads their slabs: each searches the
+/// rows of a run of slabs about its share of the particles, among the particles of those
+/// slabs and the slab either side (in the order of their keys, VerletList::key_order,
+/// which the pairs keep), the slabs are dealt out from the pairs per slab summed over the
+/// ranks, and each pair with its slab, and each pair contact's history, goes to the ranks
+/// that hold its slab (VerletList::divide); a rank's new slabs' particles that it did not
+/// search come with their positions from their owners, which find their particles' new
+/// owners and tell the others of those that change. A build that sorts the particles
+/// first (neighbour_list.sort_interval) reads every position, gathered by every rank
+/// instead, as is the first build (and the first after a restart), before any rank owns
+/// its particles. assign() then sends each particle whose slab now
 /// belongs to another rank with its whole state (the arrays below, its mass, 1/m and 1/I,
 /// its row of wall history, its mesh contacts) from its old owner to its new one, in
 /// rounds of a few thousand particles each let go once sent, then the ghosts (with their
@@ -99,8 +108,8 @@
 /// a particle's contacts go with it to its new owner at assign().
 ///
 /// Every rank keeps a slot for every particle, but of the other ranks' particles (not
-/// its ghosts) it holds the positions alone, which every rank gets at each build, and the
-/// radii, materials and whether each is fixed (ParticleStore::fixed_flag), which a build
+/// its ghosts) it holds the positions alone, current only where a build brought them
+/// (those it searched, or every one at a build that sorts), and the radii, materials and whether each is fixed (ParticleStore::fixed_flag), which a build
 /// reads of every particle and which never change: their
 /// other values (the masses too) are zero and their pages are returned to the system after each
 /// assign() and after a whole-state gather once the rank moves on (release_foreign(),
@@ -108,7 +117,8 @@
 /// The list's build positions are held for the rank's own particles only: a divided
 /// build keeps its own slabs' (VerletList::build_positions_own_only), whose slots are
 /// then the rank's particles at assign(), which reads every particle's slab from the
-/// positions it just built from. The wall candidates listed again between builds are
+/// positions it just built from (where the build gathered every position; else each
+/// rank its own particles', and its boundary slabs' from its neighbours). The wall candidates listed again between builds are
 /// the own particles' then, so a gather of the whole state joins the wall contacts as
 /// records instead of rows, and brings the build positions along (for a checkpoint, or
 /// for rank 0 to list the whole list's pairs again from them), let go of with the rest.
@@ -117,8 +127,9 @@
 /// positions but the positions, radii and identities (each rank holds those of all the
 /// particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
-/// direct pressure solve are done whole by each rank, and
-/// scenes without contacts (tracers, or particles moved by drag alone) are run whole by
+/// direct pressure solve are done whole by each rank, a build still passes over every
+/// slot (1 or 2 bytes each: the owners, which slots it holds), a build that sorts gathers
+/// every position, and scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
 #include <cstdint>
 #include <functional>
@@ -166,6 +177,13 @@ class RankSplit final : public SearchShare {
   /// gathers) travels with the state.
   void set_meshes(MeshContacts* meshes) { meshes_ = meshes; }
 
+  /// Before a build of @p list that does not sort the particles: each process gets the
+  /// positions of the particles the build's search reads from their owners
+  /// (VerletList::prepare_held_build), instead of every particle's. False (on every
+  /// process) where the whole positions are to be gathered (synchronise()) instead: before
+  /// the slabs are first dealt out, after a restart until then, or where every process
+  /// holds the whole state already.
+  bool prepare_build(ParticleStore& p, VerletList& list);
   /// Deal the slabs of @p list out (after each build, or a list loaded from a
   /// checkpoint): the list's threads then split this rank's slabs only. After a build
   /// that gathered the positions only, the particles that changed owner move to their
@@ -368,6 +386,7 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()
+  bool held_build_ = false;  // prepare_build(): each process holds its own particles' positions only
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
   std::uint64_t builds_ = 0;
@@ -398,6 +417,14 @@ class RankSplit final : public SearchShare {
   void drop_boundaries();
   /// This rank's particles' runs and flags from owner_.
   void own_from_owners();
+  /// After a held build (prepare_build): owner_ from @p before, each process finding its
+  /// own particles' new owners from their positions (the build's) and telling the
+  /// others of those that change.
+  void new_owners(const VerletList& list, const ParticleStore& p, const std::vector<Owner>& before);
+  /// After a held build: this rank's boundary slabs (its slabs [@p s0, @p s1)' first and
+  /// last) from its own particles' build positions, and the ghost slabs from the
+  /// neighbouring ranks, which hold theirs.
+  void boundaries_from_neighbours(const VerletList& list, std::uint32_t s0, std::uint32_t s1);
   /// The particles whose owner was @p before and is owner_ now travel with their state.
   void migrate(ParticleStore& p, VerletList& list, const std::vector<Owner>& before);
   /// migrate()'s mesh contacts: each moving particle's go with it.

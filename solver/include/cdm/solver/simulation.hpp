@@ -218,12 +218,15 @@ class Simulation : private integrators::StepHost {
   /// of it, as at any later step) instead of a copy listing every pair again.
   void list_first();
   /// Before the contact list's update for the positions at time @p t: the walls moved
-  /// there; among MPI processes every position where the list is due to be built, else
-  /// the ghosts; the particles sorted where due (sort_if_due).
+  /// there; among MPI processes, where the list is due to be built, the positions the
+  /// build reads (every position where it sorts them), else the ghosts; the particles
+  /// sorted where due (sort_if_due).
   void ready_for_list(double t);
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
   void sort_if_due();
+  /// Whether sort_if_due() sorts at a build now.
+  bool sort_due_at_build() const;
   /// Reorder every per-particle array, the particles', the integrator's and the
   /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);

@@ -45,36 +45,13 @@
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
+#include "cdm/solver/contact/list_slabs.hpp"
 #include "cdm/solver/neighbour_search.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/periodic_box.hpp"
 #include "cdm/solver/walls.hpp"
 
 namespace cdm {
-
-/// Processes that share the contact search and the list (RankSplit). At a build each
-/// lists the rows of a run of whole slabs, about its share of the particles, in the
-/// order of their keys (VerletList::key_order); the slabs are dealt out in contiguous runs, one per process, from the slabs' particles and
-/// pairs summed over the processes; and each pair goes to the process whose slab holds it,
-/// and to the one above when its slab is that process's shadow slab. Each process then
-/// holds the pairs of its slabs and of its shadow slab only, in the one-process order.
-class SearchShare {
- public:
-  virtual int share_rank() const = 0;
-  virtual int share_size() const = 0;
-  /// Every process gets the sums of @p v over the processes.
-  virtual void sum(std::vector<std::uint64_t>& v) = 0;
-  /// Sends out[r] to process r and returns what the processes sent here, in process
-  /// order; @p out is released.
-  virtual std::vector<std::uint32_t> swap_values(std::vector<std::vector<std::uint32_t>>& out) = 0;
-  virtual std::vector<double> swap_values(std::vector<std::vector<double>>& out) = 0;
-  /// 1 where a slot holds this process's own particle (once the slabs are dealt out),
-  /// else nullptr: every process then holds every particle.
-  virtual const std::uint8_t* own_slots() const { return nullptr; }
-
- protected:
-  ~SearchShare() = default;
-};
 
 class VerletList {
  public:
@@ -297,6 +274,23 @@ class VerletList {
   /// Each particle's slab at the last build (the slab the build gave its pairs), from
   /// the build positions: listed(n) particles.
   std::vector<std::uint32_t> particle_slabs(const ParticleStore& p) const;
+  using Slabs = ListSlabs;
+  using SlabOf = cdm::SlabOf;
+  /// The cut of the last build.
+  const Slabs& cut() const { return cut_; }
+  /// Each particle's slab in cut @p g, from the positions @p at.
+  static SlabOf slab_map(const Slabs& g, const SearchPoints& at) {
+    const double* const axis_data[3] = {at.x, at.y, at.z};
+    return {axis_data[g.axis], g.lo[g.axis], g.width, g.count, g.wrap};
+  }
+  /// Before a build divided among processes that own their particles (SearchShare::
+  /// own_slots), whose other particles' positions are not current here: the cut from
+  /// the own particles' extents joined over the processes, the particles per slab summed,
+  /// and into @p p the positions of the particles of the slabs this process searches
+  /// (SearchSlabs), from their owners. The next update() builds from these; the
+  /// particles of its new slabs that it did not receive then come with their positions
+  /// from their owners, which only the owners read. Every process calls it.
+  void prepare_held_build(ParticleStore& p);
 
   /// One pair contact's history, seen from i (the pair as listed).
   struct PairContact {
@@ -359,59 +353,42 @@ class VerletList {
   /// Lists the pairs anew from @p at, the positions of the particles of @p (their own
   /// at a build; x0_ to list again the pairs of a loaded list, which is no new build).
   void list_pairs(const ParticleStore& p, const SearchPoints& at, bool build);
-  /// Each particle's slab as a build cuts them (from the positions it lists).
-  struct SlabOf {
-    const double* c;  // the positions along the cut axis [m]
-    double lo, width;
-    std::size_t count;
-    bool wrap;  // the slabs wrap around a periodic axis (Slabs::wrap)
-    std::uint32_t operator()(std::uint32_t i) const {
-      return count == 1 ? 0 : static_cast<std::uint32_t>(std::min(count - 1, static_cast<std::size_t>((c[i] - lo) / width)));
-    }
-    /// The slab a pair of particles in slabs @p a and @p b belongs to: the lower, or the
-    /// last across the periodic faces.
-    std::uint32_t pair(std::uint32_t a, std::uint32_t b) const {
-      return wrap && (a == 0 || b == 0) && std::max(a, b) + 1 == count ? std::max(a, b) : std::min(a, b);
-    }
-    std::uint32_t of_pair(std::uint32_t i, std::uint32_t j) const { return pair((*this)(i), (*this)(j)); }
-  };
   /// Where the processes share the list: deals the slabs out (rank_slab_first_) and
   /// leaves this process the candidates of its slabs and shadow slab (@p chunks, with
-  /// @p slab_of each of the @p n particles' slab), and of @p carry the contacts of those
+  /// @p slab_of each particle's slab, @p count the particles before each slab), and of
+  /// @p carry the contacts of those
   /// pairs. @p whole: every process holds every contact of @p carry (loaded, or
-  /// list_held_again), else each its own pairs' (collect_contacts).
-  void divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of, std::size_t n,
-              std::vector<PairContact>& carry, bool whole);
+  /// list_held_again), else each its own pairs' (collect_contacts). @p pair_slab: the
+  /// slab of each pair left in @p chunks (whose positions this process may not hold).
+  void divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of,
+              const std::vector<std::uint32_t>& count, std::vector<PairContact>& carry, bool whole,
+              std::vector<std::uint32_t>& pair_slab);
   /// The listed pairs in contact, in list order: this process's own pairs' only
   /// (@p own, where the list is shared: not the shadow slab's), or all.
   std::vector<PairContact> collect_contacts(bool own) const;
   double drift_limit() const { return 0.49 * skin_; }
-  /// How the particles' bounding box is cut into slabs (see the file comment).
-  struct Slabs {
-    int axis = 0;          // the cut axis (0 when nothing is cut)
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // bounding box of the centres [m]
-    double range = 0.0;    // interaction range 2 r_max + skin [m]
-    std::size_t count = 1; // slabs
-    double width = 1.0;    // slab width along axis [m]
-    bool wrap = false;     // along a periodic axis: the last slab's next is the first
-  };
-  /// Each particle's slab in cut @p g, from the positions @p at.
-  static SlabOf slab_map(const Slabs& g, const SearchPoints& at) {
-    const double* const axis_data[3] = {at.x, at.y, at.z};
-    return {axis_data[g.axis], g.lo[g.axis], g.width, g.count, g.wrap};
-  }
   /// The particles of slabs [@p s0, @p s1) of @p g, positions @p at, identities @p id
   /// (null: the slots), in order of their keys: the slab, the cells (edge one interaction
   /// range, the cut axis first), the identity. With @p rank (one value a slot) the rank of
   /// each particle returned, for CellListSearch::KeyedRows: its place in that order among
   /// all particles; the other slots are not written. @p before: the particles before each
-  /// slab (nslab + 1 running counts), where the caller has them.
+  /// slab (nslab + 1 running counts), where the caller has them. @p held: where not null,
+  /// the slots whose positions are read (nonzero), the others' not current.
   static std::vector<std::uint32_t> key_order(const SearchPoints& at, const std::uint32_t* id, const Slabs& g,
                                               std::size_t s0, std::size_t s1, std::uint32_t* rank,
-                                              const std::vector<std::uint32_t>* before);
+                                              const std::vector<std::uint32_t>* before,
+                                              const std::uint8_t* held = nullptr);
   Slabs slabs(const ParticleStore& p) const { return slabs(p.x.data(), p.y.data(), p.z.data(), p.radius, p.size()); }
   Slabs slabs(const double* x, const double* y, const double* z, const std::vector<double>& radius,
-              std::size_t n) const;
+              std::size_t n) const {
+    return cut_of(extent(x, y, z, radius.data(), n, nullptr));
+  }
+  /// The extent of the @p n particles at @p x, @p y, @p z with radii @p r, or of those
+  /// where @p only is nonzero.
+  static SlabExtent extent(const double* x, const double* y, const double* z, const double* r, std::size_t n,
+                           const std::uint8_t* only);
+  /// The cut of particles of extent @p e.
+  Slabs cut_of(const SlabExtent& e) const;
   /// Thread t's first slab of nt in thread_slabs.
   std::size_t thread_first_slab(std::size_t t, std::size_t nt) const;
   void rebuild(const ParticleStore& p);
@@ -420,8 +397,20 @@ class VerletList {
   /// where the build positions are held for the own particles only, theirs.
   void list_wall_candidates(const ParticleStore& p, const SearchPoints* at = nullptr);
   /// After a build divided among processes: x0_ takes @p at (the build's positions) for
-  /// the particles of this process's slabs only, the others' slots zero.
+  /// the particles of this process's slabs only, the others' slots zero. At a held build
+  /// those of them whose positions this process does not hold come from their owners.
   void keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of);
+  /// What prepare_held_build() leaves the next build: its cut, the particles before each
+  /// slab over all processes, and per slot whether its position is current here (bit 0:
+  /// the process's own particles and those it received) and whether it is this
+  /// process's after the build (bit 1, set by the build: its position then in x0_).
+  struct HeldBuild {
+    bool ready = false;
+    Slabs cut;
+    std::vector<std::uint32_t> count;
+    std::vector<std::uint8_t> held;
+  };
+  HeldBuild held_build_;
   /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
   static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
