@@ -125,9 +125,11 @@ bool Simulation::sort_due_at_build() const {
 
 void Simulation::sort_if_due() {
   // At a Verlet-list rebuild (the list is built anew from the sorted order anyway).
-  ParticleStore& p = particles_;
-  if (!sort_due_at_build() || !contact_->list().rebuild_due(p)) return;
-  const std::vector<std::uint32_t> from = contact_->list().spatial_order(p);
+  if (!sort_due_at_build() || !contact_->list().rebuild_due(particles_)) return;
+  sort_by(contact_->list().spatial_order(particles_));
+}
+
+void Simulation::sort_by(const std::vector<std::uint32_t>& from) {
   permute(from);
   last_sort_ = steps_;
 }
@@ -152,11 +154,17 @@ void Simulation::ready_for_list(double t) {
     if (list.listed(particles_.size()) && !list.displacement_known())
       list.set_displacement(
           max_own(ranks_.get(), particles_.size(), [&](std::size_t i) { return list.displacement(particles_, i); }));
-    // A build reads the positions of the particles near each rank's slabs, which their
-    // owners send; a sort reads every particle's, the same on every rank. Between builds
-    // a rank needs only the slabs either side of its own.
+    // A build, and a sort before it, read the positions of each rank's own particles,
+    // and of the particles near the slabs it searches, which their owners send; where
+    // some particles have no owner yet that holds them, every position, gathered.
+    // Between builds a rank needs only the slabs either side of its own.
     if (list.rebuild_due(particles_)) {
-      if (sort_due_at_build() || !ranks_->prepare_build(particles_, list)) synchronise_ranks(true);
+      if (ranks_->holds_build(particles_)) {
+        if (sort_due_at_build()) sort_by(list.held_spatial_order(particles_));
+        ranks_->prepare_build(particles_, list);
+        return;
+      }
+      synchronise_ranks(true);
     } else {
       ranks_->exchange_ghosts(particles_);
     }

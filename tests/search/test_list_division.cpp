@@ -205,7 +205,8 @@ void divided_and_carried(bool periodic) {
 /// A held build (VerletList::prepare_held_build): each process holds the current
 /// positions of its own particles and of the slabs either side of them only, the others'
 /// far off; the build brings what it reads from the owners and lists the same pairs,
-/// contacts, build positions and wall candidates as a build from every position.
+/// contacts, build positions and wall candidates as a build from every position, and
+/// the sort's order (held_spatial_order) is the same too.
 void held_build(bool periodic) {
   const cdm::ParticleStore p0 = bed(3000, 5);
   const cdm::PeriodicBox box = periodic ? periodic_x() : cdm::PeriodicBox{};
@@ -277,11 +278,16 @@ void held_build(bool periodic) {
         }
     }
     ASSERT_GT(far, n * (m - 1) / 2);
+    // The sort's order, from the own particles' positions, is the one from every position.
+    const std::vector<std::uint32_t> order = whole.spatial_order(p);
+    std::vector<std::vector<std::uint32_t>> orders(m);
     on_each([&](std::size_t r) {
       members[r].own = own[r].data();
+      orders[r] = lists[r].held_spatial_order(stores[r]);
       lists[r].prepare_held_build(stores[r]);
       lists[r].update(stores[r]);
     });
+    for (std::size_t r = 0; r < m; ++r) ASSERT_EQ(orders[r], order) << "process " << r;
     expect_divided(whole, lists);
     const std::vector<std::uint32_t> slab2 = whole.particle_slabs(p);
     for (std::size_t r = 0; r < m; ++r) {
@@ -304,7 +310,7 @@ void held_build(bool periodic) {
 
 TEST(ListDivision, EachProcessHoldsItsSlabsAndShadowSlabAndTheContactsFollowThePairs) { divided_and_carried(false); }
 
-TEST(ListDivision, AHeldBuildReadsTheOwnersPositionsAndListsAsFromEveryPosition) {
+TEST(ListDivision, AHeldBuildAndSortReadTheOwnersPositionsAndListAsFromEveryPosition) {
   held_build(false);
   held_build(true);
 }

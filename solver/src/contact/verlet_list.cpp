@@ -157,22 +157,9 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
                                                  const std::vector<std::uint32_t>* before, const std::uint8_t* held) {
   const std::size_t n = at.n;
   // The slab first, so that each slab's particles, and so each thread's and each rank's,
-  // are one run; then cell coordinates (edge = one interaction range, 17 bits per axis:
-  // a wider box only coarsens the order), the slab axis most significant, then the other
-  // two; then the identity, which makes the order total and independent of the slots.
-  const double* data[3] = {at.x, at.y, at.z};
-  const int ax[3] = {g.axis, (g.axis + 1) % 3, (g.axis + 2) % 3};
-  const double h = g.range > 0.0 ? g.range : 1.0;
-  constexpr double cmax = double((1 << 17) - 1);
+  // are one run; then each slab's particles in the order of their keys (SlabKey).
+  const double* const data[3] = {at.x, at.y, at.z};
   const SlabOf slab = slab_map(g, at);
-  auto cells = [&](std::size_t i) {
-    std::uint64_t c3 = 0;
-    for (int a : ax) {
-      const double c = std::clamp(std::floor((data[a][i] - g.lo[a]) / h), 0.0, cmax);
-      c3 = (c3 << 17) | static_cast<std::uint64_t>(c);
-    }
-    return c3;
-  };
   auto id_of = [id](std::uint32_t i) { return id ? id[i] : i; };
   // By slab first (a counting sort, stable), then each slab's particles by their cells and
   // identities: a key per particle of one slab at a time, not of all of them at once.
@@ -195,18 +182,13 @@ std::vector<std::uint32_t> VerletList::key_order(const SearchPoints& at, const s
       if (s >= s0 && s < s1) from[fill[s]++ - base] = static_cast<std::uint32_t>(i);
     }
   }
-  struct Key {
-    std::uint64_t cells;
-    std::uint32_t id, slot;
-  };
   auto order_slab = [&](std::size_t s) {
-    std::vector<Key> key(start[s + 1] - start[s]);
+    std::vector<SlabKey> key(start[s + 1] - start[s]);
     for (std::size_t k = 0; k < key.size(); ++k) {
       const std::uint32_t i = from[start[s] - base + k];
-      key[k] = {cells(i), id_of(i), i};
+      key[k] = {SlabKey::cells_of(g, data, i), id_of(i), i};
     }
-    std::sort(key.begin(), key.end(),
-              [](const Key& a, const Key& b) { return a.cells != b.cells ? a.cells < b.cells : a.id < b.id; });
+    std::sort(key.begin(), key.end(), SlabKey::less);
     for (std::size_t k = 0; k < key.size(); ++k) from[start[s] - base + k] = key[k].slot;
   };
   if (from.size() > parallel_threshold) {

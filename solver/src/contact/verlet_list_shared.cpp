@@ -155,6 +155,79 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   }
 }
 
+VerletList::Slabs VerletList::held_cut(const ParticleStore& p) const {
+  // Every process's own particles' extent, joined alike on every process: the same bits
+  // as one process's extent of all of them.
+  SearchShare& share = *share_;
+  const SlabExtent e = extent(p.x.data(), p.y.data(), p.z.data(), p.radius.data(), p.size(), share.own_slots());
+  std::vector<std::vector<double>> out(static_cast<std::size_t>(share.share_size()),
+                                       std::vector<double>{e.lo[0], e.lo[1], e.lo[2], e.hi[0], e.hi[1], e.hi[2], e.rmax});
+  const std::vector<double> in = share.swap_values(out);
+  SlabExtent all;
+  for (std::size_t k = 0; k + 7 <= in.size(); k += 7) all.join({{in[k], in[k + 1], in[k + 2]}, {in[k + 3], in[k + 4], in[k + 5]}, in[k + 6]});
+  return cut_of(all);
+}
+
+std::vector<std::uint32_t> VerletList::held_counts(const SlabOf& slab_of, std::size_t n) const {
+  const std::uint8_t* const own = share_->own_slots();
+  std::vector<std::uint64_t> per_slab(slab_of.count, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (own[i]) ++per_slab[slab_of(static_cast<std::uint32_t>(i))];
+  share_->sum(per_slab);
+  std::vector<std::uint32_t> count(slab_of.count + 1, 0);
+  for (std::size_t s = 0; s < slab_of.count; ++s) count[s + 1] = count[s] + static_cast<std::uint32_t>(per_slab[s]);
+  return count;
+}
+
+std::vector<std::uint32_t> VerletList::held_spatial_order(const ParticleStore& p) const {
+  // spatial_order()'s order, found where each process holds its own particles' positions
+  // only: each slab's particles are ordered by the process whose run of rows it is in
+  // (SearchSlabs), which the others send their particles' keys in it to; every process
+  // then gets every run.
+  SearchShare& share = *share_;
+  const std::uint8_t* const own = share.own_slots();
+  const std::size_t n = p.size(), size = static_cast<std::size_t>(share.share_size());
+  const auto me = static_cast<std::size_t>(share.share_rank());
+  const Slabs g = held_cut(p);
+  const std::size_t nslab = g.count;
+  const SlabOf slab_of = slab_map(g, SearchPoints::of(p));
+  const std::vector<std::uint32_t> start = held_counts(slab_of, n);
+  std::vector<std::uint32_t> sorter(nslab, 0);
+  for (std::size_t q = 0; q < size; ++q) {
+    const SearchSlabs r = SearchSlabs::of(start, q, size, g.wrap);
+    for (std::size_t s = r.s0; s < r.s1; ++s) sorter[s] = static_cast<std::uint32_t>(q);
+  }
+  const SearchSlabs mine = SearchSlabs::of(start, me, size, g.wrap);
+  const double* const at[3] = {p.x.data(), p.y.data(), p.z.data()};
+  // Keys as (slab, slot, id, cells high, cells low).
+  std::vector<std::vector<std::uint32_t>> out(size);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!own[i]) continue;
+    const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    const std::uint64_t c = SlabKey::cells_of(g, at, i);
+    const std::uint32_t id = p.id.empty() ? static_cast<std::uint32_t>(i) : p.id[i];
+    out[sorter[s]].insert(out[sorter[s]].end(), {s, static_cast<std::uint32_t>(i), id, static_cast<std::uint32_t>(c >> 32),
+                                                 static_cast<std::uint32_t>(c & 0xffffffffu)});
+  }
+  const std::vector<std::uint32_t> in = share.swap_values(out);
+  const std::uint32_t base = start[mine.s0];
+  std::vector<SlabKey> keys(start[mine.s1] - base);
+  {
+    std::vector<std::uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(mine.s0),
+                                    start.begin() + static_cast<std::ptrdiff_t>(mine.s1));
+    for (std::size_t k = 0; k + 5 <= in.size(); k += 5)
+      keys[fill[in[k] - mine.s0]++ - base] = {(std::uint64_t{in[k + 3]} << 32) | in[k + 4], in[k + 2], in[k + 1]};
+  }
+  std::vector<std::uint32_t> run(keys.size());
+  for (std::size_t s = mine.s0; s < mine.s1; ++s) {
+    const auto k0 = static_cast<std::ptrdiff_t>(start[s] - base), k1 = static_cast<std::ptrdiff_t>(start[s + 1] - base);
+    std::sort(keys.begin() + k0, keys.begin() + k1, SlabKey::less);
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k) run[k] = keys[k].slot;
+  std::vector<std::vector<std::uint32_t>> runs(size, run);
+  return share.swap_values(runs);  // the runs in process order: slab 0's first
+}
+
 void VerletList::prepare_held_build(ParticleStore& p) {
   SearchShare& share = *share_;
   const std::uint8_t* const own = share.own_slots();
@@ -162,24 +235,10 @@ void VerletList::prepare_held_build(ParticleStore& p) {
   const auto me = static_cast<std::size_t>(share.share_rank());
   if (!own) throw std::logic_error("VerletList: a held build without owners");
   HeldBuild h;
-  // The cut: every process's own particles' extent, joined alike on every process (the
-  // same bits as one process's extent of all of them).
-  {
-    const SlabExtent e = extent(p.x.data(), p.y.data(), p.z.data(), p.radius.data(), n, own);
-    std::vector<std::vector<double>> out(size, std::vector<double>{e.lo[0], e.lo[1], e.lo[2], e.hi[0], e.hi[1], e.hi[2], e.rmax});
-    const std::vector<double> in = share.swap_values(out);
-    SlabExtent all;
-    for (std::size_t k = 0; k + 7 <= in.size(); k += 7) all.join({{in[k], in[k + 1], in[k + 2]}, {in[k + 3], in[k + 4], in[k + 5]}, in[k + 6]});
-    h.cut = cut_of(all);
-  }
+  h.cut = held_cut(p);
   const std::size_t nslab = h.cut.count;
   const SlabOf slab_of = slab_map(h.cut, SearchPoints::of(p));
-  std::vector<std::uint64_t> per_slab(nslab, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (own[i]) ++per_slab[slab_of(static_cast<std::uint32_t>(i))];
-  share.sum(per_slab);
-  h.count.assign(nslab + 1, 0);
-  for (std::size_t s = 0; s < nslab; ++s) h.count[s + 1] = h.count[s] + static_cast<std::uint32_t>(per_slab[s]);
+  h.count = held_counts(slab_of, n);
   // Each own particle's position to the processes that search its slab.
   std::vector<std::vector<std::uint32_t>> readers(nslab);
   for (std::size_t q = 0; q < size; ++q) {

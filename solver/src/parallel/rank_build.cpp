@@ -11,17 +11,19 @@
 
 namespace cdm {
 
-bool RankSplit::prepare_build(ParticleStore& p, VerletList& list) {
+bool RankSplit::holds_build(const ParticleStore& p) {
   // Every particle must have an owner that holds its current state: not before the slabs
   // are first dealt out, nor after a restart until then; and nothing to do where every
   // process holds the whole state anyway.
   const bool whole = !stale_ || moving_ || !assigned_ || held_rows_ || owner_.size() != p.size() || p.size() == 0;
-  if (any(whole)) return false;
+  return !any(whole);
+}
+
+void RankSplit::prepare_build(ParticleStore& p, VerletList& list) {
   // The ghosts' positions now: the carried contacts' pairs reach into them.
   exchange_ghosts(p);
   list.prepare_held_build(p);
   moving_ = held_build_ = true;
-  return true;
 }
 
 void RankSplit::assign(VerletList& list, ParticleStore& p) {

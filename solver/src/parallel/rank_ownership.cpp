@@ -37,8 +37,9 @@ void RankSplit::release_foreign(ParticleStore& p) {
   for (const auto* ghosts : {&under_, &upper_})
     for (const std::uint32_t i : *ghosts) held[i] = 1;
   const SlotRuns foreign = runs_not_held(n, [&](std::size_t i) { return held[i] != 0; });
-  for (auto* a : dynamic_arrays(p, true))
-    if (a != &p.x && a != &p.y && a != &p.z) zero_slots(*a, foreign);
+  // The positions too: a build reads the own particles' and those their owners send it
+  // (RankSplit::prepare_build), or gathers them all.
+  for (auto* a : dynamic_arrays(p, true)) zero_slots(*a, foreign);
   // The build positions: the own particles' only (the list holds no ghosts' either).
   if (list_ && list_->listed(n) && !list_->build_positions_own_only()) {
     const SlotRuns others = runs_not_held(n, [&](std::size_t i) { return i < owned_.size() && owned_[i] != 0; });

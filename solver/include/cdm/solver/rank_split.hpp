@@ -56,10 +56,12 @@
 /// ranks, and each pair with its slab, and each pair contact's history, goes to the ranks
 /// that hold its slab (VerletList::divide); a rank's new slabs' particles that it did not
 /// search come with their positions from their owners, which find their particles' new
-/// owners and tell the others of those that change. A build that sorts the particles
-/// first (neighbour_list.sort_interval) reads every position, gathered by every rank
-/// instead, as is the first build (and the first after a restart), before any rank owns
-/// its particles. assign() then sends each particle whose slab now
+/// owners and tell the others of those that change. A sort before a build
+/// (neighbour_list.sort_interval, VerletList::held_spatial_order) likewise: each slab's
+/// particles are ordered by the rank whose run of rows it is in, from the others' keys
+/// of their particles in it, and every rank gets every run. The first build (and the
+/// first after a restart), before every particle has an owner that holds it, gathers
+/// every position instead. assign() then sends each particle whose slab now
 /// belongs to another rank with its whole state (the arrays below, its mass, 1/m and 1/I,
 /// its row of wall history, its mesh contacts) from its old owner to its new one, in
 /// rounds of a few thousand particles each let go once sent, then the ghosts (with their
@@ -108,12 +110,13 @@
 /// a particle's contacts go with it to its new owner at assign().
 ///
 /// Every rank keeps a slot for every particle, but of the other ranks' particles (not
-/// its ghosts) it holds the positions alone, current only where a build brought them
-/// (those it searched, or every one at a build that sorts), and the radii, materials and whether each is fixed (ParticleStore::fixed_flag), which a build
-/// reads of every particle and which never change: their
-/// other values (the masses too) are zero and their pages are returned to the system after each
-/// assign() and after a whole-state gather once the rank moves on (release_foreign(),
-/// slot_pages.hpp), and a sort's or a removal's permutation commits no page of them.
+/// its ghosts) it holds only the radii, materials and whether each is fixed
+/// (ParticleStore::fixed_flag), which a build reads of every particle it searches and
+/// which never change: their other values (the positions and the masses too) are zero
+/// and their pages are returned to the system after each assign() and after a
+/// whole-state gather once the rank moves on (release_foreign(), slot_pages.hpp), and a
+/// sort's or a removal's permutation commits no page of them; a build writes the
+/// positions it is sent (those of the slabs it searches), and an insertion every one.
 /// The list's build positions are held for the rank's own particles only: a divided
 /// build keeps its own slabs' (VerletList::build_positions_own_only), whose slots are
 /// then the rank's particles at assign(), which reads every particle's slab from the
@@ -124,12 +127,12 @@
 /// for rank 0 to list the whole list's pairs again from them), let go of with the rest.
 ///
 /// Limits: memory is divided for the pair list, the particles' state and the build
-/// positions but the positions, radii and identities (each rank holds those of all the
+/// positions but the radii and identities (each rank holds those of all the
 /// particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, a build still passes over every
-/// slot (1 or 2 bytes each: the owners, which slots it holds), a build that sorts gathers
-/// every position, and scenes without contacts (tracers, or particles moved by drag alone) are run whole by
+/// slot (1 or 2 bytes each: the owners, which slots it holds), a sort gives every rank
+/// the whole permutation (4 bytes a particle), and scenes without contacts (tracers, or particles moved by drag alone) are run whole by
 /// every rank but for their gas step (Simulation::unshared()).
 #include <cstdint>
 #include <functional>
@@ -177,13 +180,16 @@ class RankSplit final : public SearchShare {
   /// gathers) travels with the state.
   void set_meshes(MeshContacts* meshes) { meshes_ = meshes; }
 
-  /// Before a build of @p list that does not sort the particles: each process gets the
-  /// positions of the particles the build's search reads from their owners
-  /// (VerletList::prepare_held_build), instead of every particle's. False (on every
-  /// process) where the whole positions are to be gathered (synchronise()) instead: before
-  /// the slabs are first dealt out, after a restart until then, or where every process
-  /// holds the whole state already.
-  bool prepare_build(ParticleStore& p, VerletList& list);
+  /// Whether the next build (and a sort before it) can read each process's own
+  /// particles' positions only (prepare_build, VerletList::held_spatial_order): the same
+  /// answer on every process, false where the whole positions are to be gathered
+  /// (synchronise()) instead: before the slabs are first dealt out, after a restart until
+  /// then, or where every process holds the whole state already.
+  bool holds_build(const ParticleStore& p);
+  /// Where holds_build(), before a build of @p list: each process gets the positions of
+  /// the particles the build's search reads from their owners
+  /// (VerletList::prepare_held_build), instead of every particle's.
+  void prepare_build(ParticleStore& p, VerletList& list);
   /// Deal the slabs of @p list out (after each build, or a list loaded from a
   /// checkpoint): the list's threads then split this rank's slabs only. After a build
   /// that gathered the positions only, the particles that changed owner move to their

@@ -219,14 +219,16 @@ class Simulation : private integrators::StepHost {
   void list_first();
   /// Before the contact list's update for the positions at time @p t: the walls moved
   /// there; among MPI processes, where the list is due to be built, the positions the
-  /// build reads (every position where it sorts them), else the ghosts; the particles
-  /// sorted where due (sort_if_due).
+  /// build (and a sort before it) reads, else the ghosts; the particles sorted where due
+  /// (sort_if_due, or among processes VerletList::held_spatial_order).
   void ready_for_list(double t);
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
   void sort_if_due();
   /// Whether sort_if_due() sorts at a build now.
   bool sort_due_at_build() const;
+  /// Reorder the particles by @p from (permute()): a sort.
+  void sort_by(const std::vector<std::uint32_t>& from);
   /// Reorder every per-particle array, the particles', the integrator's and the
   /// modules' (slot i takes what slot @p from[i] held).
   void permute(const std::vector<std::uint32_t>& from);

@@ -3,6 +3,7 @@
 /// @brief How a Verlet-list build cuts the particles into slabs (verlet_list.hpp), and
 /// what the processes that share a build exchange (SearchShare).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -52,6 +53,28 @@ struct SlabOf {
     return wrap && (a == 0 || b == 0) && std::max(a, b) + 1 == count ? std::max(a, b) : std::min(a, b);
   }
   std::uint32_t of_pair(std::uint32_t i, std::uint32_t j) const { return pair((*this)(i), (*this)(j)); }
+};
+
+/// A particle's place among its slab's particles in the order a build lists them
+/// (VerletList::key_order): its cells (edge one interaction range, 17 bits an axis, a
+/// wider box only coarsening the order; the cut axis most significant, then the other
+/// two), then its identity, which makes the order total and independent of the slots.
+struct SlabKey {
+  std::uint64_t cells;
+  std::uint32_t id, slot;
+  static bool less(const SlabKey& a, const SlabKey& b) { return a.cells != b.cells ? a.cells < b.cells : a.id < b.id; }
+  /// The cells of the particle at (@p at[0][i], @p at[1][i], @p at[2][i]) in cut @p g.
+  static std::uint64_t cells_of(const ListSlabs& g, const double* const at[3], std::size_t i) {
+    const double h = g.range > 0.0 ? g.range : 1.0;
+    constexpr double cmax = double((1 << 17) - 1);
+    std::uint64_t c3 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int a = (g.axis + k) % 3;
+      const double c = std::clamp(std::floor((at[a][i] - g.lo[a]) / h), 0.0, cmax);
+      c3 = (c3 << 17) | static_cast<std::uint64_t>(c);
+    }
+    return c3;
+  }
 };
 
 /// The slabs one of several processes sharing a build searches: the rows of slabs

@@ -291,6 +291,10 @@ class VerletList {
   /// particles of its new slabs that it did not receive then come with their positions
   /// from their owners, which only the owners read. Every process calls it.
   void prepare_held_build(ParticleStore& p);
+  /// spatial_order(), where the processes that share the list hold their own particles'
+  /// positions only (as prepare_held_build): every process gets the whole order. Every
+  /// process calls it.
+  std::vector<std::uint32_t> held_spatial_order(const ParticleStore& p) const;
 
   /// One pair contact's history, seen from i (the pair as listed).
   struct PairContact {
@@ -411,6 +415,11 @@ class VerletList {
     std::vector<std::uint8_t> held;
   };
   HeldBuild held_build_;
+  /// A held build's cut (prepare_held_build) from the own particles' extents.
+  Slabs held_cut(const ParticleStore& p) const;
+  /// The particles before each slab of @p slab_of (nslab + 1 running counts), counted by
+  /// their owners and summed.
+  std::vector<std::uint32_t> held_counts(const SlabOf& slab_of, std::size_t n) const;
   /// (particle, wall) as one number, in the wall entries' order: by particle, then wall.
   static std::uint64_t wall_key(std::uint32_t i, std::uint32_t w) { return (std::uint64_t{i} << 32) | w; }
   /// Renumbers the carried contacts by @p to (old slot -> new slot, or new_particle for
