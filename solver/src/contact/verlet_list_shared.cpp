@@ -199,33 +199,55 @@ std::vector<std::uint32_t> VerletList::held_spatial_order(const ParticleStore& p
   }
   const SearchSlabs mine = SearchSlabs::of(start, me, size, g.wrap);
   const double* const at[3] = {p.x.data(), p.y.data(), p.z.data()};
-  // Keys as (slab, slot, id, cells high, cells low).
+  auto id_of = [&](std::size_t i) { return p.id.empty() ? static_cast<std::uint32_t>(i) : p.id[i]; };
+  // This process's run: each of its slabs' own particles first, by slab; the others'
+  // particles in them come as keys (slab, slot, identity, cells high, cells low).
+  const std::uint32_t base = start[mine.s0];
+  std::vector<std::uint32_t> run(start[mine.s1] - base);
+  std::vector<std::uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(mine.s0),
+                                  start.begin() + static_cast<std::ptrdiff_t>(mine.s1));
   std::vector<std::vector<std::uint32_t>> out(size);
   for (std::size_t i = 0; i < n; ++i) {
     if (!own[i]) continue;
     const std::uint32_t s = slab_of(static_cast<std::uint32_t>(i));
+    if (sorter[s] == me) {
+      run[fill[s - mine.s0]++ - base] = static_cast<std::uint32_t>(i);
+      continue;
+    }
     const std::uint64_t c = SlabKey::cells_of(g, at, i);
-    const std::uint32_t id = p.id.empty() ? static_cast<std::uint32_t>(i) : p.id[i];
-    out[sorter[s]].insert(out[sorter[s]].end(), {s, static_cast<std::uint32_t>(i), id, static_cast<std::uint32_t>(c >> 32),
-                                                 static_cast<std::uint32_t>(c & 0xffffffffu)});
+    out[sorter[s]].insert(out[sorter[s]].end(), {s, static_cast<std::uint32_t>(i), id_of(i),
+                                                 static_cast<std::uint32_t>(c >> 32), static_cast<std::uint32_t>(c & 0xffffffffu)});
   }
-  const std::vector<std::uint32_t> in = share.swap_values(out);
-  const std::uint32_t base = start[mine.s0];
-  std::vector<SlabKey> keys(start[mine.s1] - base);
-  {
-    std::vector<std::uint32_t> fill(start.begin() + static_cast<std::ptrdiff_t>(mine.s0),
-                                    start.begin() + static_cast<std::ptrdiff_t>(mine.s1));
-    for (std::size_t k = 0; k + 5 <= in.size(); k += 5)
-      keys[fill[in[k] - mine.s0]++ - base] = {(std::uint64_t{in[k + 3]} << 32) | in[k + 4], in[k + 2], in[k + 1]};
-  }
-  std::vector<std::uint32_t> run(keys.size());
+  std::vector<std::uint32_t> in = share.swap_values(out);
+  std::vector<std::uint32_t> by_slab(in.size() / 5);  // the keys received, by slab
+  for (std::size_t k = 0; k < by_slab.size(); ++k) by_slab[k] = static_cast<std::uint32_t>(k);
+  std::stable_sort(by_slab.begin(), by_slab.end(), [&](std::uint32_t a, std::uint32_t b) { return in[5 * a] < in[5 * b]; });
+  std::size_t next = 0;
   for (std::size_t s = mine.s0; s < mine.s1; ++s) {
-    const auto k0 = static_cast<std::ptrdiff_t>(start[s] - base), k1 = static_cast<std::ptrdiff_t>(start[s + 1] - base);
-    std::sort(keys.begin() + k0, keys.begin() + k1, SlabKey::less);
+    const std::size_t k0 = start[s] - base, mine_end = fill[s - mine.s0] - base;
+    std::vector<SlabKey> keys;
+    keys.reserve(start[s + 1] - start[s]);
+    for (std::size_t k = k0; k < mine_end; ++k) keys.push_back({SlabKey::cells_of(g, at, run[k]), id_of(run[k]), run[k]});
+    for (; next < by_slab.size() && in[5 * by_slab[next]] == s; ++next) {
+      const std::uint32_t* const r = &in[5 * by_slab[next]];
+      keys.push_back({(std::uint64_t{r[3]} << 32) | r[4], r[2], r[1]});
+    }
+    if (keys.size() != start[s + 1] - start[s]) throw std::logic_error("VerletList: a slab's keys do not add up");
+    std::sort(keys.begin(), keys.end(), SlabKey::less);
+    for (std::size_t k = 0; k < keys.size(); ++k) run[k0 + k] = keys[k].slot;
   }
-  for (std::size_t k = 0; k < keys.size(); ++k) run[k] = keys[k].slot;
-  std::vector<std::vector<std::uint32_t>> runs(size, run);
-  return share.swap_values(runs);  // the runs in process order: slab 0's first
+  std::vector<std::uint32_t>().swap(in);
+  // Every process gets every run, in process order: slab 0's first.
+  std::vector<std::vector<std::uint32_t>> runs(size);
+  for (std::size_t q = 0; q < size; ++q)
+    if (q != me) runs[q] = run;
+  const std::vector<std::uint32_t> others = share.swap_values(runs);
+  std::vector<std::uint32_t> from;
+  from.reserve(n);
+  from.insert(from.end(), others.begin(), others.begin() + base);
+  from.insert(from.end(), run.begin(), run.end());
+  from.insert(from.end(), others.begin() + base, others.end());
+  return from;
 }
 
 void VerletList::prepare_held_build(ParticleStore& p) {
