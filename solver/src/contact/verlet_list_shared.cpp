@@ -99,9 +99,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   std::vector<std::uint64_t> cost(nslab + 1, 0);
   for (std::size_t s = 0; s < nslab; ++s) cost[s + 1] = cost[s] + (count[s + 1] - count[s]) + work[s];
   rank_slab_first_ = deal_slabs(cost, work, size, slab_of.wrap);
-  std::vector<std::uint32_t> owner(nslab, 0);
-  for (std::size_t r = 0; r < size; ++r)
-    for (std::size_t s = rank_slab_first_[r]; s < rank_slab_first_[r + 1]; ++s) owner[s] = static_cast<std::uint32_t>(r);
+  const std::vector<std::uint32_t> owner = slab_owners();
   // A pair of slab s goes to its owner and, when s is the shadow slab of the process
   // above (whose first slab is the next, slab 0 after the last where they wrap), to that
   // process too.
@@ -153,6 +151,14 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     const double* v = &in[5 * k];
     carry[k] = {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]), {v[2], v[3], v[4]}};
   }
+}
+
+std::vector<std::uint32_t> VerletList::slab_owners() const {
+  const std::size_t size = rank_slab_first_.size() - 1;
+  std::vector<std::uint32_t> owner(rank_slab_first_[size], 0);
+  for (std::size_t r = 0; r < size; ++r)
+    for (std::size_t s = rank_slab_first_[r]; s < rank_slab_first_[r + 1]; ++s) owner[s] = static_cast<std::uint32_t>(r);
+  return owner;
 }
 
 VerletList::Slabs VerletList::held_cut(const ParticleStore& p) const {
@@ -308,9 +314,7 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
   if (held) {
     const std::uint8_t* const owned = share_->own_slots();
     const std::size_t size = static_cast<std::size_t>(share_->share_size());
-    std::vector<std::uint32_t> owner(slab_of.count, 0);
-    for (std::size_t q = 0; q < size; ++q)
-      for (std::size_t s = rank_slab_first_[q]; s < rank_slab_first_[q + 1]; ++s) owner[s] = static_cast<std::uint32_t>(q);
+    const std::vector<std::uint32_t> owner = slab_owners();
     std::vector<std::vector<double>> out(size);
     for (std::size_t i = 0; i < n; ++i) {
       if (!owned[i]) continue;

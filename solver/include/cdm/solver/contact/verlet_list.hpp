@@ -415,6 +415,8 @@ class VerletList {
     std::vector<std::uint8_t> held;
   };
   HeldBuild held_build_;
+  /// Each slab's process, as the last build dealt them out (rank_slab_first_).
+  std::vector<std::uint32_t> slab_owners() const;
   /// A held build's cut (prepare_held_build) from the own particles' extents.
   Slabs held_cut(const ParticleStore& p) const;
   /// The particles before each slab of @p slab_of (nslab + 1 running counts), counted by
