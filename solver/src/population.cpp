@@ -91,7 +91,8 @@ bool Population::owed(std::size_t k, double t) const {
   return rate_left && total_left_of(k);
 }
 
-std::size_t Population::insert(ParticleStore& p, double t, Vec3 g) {
+std::size_t Population::insert(ParticleStore& p, double t, Vec3 g, const std::vector<std::uint32_t>* near) {
+  const std::size_t n_before = p.size();
   std::size_t added = 0;
   for (std::size_t k = 0; k < feeds_.size(); ++k) {
     const InsertionSpec& in = spec_.insertions[k];
@@ -102,12 +103,34 @@ std::size_t Population::insert(ParticleStore& p, double t, Vec3 g) {
       if (e < f.next_event) continue;
       f.next_event = e + 1;
     }
-    added += run_event(k, p, t, g);
+    added += run_event(k, p, t, g, near, n_before);
   }
   return added;
 }
 
-std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec3 g) {
+double Population::reach_radius(const ParticleStore& p) const {
+  double r_max = 0.0;
+  for (double r : p.radius) r_max = std::max(r_max, r);
+  for (const InsertionSpec& in : spec_.insertions) r_max = std::max(r_max, in.size.largest());
+  return r_max;
+}
+
+bool Population::near_box(std::size_t k, Vec3 x, double r_max) const {
+  const InsertionSpec& in = spec_.insertions[k];
+  const double reach = in.size.largest() + r_max;
+  const Vec3 mid = 0.5 * (in.region.lower + in.region.upper), half = 0.5 * (in.region.upper - in.region.lower);
+  const Vec3 d = spec_.periodic.min_image(x - mid);
+  return std::abs(d.x) <= half.x + reach && std::abs(d.y) <= half.y + reach && std::abs(d.z) <= half.z + reach;
+}
+
+bool Population::near_insertion(Vec3 x, double r_max) const {
+  for (std::size_t k = 0; k < feeds_.size(); ++k)
+    if (!feeds_[k].done && near_box(k, x, r_max)) return true;
+  return false;
+}
+
+std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec3 g,
+                                  const std::vector<std::uint32_t>* near, std::size_t n_before) {
   const InsertionSpec& in = spec_.insertions[k];
   Feed& f = feeds_[k];
   Tally& done = inserted_[k];
@@ -117,19 +140,18 @@ std::size_t Population::run_event(std::size_t k, ParticleStore& p, double t, Vec
   // At or after `end`, the last event: it inserts what the rate owes up to `end`.
   if (!(t < in.end) || !total_left()) f.done = true;
   if (!wanted()) return 0;
-  // The particles near the box, which a new one must clear (a centre within the
-  // largest contact distance of the box; along periodic axes through the faces too).
-  const double r_new = in.size.largest();
-  double r_max = r_new;
+  // The particles near the box (near_box), which a new one must clear.
+  double r_max = in.size.largest();
   for (double r : p.radius) r_max = std::max(r_max, r);
   SequentialPlacement placed(r_max, spec_.walls, spec_.meshes, t, spec_.periodic);
-  const double reach = r_new + r_max;
-  const PeriodicBox& box = spec_.periodic;
-  const Vec3 mid = 0.5 * (in.region.lower + in.region.upper), half = 0.5 * (in.region.upper - in.region.lower);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 d = box.min_image(p.position(i) - mid);
-    if (std::abs(d.x) <= half.x + reach && std::abs(d.y) <= half.y + reach && std::abs(d.z) <= half.z + reach)
-      placed.add(p.position(i), p.radius[i]);
+  auto consider = [&](std::size_t i) {
+    if (near_box(k, p.position(i), r_max)) placed.add(p.position(i), p.radius[i]);
+  };
+  if (near) {
+    for (std::uint32_t i : *near) consider(i);
+    for (std::size_t i = n_before; i < p.size(); ++i) consider(i);
+  } else {
+    for (std::size_t i = 0; i < p.size(); ++i) consider(i);
   }
   constexpr int max_tries = 1000;
   std::size_t added = 0;

@@ -22,35 +22,68 @@ void Simulation::update_population() {
              : pop.any_leaving(particles_, 0, particles_.size());
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
-  // Among ranks that share the particles, each completes its own. An insertion places
-  // each particle clear of every other, and a list that is not kept (VerletList::remap)
-  // takes its build positions from the particles: then every rank gets the positions
-  // alone. The leaving particles are found by their owners and removed alike everywhere
-  // (remove_leaving). Until the slabs are dealt out, every rank holds the whole state.
+  // Among ranks that share the particles, each completes its own. A list that is not
+  // kept (VerletList::remap) takes its build positions from the particles: then every
+  // rank gets the positions alone. Else an insertion reads the positions of the
+  // particles near its boxes only, which their owners share (insert_due). The leaving
+  // particles are found by their owners and removed alike everywhere (remove_leaving).
+  // Until the slabs are dealt out, every rank holds the whole state.
   const bool own_part = ranks_ && ranks_->partitioned();
+  bool positions_held = true;
   if (own_part) {
     local_particles();
     const bool list_kept = contact_ && contact_->list().built() && contact_->list().listed(particles_.size());
-    if (due || !list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
+    if (!list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
+    positions_held = !list_kept;
   } else {
     complete_step();  // the state at the step's end, velocities included
   }
   if (leaving) remove_leaving(own_part);
-  if (due) insert_due(own_part);
+  if (due) insert_due(own_part, positions_held);
   // Every rank changed the whole state alike; the slots moved, so each moves all the
   // particles until the list, built again at the next step, deals the slabs out anew.
   if (ranks_ && !own_part) ranks_->unassign();
 }
 
-void Simulation::insert_due(bool own_part) {
-  // Each particle is placed clear of every other, from the positions every rank holds:
-  // every rank inserts the same particles.
+void Simulation::insert_due(bool own_part, bool positions_held) {
+  // Each particle is placed clear of every other, from the same positions on every rank:
+  // every rank inserts the same particles. Where each rank holds its own particles'
+  // positions only, the owners share those near the insertions' boxes first.
   const std::size_t n0 = particles_.size();
-  if (population_->insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}) == 0) return;
+  std::vector<std::uint32_t> near;
+  if (!positions_held) near = share_near_insertions();
+  if (population_->insert(particles_, time_, spec_.gravity ? spec_.g : Vec3{}, positions_held ? nullptr : &near) == 0)
+    return;
   std::vector<std::uint32_t> from(particles_.size(), new_particle);
   for (std::size_t i = 0; i < n0; ++i) from[i] = static_cast<std::uint32_t>(i);
   remap(from);
+  // The list took every slot's position as its build position (VerletList::remap): the
+  // own particles' and the new ones' alone are current, as after a divided build.
+  if (!positions_held) contact_->list().build_positions_released();
   if (own_part) ranks_->added(particles_.size() - n0);
+}
+
+std::vector<std::uint32_t> Simulation::share_near_insertions() {
+  const Population& pop = *population_;
+  const double r_max = pop.reach_radius(particles_);
+  std::vector<std::uint64_t> keys;
+  std::vector<double> at;
+  for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
+    for (std::size_t i = i0; i < i1; ++i)
+      if (pop.near_insertion(particles_.position(i), r_max)) {
+        keys.push_back(i);
+        at.insert(at.end(), {particles_.x[i], particles_.y[i], particles_.z[i]});
+      }
+  ranks_->share_records(keys, at, 3);
+  std::vector<std::uint32_t> near(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const auto i = static_cast<std::uint32_t>(keys[k]);
+    near[k] = i;
+    particles_.x[i] = at[3 * k];
+    particles_.y[i] = at[3 * k + 1];
+    particles_.z[i] = at[3 * k + 2];
+  }
+  return near;
 }
 
 void Simulation::remove_leaving(bool own_part) {

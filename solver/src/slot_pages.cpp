@@ -92,6 +92,14 @@ void resize_zeroed(std::vector<double>& v, std::size_t n) {
 
 void clear_nonzero(std::vector<double>& v) { clear_range(v.data(), v.data() + v.size()); }
 
+void copy_changed(std::vector<double>& v, const std::vector<double>& from) {
+  const std::size_t n = from.size();
+  if (v.size() > n) v.resize(n);
+  else resize_zeroed(v, n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::bit_cast<std::uint64_t>(v[i]) != std::bit_cast<std::uint64_t>(from[i])) v[i] = from[i];
+}
+
 void get_slots(InArchive& a, std::vector<double>& v, std::uint64_t max_elements) {
   const InArchive::SlotWindow& w = a.slot_window();
   const std::uint64_t n = a.get_length(max_elements, sizeof(double));

@@ -169,7 +169,7 @@ shared "moving walls" 3 "$src/tests/cli/scenes/moving_walls.toml" --set integrat
   --set output.interval=0.001 --set output.vtk=true --set output.contacts=true --set output.checkpoint_interval=0.005
 
 # Insertions (from 0.05 s) and an outlet (the lattice's corner leaves at once): every
-# process gets the positions and inserts the same particles, process 0's until the next
+# process gets the positions near the box and inserts the same particles, process 0's until the next
 # build; the owners find the particles leaving. Samples fall on
 # insertion steps, where the wall contacts are set aside until the next listing. Then
 # an insertion at every step from 0.05 s, on 3 processes.
@@ -184,6 +184,14 @@ shared "bed fed at every step" 3 "${fed[@]}" --set 'insertions[0].interval=0.0'
 shared "settle fed and drained" 3 "${settle[@]}" --set integrator.end_time=0.015 \
   --set 'insertions=[{material="glass",lower=[0.001,0.001,0.06],upper=[0.021,0.021,0.07],count_rate=2000.0,count=40,start=0.0,interval=0.005,velocity=[0.0,0.0,-0.5],seed=7,size={distribution="normal",mean=0.001,std=0.0001}}]' \
   --set 'outlets=[{name="corner",type="box",lower=[0.0,0.0,-0.001],upper=[0.004,0.004,0.002]}]'
+
+# An insertion among processes reads the positions of the particles near its box only,
+# which their owners share: a box whose floor lies less than two radii above a settled
+# layer's centres, so that the layer's particles, outside the box, turn placements away,
+# on 3 processes.
+shared "insertion above a layer" 3 "$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,5]' \
+  --set integrator.end_time=0.002 --set output.interval=0.0005 --set output.log_interval=0.0001 \
+  --set 'insertions=[{material="glass",lower=[0.0005,0.0005,0.0058],upper=[0.0105,0.0105,0.0085],count_rate=1.0e6,count=150,start=0.0005,interval=0.0005,radius=0.5e-3}]'
 
 # Outlets among processes (each finds its own particles in them, every process removes
 # them all alike, and with a gas deposits what their drag gave it so far, in slot order):
@@ -332,4 +340,4 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"

@@ -37,6 +37,17 @@ bool resident(const std::vector<double>& v, std::size_t i) {
 
 std::uint64_t bits(double a) { return std::bit_cast<std::uint64_t>(a); }
 
+// The process's resident memory in pages (/proc/self/statm).
+long resident_pages() {
+  long size = 0, resident = 0;
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  EXPECT_NE(f, nullptr);
+  if (!f) return 0;
+  EXPECT_EQ(std::fscanf(f, "%ld %ld", &size, &resident), 2);
+  std::fclose(f);
+  return resident;
+}
+
 std::vector<double> filled(std::size_t n, std::uint32_t seed) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -99,6 +110,37 @@ TEST(SlotPages, GrownSlotsAreZeroAndUncommitted) {
   f[3] = -0.0;
   cdm::clear_nonzero(f);
   for (double a : f) ASSERT_EQ(bits(a), 0u);
+}
+
+TEST(SlotPages, ACopyOfWhatChangedGivesTheBitsAndCommitsNoPageOfZeros) {
+  // The list's build positions taken from the particles' after an insertion among
+  // processes: a middle half that neither holds, grown by the new particles' slots.
+  std::vector<double> from = filled(kSlots + 10000, 10);
+  from[5] = -0.0;
+  cdm::zero_slots(from, {{kSlots / 4, 3 * kSlots / 4}});
+  std::vector<double> v = filled(kSlots, 11);
+  cdm::zero_slots(v, {{kSlots / 4, 3 * kSlots / 4}});
+  // The copy reads every slot, which maps the zero page (resident to mincore, not in
+  // the process's resident memory): the new array's committed pages are measured as
+  // the growth of the latter, against a plain copy's: about the two outer quarters'
+  // 4 MiB against 8.
+  long before = resident_pages();
+  const std::vector<double> plain(from);
+  const long grew_plain = resident_pages() - before;
+  std::vector<double> fresh;
+  before = resident_pages();
+  cdm::copy_changed(fresh, from);
+  const long grew = resident_pages() - before;
+  EXPECT_LT(static_cast<double>(grew), 0.75 * static_cast<double>(grew_plain)) << grew << " pages against " << grew_plain;
+  for (auto* to : {&v, &fresh}) {
+    if (to == &v) cdm::copy_changed(v, from);
+    ASSERT_EQ(to->size(), from.size());
+    for (std::size_t i = 0; i < from.size(); ++i) ASSERT_EQ(bits((*to)[i]), bits(from[i])) << "slot " << i;
+  }
+  std::vector<double> shorter = filled(1000, 12);
+  cdm::copy_changed(v, shorter);
+  ASSERT_EQ(v.size(), shorter.size());
+  for (std::size_t i = 0; i < shorter.size(); ++i) ASSERT_EQ(bits(v[i]), bits(shorter[i]));
 }
 
 TEST(SlotPages, ReleasedPagesGoBackWhole) {

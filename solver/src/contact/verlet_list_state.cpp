@@ -6,6 +6,7 @@
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/contact/verlet_list.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 // The list follows its particles when they are reordered, removed or added, and goes
 // into and out of a checkpoint.
@@ -232,10 +233,11 @@ void VerletList::remap(const std::vector<std::uint32_t>& from, const ParticleSto
   }
   // Build positions: the particles' own (a new particle's is where it appeared); the
   // list is built again at the next update, so the new particles find their partners.
-  for (auto* v : {&x0_, &y0_, &z0_}) v->resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x0_[i] = p.x[i]; y0_[i] = p.y[i]; z0_[i] = p.z[i];
-  }
+  // Among processes the slots whose positions a process does not hold read zero in
+  // both: their pages stay uncommitted.
+  copy_changed(x0_, p.x);
+  copy_changed(y0_, p.y);
+  copy_changed(z0_, p.z);
   own_only_ = false;
   built_ = false;
   wall_candidates_stale_ = true;

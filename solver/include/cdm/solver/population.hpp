@@ -56,7 +56,18 @@ class Population {
   /// Run the insertion events due at @p t: the particles are appended to the store at
   /// rest relative to the insertion's velocity, their force the weight m @p g (nothing
   /// else acts on a particle placed clear of all others). Returns how many were added.
-  std::size_t insert(ParticleStore& p, double t, Vec3 g);
+  /// Each is placed clear of the particles near the insertion's box: of every particle
+  /// of @p p, or with @p near of those slots (increasing) only, the others' positions
+  /// not being held, and of the particles the events add.
+  std::size_t insert(ParticleStore& p, double t, Vec3 g, const std::vector<std::uint32_t>* near = nullptr);
+  /// The largest radius an insertion event can meet: of @p p's particles, and of the
+  /// sizes any insertion draws.
+  double reach_radius(const ParticleStore& p) const;
+  /// Whether an insertion event may have to keep clear of a particle centred at @p x,
+  /// given @p r_max from reach_radius(): its centre near the box of an insertion not
+  /// done (within the insertion's largest radius plus @p r_max; along periodic axes
+  /// through the faces too). The particles an event reads are among these.
+  bool near_insertion(Vec3 x, double r_max) const;
 
   /// Totals since the start of the run.
   struct Tally {
@@ -77,7 +88,10 @@ class Population {
     std::uint64_t next_event = 0;  // index k of the next event (interval > 0)
     bool done = false;             // total reached, or end passed
   };
-  std::size_t run_event(std::size_t k, ParticleStore& p, double t, Vec3 g);
+  std::size_t run_event(std::size_t k, ParticleStore& p, double t, Vec3 g, const std::vector<std::uint32_t>* near,
+                        std::size_t n_before);
+  /// Whether a particle centred at @p x lies near insertion @p k's box (near_insertion).
+  bool near_box(std::size_t k, Vec3 x, double r_max) const;
   /// Whether insertion @p k has particles left to insert before its total.
   bool total_left_of(std::size_t k) const;
   /// Whether insertion @p k owes a particle at time @p t: its rate's count (or mass) up

@@ -88,11 +88,12 @@
 /// (share_records: slot, outlet, and with a gas each one's position and impulse) and
 /// removes them alike, in slot order, and the ownership follows the compacted slots
 /// (keep()). The list is kept (VerletList::remap): its pairs, build positions and slabs
-/// follow the slots, and nothing else moves between the ranks. An insertion gathers the
-/// positions alone (gather(): it places each particle clear of every other, and the list
-/// takes its build positions from them); every rank inserts the same particles, rank 0's
-/// (added()), and the list, built again at the next step, deals the slabs out anew and
-/// moves the particles to their new owners. Until the next listing of the wall candidates
+/// follow the slots, and nothing else moves between the ranks. An insertion reads the
+/// positions of the particles near its box, which their owners share (share_records;
+/// Simulation::share_near_insertions), or where the list is not kept gathers every
+/// position (gather(): the list takes its build positions from them); every rank
+/// inserts the same particles, rank 0's (added()), and the list, built again at the next
+/// step, deals the slabs out anew and moves the particles to their new owners. Until the next listing of the wall candidates
 /// the wall contacts are set aside (VerletList::pending_wall_contacts), each rank's own
 /// particles' current, and a gather joins those (share_contact_records). Until the slabs
 /// are first dealt out every rank holds, moves, removes and inserts every particle; a

@@ -239,10 +239,15 @@ class Simulation : private integrators::StepHost {
   /// and every process removing them all (RankSplit::share_records, RankSplit::keep).
   void remove_leaving(bool own_part);
   /// Run the insertion events due (Population::insert), placing each particle clear of
-  /// every other (every process holds every position: update_population); with
-  /// @p own_part the particles inserted, the same on every process, are process 0's
-  /// (RankSplit::added).
-  void insert_due(bool own_part);
+  /// every other: from every position where @p positions_held (one process, or every
+  /// position gathered: update_population), else from those near the insertions
+  /// (share_near_insertions). With @p own_part the particles inserted, the same on every
+  /// process, are process 0's (RankSplit::added).
+  void insert_due(bool own_part, bool positions_held);
+  /// Among processes that hold their own particles' positions only: every process gets
+  /// the positions of the particles near an insertion not done (Population::near_insertion)
+  /// from their owners. Returns their slots, increasing.
+  std::vector<std::uint32_t> share_near_insertions();
   /// The modules follow particles removed or added (ForceModule::remap).
   void remap(const std::vector<std::uint32_t>& from);
   /// The checkpoint's section on a changing population (its own function, so that the

@@ -54,6 +54,10 @@ void reserve_zeroed(std::vector<double>& v, std::size_t capacity);
 void release_pages(const void* first, const void* last);
 /// Set the values of @p v that are not zero to zero, writing nothing else.
 void clear_nonzero(std::vector<double>& v);
+/// Make @p v a copy of @p from's values, the same bits, writing only those that differ:
+/// slots that read zero in both leave their pages uncommitted. Where @p v must grow
+/// beyond its capacity, it grows as reserve_zeroed() grows it.
+void copy_changed(std::vector<double>& v, const std::vector<double>& from);
 /// Read a per-particle array of @p a (as InArchive::get, at most @p max_elements
 /// values) of which this process keeps the slots of @p a's slot window only: the others
 /// are read past and left zero, their pages uncommitted. An array whose length is not
