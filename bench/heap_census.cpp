@@ -6,7 +6,9 @@
 // far by a MiB, it writes every live recorded allocation with its size and its resident
 // bytes (mincore) to $CDM_CENSUS_DIR/census.R (R: OMPI_COMM_WORLD_RANK, or 0), replacing
 // the last. The file then describes the moment of the peak as seen at the allocation that
-// reached it. Each frame is written as an offset into its object file, so that
+// reached it. Beside it, census.R.freed gives the resident pages no live allocation holds
+// (what the allocator kept), each by the latest of the last 4096 recorded allocations freed
+// whose range held it. Each frame is written as an offset into its object file, so that
 // heap_census.py can name it with addr2line. The census's own table (7 MB of address
 // space) adds a page per live record to the resident memory it reports. bench/README.md,
 // "What stays resident between builds".
@@ -38,6 +40,11 @@ struct Record {
 };
 
 Record* table = nullptr;  // kSlots records, mapped at start
+constexpr std::size_t kFreed = 4096;  // the latest freed allocations, newest last
+Record* freed = nullptr;              // kFreed records, mapped at start
+std::size_t freed_count = 0;          // how many were ever freed (ring index: % kFreed)
+constexpr std::size_t kMapPages = std::size_t{1} << 22;  // the pages a census can tell apart
+unsigned char* claimed = nullptr;                        // a bit a page, mapped at start
 std::mutex table_mutex;
 thread_local bool in_hook = false;
 
@@ -76,7 +83,26 @@ long resident_pages() {
   return std::sscanf(buf, "%ld %ld", &size, &rss) == 2 ? rss : 0;
 }
 
-std::size_t resident_bytes(const void* p, std::size_t bytes) {
+// One line: BYTES RESIDENT FRAME... (frames as offsets into their object files).
+bool write_record(int fd, const Record& r, std::size_t resident) {
+  char line[8192];
+  int n = std::snprintf(line, sizeof line, "%zu %zu", r.bytes, resident);
+  for (int f = 0; f < r.frames && n < 7000; ++f) {
+    Dl_info info;
+    if (dladdr(r.frame[f], &info) && info.dli_fname)
+      n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " %lx@%s",
+                         static_cast<unsigned long>(reinterpret_cast<std::uintptr_t>(r.frame[f]) -
+                                                    reinterpret_cast<std::uintptr_t>(info.dli_fbase)),
+                         info.dli_fname);
+  }
+  line[n++] = '\n';
+  return write(fd, line, static_cast<std::size_t>(n)) == n;
+}
+
+// The bytes of the resident pages wholly inside [p, p + bytes). With @p claim, only those
+// not claimed yet, each claimed now (pages beyond the map's span from @p base are counted
+// without a claim).
+std::size_t resident_bytes(const void* p, std::size_t bytes, bool claim = false, std::uintptr_t base = 0) {
   const auto a = (reinterpret_cast<std::uintptr_t>(p) + page - 1) / page * page;
   const auto b = (reinterpret_cast<std::uintptr_t>(p) + bytes) / page * page;
   std::size_t pages = 0;
@@ -84,38 +110,79 @@ std::size_t resident_bytes(const void* p, std::size_t bytes) {
   for (std::uintptr_t s = a; s < b;) {
     const std::uintptr_t len = std::min<std::uintptr_t>(b - s, sizeof vec * page);
     if (mincore(reinterpret_cast<void*>(s), len, vec) == 0)
-      for (std::uintptr_t k = 0; k < len / page; ++k) pages += vec[k] & 1;
+      for (std::uintptr_t k = 0; k < len / page; ++k) {
+        if (!(vec[k] & 1)) continue;
+        if (!claim) { ++pages; continue; }
+        const std::uintptr_t at = (s - base) / page + k;
+        if (s < base || at >= kMapPages) { ++pages; continue; }
+        unsigned char& byte = claimed[at / 8];
+        const unsigned char bit = static_cast<unsigned char>(1u << (at % 8));
+        if (byte & bit) continue;
+        byte |= bit;
+        ++pages;
+      }
     s += len;
   }
   return pages * static_cast<std::size_t>(page);
 }
 
+// A census file, out_path + @p suffix, written under a temporary name and renamed once
+// whole: open() writes its first line ("rss BYTES") and says whether all went well.
+struct CensusFile {
+  char path[4200], tmp[4205];
+  int fd = -1;
+  bool open(const char* suffix, long rss_pages) {
+    std::snprintf(path, sizeof path, "%s%s", out_path, suffix);
+    std::snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    fd = ::open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) return false;
+    char line[64];
+    const int n = std::snprintf(line, sizeof line, "rss %ld\n", rss_pages * page);
+    return write(fd, line, static_cast<std::size_t>(n)) == n;
+  }
+  void close(bool ok) {
+    if (fd < 0) return;
+    ::close(fd);
+    if (ok) rename(tmp, path);
+  }
+};
+
+// The census's second file (out_path.freed): the resident pages that no live allocation
+// holds, by the latest freed allocation whose range held them (newest first), in
+// write_census's format: what the allocator kept of whom.
+void write_freed(long rss_pages) {
+  if (freed == nullptr || claimed == nullptr) return;
+  std::uintptr_t base = ~std::uintptr_t{0};
+  for (std::size_t s = 0; s < kSlots; ++s)
+    if (table[s].p != nullptr && table[s].p != kGone)
+      base = std::min(base, reinterpret_cast<std::uintptr_t>(table[s].p));
+  for (std::size_t k = 0; k < std::min(freed_count, kFreed); ++k)
+    base = std::min(base, reinterpret_cast<std::uintptr_t>(freed[k].p));
+  base = base / page * page;
+  std::memset(claimed, 0, kMapPages / 8);
+  for (std::size_t s = 0; s < kSlots; ++s)
+    if (table[s].p != nullptr && table[s].p != kGone) resident_bytes(table[s].p, table[s].bytes, true, base);
+  CensusFile f;
+  bool ok = f.open(".freed", rss_pages);
+  for (std::size_t k = 0; ok && k < std::min(freed_count, kFreed); ++k) {
+    const Record& r = freed[(freed_count - 1 - k) % kFreed];
+    const std::size_t resident = resident_bytes(r.p, r.bytes, true, base);
+    if (resident > 0) ok = write_record(f.fd, r, resident);
+  }
+  f.close(ok);
+}
+
 // Writes the census (table_mutex held). No allocation: snprintf into a stack buffer.
 void write_census(long rss_pages) {
-  char tmp[4200];
-  std::snprintf(tmp, sizeof tmp, "%s.tmp", out_path);
-  const int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) return;
-  char line[8192];
-  int n = std::snprintf(line, sizeof line, "rss %ld\n", rss_pages * page);
-  bool ok = write(fd, line, static_cast<std::size_t>(n)) == n;
+  CensusFile f;
+  bool ok = f.open("", rss_pages);
   for (std::size_t s = 0; ok && s < kSlots; ++s) {
     const Record& r = table[s];
     if (r.p == nullptr || r.p == kGone) continue;
-    n = std::snprintf(line, sizeof line, "%zu %zu", r.bytes, resident_bytes(r.p, r.bytes));
-    for (int f = 0; f < r.frames && n < 7000; ++f) {
-      Dl_info info;
-      if (dladdr(r.frame[f], &info) && info.dli_fname)
-        n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), " %lx@%s",
-                           static_cast<unsigned long>(reinterpret_cast<std::uintptr_t>(r.frame[f]) -
-                                                      reinterpret_cast<std::uintptr_t>(info.dli_fbase)),
-                           info.dli_fname);
-    }
-    line[n++] = '\n';
-    ok = write(fd, line, static_cast<std::size_t>(n)) == n;
+    ok = write_record(f.fd, r, resident_bytes(r.p, r.bytes));
   }
-  close(fd);
-  if (ok) rename(tmp, out_path);
+  f.close(ok);
+  write_freed(rss_pages);
 }
 
 void record(void* p, std::size_t bytes) {
@@ -145,6 +212,7 @@ void forget(void* p) {
   std::lock_guard<std::mutex> lock(table_mutex);
   for (std::size_t s = slot_of(p), k = 0; k < kSlots && table[s].p != nullptr; ++k, s = (s + 1) & (kSlots - 1))
     if (table[s].p == p) {
+      if (freed != nullptr) freed[freed_count++ % kFreed] = table[s];
       table[s].p = kGone;
       return;
     }
@@ -175,6 +243,10 @@ __attribute__((constructor)) void start() {
   in_hook = false;
   void* t = mmap(nullptr, kSlots * sizeof(Record), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (t != MAP_FAILED) table = static_cast<Record*>(t);
+  void* f = mmap(nullptr, kFreed * sizeof(Record), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (f != MAP_FAILED) freed = static_cast<Record*>(f);
+  void* c = mmap(nullptr, kMapPages / 8, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (c != MAP_FAILED) claimed = static_cast<unsigned char*>(c);
 }
 
 }  // namespace
