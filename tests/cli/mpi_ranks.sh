@@ -18,7 +18,8 @@
 # step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
 # bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
-# gathered in rounds of a few particles and pairs. A run on 2
+# gathered in rounds of a few particles and pairs. The chute and the Mueller bed are
+# compared on 2 over TCP, without Open MPI's shared memory, as between machines. A run on 2
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table.
 set -u
 cdm="$1" src="$2" work="$3"
@@ -294,6 +295,17 @@ shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressu
   --set 'gas.division="planes"'
 grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
+
+# Between machines Open MPI talks over a network, not through shared memory: with its
+# shared-memory transport left out (TCP on the loopback, as between two nodes) the chute
+# and the Mueller bed (its gas step and multigrid solve divided by planes) give one
+# process's files on 2 processes.
+near_launch=("${launch[@]}")
+launch+=(--mca pml ob1 --mca btl self,tcp --mca btl_tcp_if_include lo)
+shared "chute over TCP" 2 "${chute[@]}"
+shared "mueller over TCP" 2 "${mueller[@]}" --max-steps 600 --set output.vtk=false \
+  --set 'coupling.drag_evaluation="gas_step"' --set 'gas.division="planes"'
+launch=("${near_launch[@]}")
 
 # A restart reads each process's share of the state (its run of rows, the positions
 # whole) and of the pair contacts, and the first build moves each particle's state to its
