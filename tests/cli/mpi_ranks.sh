@@ -20,7 +20,9 @@
 # bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
 # gathered in rounds of a few particles and pairs. The chute and the Mueller bed are
 # compared on 2 over TCP, without Open MPI's shared memory, as between machines. A run on 2
-# stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table.
+# stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table;
+# a run on 3 that loses a process (SIGKILL) exits non-zero and continues on 2 from its last
+# checkpoint to the same files.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -352,4 +354,28 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3"
+# One process lost (SIGKILL to rank 1, as when a node fails): mpirun stops the others and
+# exits non-zero, rank 0's files stay as last written whole, and the run continued from
+# its last checkpoint on 2 processes ends as one process's uninterrupted run: particle
+# table, log and checkpoint.
+lostrun=("${sigrun[@]}" --set output.checkpoint_interval=0.005 --set output.log_interval=0.005)
+"$cdm" run "${lostrun[@]}" -q -j 1 -o "$work/lost-1" > /dev/null || fail "a lost process: one process"
+"${launch[@]}" -np 3 "$cdm" run "${lostrun[@]}" -q -j 1 -o "$work/lost" > /dev/null 2> "$work/lost.err" &
+pid=$!
+for _ in $(seq 1200); do [ -s "$work/lost/checkpoint.cdmck" ] && break; sleep 0.05; done
+[ -s "$work/lost/checkpoint.cdmck" ] || fail "a lost process: no first checkpoint within a minute"
+victim=""
+for c in $(pgrep -P "$pid"); do
+  tr '\0' '\n' < "/proc/$c/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$c
+done
+[ -n "$victim" ] || fail "a lost process: rank 1 not found among mpirun's processes"
+kill -KILL "$victim"
+wait "$pid" && fail "a lost process: mpirun exited 0 after rank 1 was killed (the run ended first?)"
+cp "$work/lost/checkpoint.cdmck" "$work/lost.cdmck"
+"${launch[@]}" -np 2 "$cdm" run "${lostrun[@]}" -q -j 1 -o "$work/lost" --restart "$work/lost.cdmck" \
+  > "$work/lost.out" 2>&1 || fail "a lost process: the restart on 2 processes: $(tail -3 "$work/lost.out")"
+for f in particles.dat log.dat checkpoint.cdmck; do
+  cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
+done
+
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2"
