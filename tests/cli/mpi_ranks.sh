@@ -22,7 +22,8 @@
 # compared on 2 over TCP, without Open MPI's shared memory, as between machines. A run on 2
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table;
 # a run on 3 that loses a process (SIGKILL) exits non-zero and continues on 2 from its last
-# checkpoint to the same files.
+# checkpoint to the same files; rank 0's write failing on a full device stops both of 2
+# processes with exit 4.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -354,6 +355,21 @@ stops=$(grep -c "stopped by signal 15; continue with" "$work/sig.err" || true)
   > /dev/null 2>&1 || fail "restart on 3 processes after SIGTERM"
 cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run stopped by SIGTERM and restarted differs"
 
+# Rank 0's write failing (a full device) among processes: every process stops at once,
+# exit 4 with the path and the reason, and the checkpoint's temporary file removed.
+fullrun=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]' --set integrator.end_time=0.03
+         --set output.interval=0.01 --set output.checkpoint_interval=0.01)
+mkdir -p "$work/devfull" "$work/ckfull"
+ln -s /dev/full "$work/devfull/particles.dat"
+ln -s /dev/full "$work/ckfull/checkpoint.cdmck.tmp"
+for d in devfull ckfull; do
+  "${launch[@]}" -np 2 "$cdm" run "${fullrun[@]}" -q -j 1 -o "$work/$d" > "$work/$d.out" 2>&1
+  rc=$?
+  [ "$rc" -eq 4 ] || fail "$d on 2 processes: exit status $rc, expected 4: $(tail -3 "$work/$d.out")"
+  grep -q "$d/[a-z.]*': No space left on device" "$work/$d.out" || fail "$d on 2 processes: no path and reason: $(cat "$work/$d.out")"
+done
+[ ! -e "$work/ckfull/checkpoint.cdmck.tmp" ] || fail "ckfull on 2 processes: the checkpoint's temporary file was left behind"
+
 # One process lost (SIGKILL to rank 1, as when a node fails): mpirun stops the others and
 # exits non-zero, rank 0's files stay as last written whole, and the run continued from
 # its last checkpoint on 2 processes ends as one process's uninterrupted run: particle
@@ -378,4 +394,4 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
 done
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
