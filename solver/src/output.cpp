@@ -130,11 +130,12 @@ long long output_sample(const Simulation& sim, double interval) {
 void ParticleTableObserver::operator()(const Simulation& sim) {
   if (!schedule_.due(sim)) return;
   const bool last = sim.steps() == sim.total_steps();
-  // By identity, whatever order the store keeps: the moving state from each particle's
-  // owner (Simulation::written_rows), its radius and material from this process's store.
+  // By identity, whatever order the store keeps: the state and the radius from each
+  // particle's owner (Simulation::written_rows), its material from this process's store.
   const ParticleStore& p = sim.local_particles();
   std::vector<const std::vector<double>*> moving = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz};
   if (rot_) moving.insert(moving.end(), {&p.wx, &p.wy, &p.wz});
+  moving.push_back(&p.radius);
   std::vector<double> r(rot_ ? 13 : 10);
   sim.written_rows(moving, [&](std::size_t k, const double* v) {
     if (!table_.writes()) return;  // a process that does not write
@@ -142,7 +143,6 @@ void ParticleTableObserver::operator()(const Simulation& sim) {
     r[0] = sim.time();
     r[1] = static_cast<double>(k);
     std::copy(v, v + moving.size(), r.begin() + 2);
-    r[r.size() - 2] = p.radius[i];
     r.back() = p.material[i];
     table_.row(r);
   });

@@ -33,7 +33,7 @@ void Simulation::update_population() {
   if (own_part) {
     local_particles();
     const bool list_kept = contact_ && contact_->list().built() && contact_->list().listed(particles_.size());
-    if (!list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z});
+    if (!list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.radius});
     positions_held = !list_kept;
   } else {
     complete_step();  // the state at the step's end, velocities included
@@ -65,23 +65,25 @@ void Simulation::insert_due(bool own_part, bool positions_held) {
 
 std::vector<std::uint32_t> Simulation::share_near_insertions() {
   const Population& pop = *population_;
-  const double r_max = pop.reach_radius(particles_);
+  // Each process holds its own particles' radii (and its ghosts'): the largest over them all.
+  const double r_max = ranks_->max(pop.reach_radius(particles_));
   std::vector<std::uint64_t> keys;
   std::vector<double> at;
   for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
     for (std::size_t i = i0; i < i1; ++i)
       if (pop.near_insertion(particles_.position(i), r_max)) {
         keys.push_back(i);
-        at.insert(at.end(), {particles_.x[i], particles_.y[i], particles_.z[i]});
+        at.insert(at.end(), {particles_.x[i], particles_.y[i], particles_.z[i], particles_.radius[i]});
       }
-  ranks_->share_records(keys, at, 3);
+  ranks_->share_records(keys, at, 4);
   std::vector<std::uint32_t> near(keys.size());
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const auto i = static_cast<std::uint32_t>(keys[k]);
     near[k] = i;
-    particles_.x[i] = at[3 * k];
-    particles_.y[i] = at[3 * k + 1];
-    particles_.z[i] = at[3 * k + 2];
+    particles_.x[i] = at[4 * k];
+    particles_.y[i] = at[4 * k + 1];
+    particles_.z[i] = at[4 * k + 2];
+    particles_.radius[i] = at[4 * k + 3];
   }
   return near;
 }
@@ -133,8 +135,8 @@ void Simulation::save_population(OutArchive& a) const {
   a.put(static_cast<std::uint8_t>(population_ ? 1 : 0));
   if (!population_) return;
   const ParticleStore& p = particles_;
-  // Among processes each holds its own particles' masses: those stream to the writer.
-  a.put(p.radius);
+  // Among processes each holds its own particles' radii and masses: those stream to the writer.
+  a.put_particles(p.radius);
   a.put_particles(p.mass); a.put_particles(p.inv_mass); a.put_particles(p.inv_inertia);
   a.put(p.material);
   population_->save_state(a);

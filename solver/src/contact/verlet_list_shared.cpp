@@ -267,7 +267,7 @@ void VerletList::prepare_held_build(ParticleStore& p) {
   const std::size_t nslab = h.cut.count;
   const SlabOf slab_of = slab_map(h.cut, SearchPoints::of(p));
   h.count = held_counts(slab_of, n);
-  // Each own particle's position to the processes that search its slab.
+  // Each own particle's position and radius to the processes that search its slab.
   std::vector<std::vector<std::uint32_t>> readers(nslab);
   for (std::size_t q = 0; q < size; ++q) {
     if (q == me) continue;
@@ -281,14 +281,15 @@ void VerletList::prepare_held_build(ParticleStore& p) {
     if (!own[i]) continue;
     h.held[i] = 1;
     for (const std::uint32_t q : readers[slab_of(static_cast<std::uint32_t>(i))])
-      out[q].insert(out[q].end(), {static_cast<double>(i), p.x[i], p.y[i], p.z[i]});
+      out[q].insert(out[q].end(), {static_cast<double>(i), p.x[i], p.y[i], p.z[i], p.radius[i]});
   }
   const std::vector<double> in = share.swap_values(out);
-  for (std::size_t k = 0; k + 4 <= in.size(); k += 4) {
+  for (std::size_t k = 0; k + 5 <= in.size(); k += 5) {
     const auto i = static_cast<std::size_t>(in[k]);
     p.x[i] = in[k + 1];
     p.y[i] = in[k + 2];
     p.z[i] = in[k + 3];
+    p.radius[i] = in[k + 4];
     h.held[i] = 1;
   }
   h.ready = true;
@@ -319,12 +320,19 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
     for (std::size_t i = 0; i < n; ++i) {
       if (!owned[i]) continue;
       const std::uint32_t q = owner[slab_of(static_cast<std::uint32_t>(i))];
-      if (q != r) out[q].insert(out[q].end(), {static_cast<double>(i), at.x[i], at.y[i], at.z[i]});
+      if (q != r) out[q].insert(out[q].end(), {static_cast<double>(i), at.x[i], at.y[i], at.z[i], at.r[i]});
     }
     entering = share_->swap_values(out);
     for (std::size_t i = 0; i < n; ++i)
       if (own(i)) held[i] |= 2;
-    for (std::size_t k = 0; k + 4 <= entering.size(); k += 4) held[static_cast<std::size_t>(entering[k])] |= 2;
+    std::vector<std::pair<std::uint32_t, double>>& radius = held_build_.entering_radius;
+    radius.clear();
+    for (std::size_t k = 0; k + 5 <= entering.size(); k += 5) {
+      const auto i = static_cast<std::uint32_t>(entering[k]);
+      held[i] |= 2;
+      if (!(held[i] & 1)) radius.push_back({i, entering[k + 4]});
+    }
+    std::sort(radius.begin(), radius.end());
   }
   auto mine = [&](std::size_t i) { return held ? (held[i] & 2) != 0 : own(i); };
   const SlotRuns others = runs_not_held(n, mine);
@@ -336,9 +344,17 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
     if (own(i))
       for (int a = 0; a < 3; ++a) (*to[a])[i] = from[a][i];
   });
-  for (std::size_t k = 0; k + 4 <= entering.size(); k += 4)
+  for (std::size_t k = 0; k + 5 <= entering.size(); k += 5)
     for (int a = 0; a < 3; ++a) (*to[a])[static_cast<std::size_t>(entering[k])] = entering[k + 1 + a];
   own_only_ = true;
+}
+
+double VerletList::HeldBuild::radius(const ParticleStore& p, std::size_t i) const {
+  if (held[i] & 1) return p.radius[i];
+  const auto at = std::lower_bound(entering_radius.begin(), entering_radius.end(), static_cast<std::uint32_t>(i),
+                                   [](const std::pair<std::uint32_t, double>& e, std::uint32_t k) { return e.first < k; });
+  if (at == entering_radius.end() || at->first != i) throw std::logic_error("VerletList: a radius this process does not hold");
+  return at->second;
 }
 
 }  // namespace cdm

@@ -91,9 +91,9 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   f.close("</Verts>");
   f.open("<PointData Scalars=\"radius\" Vectors=\"velocity\">");
   generated<std::int64_t>(f, "id", T::int64, n, [](std::size_t k) { return k; });
-  // Every process holds every particle's material and radius.
+  // Every process holds every particle's material; the radius is its owner's.
   generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[p.slot_of(k)]; });
-  generated<double>(f, "radius", T::float64, n, [&](std::size_t k) { return p.radius[p.slot_of(k)]; });
+  per_particle(f, sim, "radius", {&p.radius}, owners);
   per_particle(f, sim, "velocity", {&p.vx, &p.vy, &p.vz}, owners);
   if (p.has_rotation()) per_particle(f, sim, "angular_velocity", {&p.wx, &p.wy, &p.wz}, owners);
   if (sim.contact()) per_particle(f, sim, "contact_force", {&fc.f[0], &fc.f[1], &fc.f[2]}, owners);

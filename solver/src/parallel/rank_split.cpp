@@ -22,10 +22,11 @@ namespace cdm {
 
 RankSplit::~RankSplit() = default;
 
-// A particle's mass, 1/m and (with rotation) 1/I: they travel with it, and go to a ghost once, when it becomes one.
+// A particle's radius, mass, 1/m and (with rotation) 1/I: they travel with it, and go to a ghost once, when it
+// becomes one.
 static std::vector<std::vector<double>*> mass_arrays(ParticleStore& p) {
-  if (p.has_rotation()) return {&p.mass, &p.inv_mass, &p.inv_inertia};
-  return {&p.mass, &p.inv_mass};
+  if (p.has_rotation()) return {&p.radius, &p.mass, &p.inv_mass, &p.inv_inertia};
+  return {&p.radius, &p.mass, &p.inv_mass};
 }
 
 std::vector<std::vector<double>*> RankSplit::dynamic_arrays(ParticleStore& p, bool with_carried) const {
@@ -217,7 +218,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   // the particles that change owner (assign). The mesh contacts are joined only here.
   const bool positions_only = for_build;
   if (positions_only) {
-    share_particles({&p.x, &p.y, &p.z}, {});
+    share_particles({&p.x, &p.y, &p.z, &p.radius}, {});
   } else {
     share_whole_state(p, list, false);
     gathered_ = true;

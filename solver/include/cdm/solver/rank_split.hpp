@@ -111,13 +111,16 @@
 /// a particle's contacts go with it to its new owner at assign().
 ///
 /// Every rank keeps a slot for every particle, but of the other ranks' particles (not
-/// its ghosts) it holds only the radii, materials and whether each is fixed
-/// (ParticleStore::fixed_flag), which a build reads of every particle it searches and
-/// which never change: their other values (the positions and the masses too) are zero
-/// and their pages are returned to the system after each assign() and after a
-/// whole-state gather once the rank moves on (release_foreign(), slot_pages.hpp), and a
-/// sort's or a removal's permutation commits no page of them; a build writes the
-/// positions it is sent (those of the slabs it searches), and an insertion every one.
+/// its ghosts) it holds only the identities, materials and whether each is fixed
+/// (ParticleStore::fixed_flag), which never change: their other values (the positions,
+/// radii and masses too) are zero and their pages are returned to the system after each
+/// assign() and after a whole-state gather once the rank moves on (release_foreign(),
+/// slot_pages.hpp), and a sort's or a removal's permutation commits no page of them; a
+/// build writes the positions and radii it is sent (those of the slabs it searches; of
+/// the particles entering its slabs that it did not search, the list keeps the radii
+/// for their wall candidates, VerletList::HeldBuild), an insertion those of the particles
+/// near its boxes (or every one), and the radii travel like the masses: with the state,
+/// with a particle that changes owner, to a ghost once.
 /// The list's build positions are held for the rank's own particles only: a divided
 /// build keeps its own slabs' (VerletList::build_positions_own_only), whose slots are
 /// then the rank's particles at assign(), which reads every particle's slab from the
@@ -128,8 +131,8 @@
 /// for rank 0 to list the whole list's pairs again from them), let go of with the rest.
 ///
 /// Limits: memory is divided for the pair list, the particles' state and the build
-/// positions but the radii and identities (each rank holds those of all the
-/// particles, and the whole gas), the gas step's
+/// positions but the identities, slots, materials and owners (each rank holds those of
+/// all the particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, a build still passes over every
 /// slot (1 or 2 bytes each: the owners, which slots it holds), a sort gives every rank
@@ -356,8 +359,8 @@ class RankSplit final : public SearchShare {
 
  private:
   RankSplit(int rank, int size) : rank_(rank), size_(size) {}
-  /// The per-particle arrays exchanged (the store's but the radii, which every rank
-  /// holds whole, with the masses, 1/m and 1/I; and extra_), and @p with_carried
+  /// The per-particle arrays exchanged (the store's positions, velocities, forces,
+  /// spins, radii, masses, 1/m and 1/I and drag values; and extra_), and @p with_carried
   /// carried_.
   std::vector<std::vector<double>*> dynamic_arrays(ParticleStore& p, bool with_carried = false) const;
   /// What the pair loop reads of a ghost: its position, velocity, spin and the extra_
