@@ -414,7 +414,7 @@ class VerletList {
     std::vector<std::uint32_t> count;
     std::vector<std::uint8_t> held;
     /// The radii of the particles entering this process's slabs that it did not search
-    /// (bit 2 of held but not bit 1), by slot: their owners send them with the positions.
+    /// (bit 1 of held but not bit 0), by slot: their owners send them with the positions.
     std::vector<std::pair<std::uint32_t, double>> entering_radius;
     /// Particle @p i's radius at this build, from @p p where the process holds it (bit 0).
     double radius(const ParticleStore& p, std::size_t i) const;
