@@ -56,11 +56,12 @@ void VerletList::list_wall_candidates(const ParticleStore& p, const SearchPoints
   for (std::size_t i = 0; i < n && nw; ++i) {
     if (!listed(i)) continue;
     const std::size_t before = wall_ids_.size();
+    const Vec3 X = held && (held[i] & 2) ? Vec3{x0_[i], y0_[i], z0_[i]} : Vec3{X0[i], Y0[i], Z0[i]};
+    const double r = held ? held_build_.radius(p, i) : p.radius[i];
     for (std::size_t w = 0; w < nw; ++w) {
       const Wall& wall = posed_[w];
-      const Vec3 X = held && (held[i] & 2) ? Vec3{x0_[i], y0_[i], z0_[i]} : Vec3{X0[i], Y0[i], Z0[i]};
       const double reach = wall.shape == WallShape::plane ? wall.distance(X) : wall.reach_distance(X);
-      if (filter && !(reach < (held ? held_build_.radius(p, i) : p.radius[i]) + skin_)) continue;
+      if (filter && !(reach < r + skin_)) continue;
       wall_ids_.push_back(static_cast<std::uint32_t>(w));
       if (!history_) continue;
       const std::uint64_t key = wall_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w));
