@@ -10,7 +10,10 @@ namespace cdm {
 
 namespace {
 double radius(const ParticleStore& p, std::uint32_t i) { return p.radius[i]; }
-double radius(const SearchPoints& p, std::uint32_t i) { return p.r[i]; }
+template <class Points>
+double radius(const Points& p, std::uint32_t i) {
+  return p.r[i];
+}
 
 template <bool Periodic, class Points>
 inline bool test_pair(const Points& p, std::uint32_t i, std::uint32_t j, double margin, double& overlap,
@@ -30,6 +33,28 @@ inline bool test_pair(const Points& p, std::uint32_t i, std::uint32_t j, double 
   return true;
 }
 bool by_pair(const ContactPair& a, const ContactPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
+
+template <class Points>
+bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+                    const PeriodicBox& box, std::size_t expected, std::size_t limit,
+                    const CellListSearch::KeyedRows& keyed_);
+
+template <class Points>
+bool list_flat(const Points& p, double margin, std::vector<ContactPair>& out, const PeriodicBox& box,
+               std::size_t limit, const CellListSearch::KeyedRows& keyed) {
+  std::vector<std::vector<ContactPair>> chunks;
+  const bool whole = list_in_chunks(p, margin, chunks, box, 0, limit, keyed);
+  out.clear();
+  if (chunks.size() == 1) {
+    out.swap(chunks[0]);
+    return whole;
+  }
+  std::size_t total = 0;
+  for (const auto& c : chunks) total += c.size();
+  out.reserve(total);
+  for (const auto& c : chunks) out.insert(out.end(), c.begin(), c.end());
+  return whole;
+}
 }  // namespace
 
 void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::vector<ContactPair>& out,
@@ -46,23 +71,26 @@ void AllPairsSearch::find_contacts(const ParticleStore& p, double margin, std::v
 
 bool CellListSearch::find_contacts(const SearchPoints& p, double margin, std::vector<ContactPair>& out,
                                    const PeriodicBox& box, std::size_t limit) {
-  std::vector<std::vector<ContactPair>> chunks;
-  const bool whole = find_contacts(p, margin, chunks, box, 0, limit);
-  out.clear();
-  if (chunks.size() == 1) {
-    out.swap(chunks[0]);
-    return whole;
-  }
-  std::size_t total = 0;
-  for (const auto& c : chunks) total += c.size();
-  out.reserve(total);
-  for (const auto& c : chunks) out.insert(out.end(), c.begin(), c.end());
-  return whole;
+  return list_flat(p, margin, out, box, limit, keyed_);
+}
+
+bool CellListSearch::find_contacts(const StridedPoints& p, double margin, std::vector<ContactPair>& out,
+                                   const PeriodicBox& box, std::size_t limit) {
+  return list_flat(p, margin, out, box, limit, keyed_);
 }
 
 bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
                                    std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
                                    std::size_t expected, std::size_t limit) {
+  return list_in_chunks(p, margin, chunks, box, expected, limit, keyed_);
+}
+
+namespace {
+
+template <class Points>
+bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+                    const PeriodicBox& box, std::size_t expected, std::size_t limit,
+                    const CellListSearch::KeyedRows& keyed_) {
   // The particles binned: the rows' possible partners where given (KeyedRows::points),
   // else every particle; point(k) is the k-th one's slot.
   const std::vector<std::uint32_t>* const points = keyed_.rows ? keyed_.points : nullptr;
@@ -219,5 +247,7 @@ bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
   }
   return whole;
 }
+
+}  // namespace
 
 }  // namespace cdm

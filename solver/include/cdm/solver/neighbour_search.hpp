@@ -23,6 +23,19 @@ struct SearchPoints {
   static SearchPoints of(const ParticleStore& p) { return {p.x.data(), p.y.data(), p.z.data(), p.radius.data(), p.size()}; }
 };
 
+/// The centres [m] and radii [m] of @p n particles read in place from an array of records
+/// (a scene's particles, which the initial overlap check reads without copying them):
+/// each column is its first value and the records' size in bytes.
+struct StridedPoints {
+  struct Column {
+    const char* first;
+    std::size_t stride;
+    double operator[](std::size_t i) const { return *reinterpret_cast<const double*>(first + i * stride); }
+  };
+  Column x, y, z, r;
+  std::size_t n;
+};
+
 struct ContactPair {
   std::uint32_t i, j;
   double overlap;  // r_i + r_j - |X_j - X_i| [m]; >= -margin
@@ -46,6 +59,8 @@ class CellListSearch {
     return find_contacts(SearchPoints::of(p), margin, out, box, limit);
   }
   bool find_contacts(const SearchPoints& p, double margin, std::vector<ContactPair>& out,
+                     const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
+  bool find_contacts(const StridedPoints& p, double margin, std::vector<ContactPair>& out,
                      const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
   /// The same pairs in @p chunks, which concatenated in order are @p out above: above
   /// the parallel threshold each thread lists the pairs of its own run of particles i
