@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace cdm {
 
@@ -32,10 +33,13 @@ inline bool test_pair(const Points& p, std::uint32_t i, std::uint32_t j, double 
   overlap = radius(p, i) + radius(p, j) - std::sqrt(d2);
   return true;
 }
-bool by_pair(const ContactPair& a, const ContactPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
+template <class Pair>
+bool by_pair(const Pair& a, const Pair& b) {
+  return a.i != b.i ? a.i < b.i : a.j < b.j;
+}
 
-template <class Points>
-bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+template <class Pair, class Points>
+bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<Pair>>& chunks,
                     const PeriodicBox& box, std::size_t expected, std::size_t limit,
                     const CellListSearch::KeyedRows& keyed_);
 
@@ -43,7 +47,7 @@ template <class Points>
 bool list_flat(const Points& p, double margin, std::vector<ContactPair>& out, const PeriodicBox& box,
                std::size_t limit, const CellListSearch::KeyedRows& keyed) {
   std::vector<std::vector<ContactPair>> chunks;
-  const bool whole = list_in_chunks(p, margin, chunks, box, 0, limit, keyed);
+  const bool whole = list_in_chunks<ContactPair>(p, margin, chunks, box, 0, limit, keyed);
   out.clear();
   if (chunks.size() == 1) {
     out.swap(chunks[0]);
@@ -80,15 +84,15 @@ bool CellListSearch::find_contacts(const StridedPoints& p, double margin, std::v
 }
 
 bool CellListSearch::find_contacts(const SearchPoints& p, double margin,
-                                   std::vector<std::vector<ContactPair>>& chunks, const PeriodicBox& box,
+                                   std::vector<std::vector<ListedPair>>& chunks, const PeriodicBox& box,
                                    std::size_t expected, std::size_t limit) {
-  return list_in_chunks(p, margin, chunks, box, expected, limit, keyed_);
+  return list_in_chunks<ListedPair>(p, margin, chunks, box, expected, limit, keyed_);
 }
 
 namespace {
 
-template <class Points>
-bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+template <class Pair, class Points>
+bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<Pair>>& chunks,
                     const PeriodicBox& box, std::size_t expected, std::size_t limit,
                     const CellListSearch::KeyedRows& keyed_) {
   // The particles binned: the rows' possible partners where given (KeyedRows::points),
@@ -183,7 +187,7 @@ bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<Cont
   // Whether particle a comes before b: by slot, or by rank.
   auto before = [keyed, rank](std::uint32_t a, std::uint32_t b) { return keyed ? rank[a] < rank[b] : a < b; };
   // Particle i's pairs with every j after it, appended to @p out in order of j.
-  auto row = [&](std::size_t i, std::vector<ContactPair>& out) {
+  auto row = [&](std::size_t i, std::vector<Pair>& out) {
     const std::size_t first = out.size();
     long nx[3], ny[3], nz[3];
     const int mx = neighbours(coord(p.x[i], 0), 0, nx), my = neighbours(coord(p.y[i], 1), 1, ny),
@@ -197,18 +201,22 @@ bool list_in_chunks(const Points& p, double margin, std::vector<std::vector<Cont
             const auto ii = static_cast<std::uint32_t>(i);
             if (j == ii || !before(ii, j)) continue;
             double ov;
-            if (periodic ? test_pair<true>(p, ii, j, margin, ov, box) : test_pair<false>(p, ii, j, margin, ov, box))
+            if (!(periodic ? test_pair<true>(p, ii, j, margin, ov, box) : test_pair<false>(p, ii, j, margin, ov, box)))
+              continue;
+            if constexpr (std::is_same_v<Pair, ContactPair>)
               out.push_back({ii, j, ov});
+            else
+              out.push_back({ii, j});
           }
         }
     // i's pairs follow those of every row before it, so sorting each row sorts the whole
     // list (a few pairs each, not a sort of them all).
     const auto b = out.begin() + static_cast<std::ptrdiff_t>(first);
     if (!keyed) {
-      std::sort(b, out.end(), by_pair);
+      std::sort(b, out.end(), by_pair<Pair>);
       return;
     }
-    std::sort(b, out.end(), [&](const ContactPair& x, const ContactPair& y) { return before(x.j, y.j); });
+    std::sort(b, out.end(), [&](const Pair& x, const Pair& y) { return before(x.j, y.j); });
   };
   const std::size_t nrows = keyed ? keyed_.rows->size() : n;
   auto row_at = [&](std::size_t k) -> std::size_t { return keyed ? (*keyed_.rows)[k] : k; };

@@ -277,7 +277,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // history is carried over. Reserved at the last list's size plus a margin, so that
   // they rarely grow by doubling. One chunk per thread (each lists its own particles'
   // pairs), in (i, j) order chunk after chunk.
-  std::vector<std::vector<ContactPair>> candidates;
+  std::vector<std::vector<ListedPair>> candidates;
   std::vector<std::uint32_t> count;  // particles before each slab
   std::vector<std::uint32_t> pair_slab;  // divided: each candidate's slab
   {
@@ -321,7 +321,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   if (!p.fixed_flag.empty())
     for (auto& chunk : candidates)
       chunk.erase(std::remove_if(chunk.begin(), chunk.end(),
-                                 [&](const ContactPair& c) { return p.is_fixed(c.i) && p.is_fixed(c.j); }),
+                                 [&](const ListedPair& c) { return p.is_fixed(c.i) && p.is_fixed(c.j); }),
                   chunk.end());
   if (divided) {
     divide(candidates, slab_of, count, carry, carry_whole, pair_slab);
@@ -337,7 +337,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   {
     std::size_t k = 0;
     for (const auto& chunk : candidates)
-      for (const ContactPair& cp : chunk) {
+      for (const ListedPair& cp : chunk) {
         owner[k] = divided ? pair_slab[k] : slab_of.of_pair(cp.i, cp.j);
         ++start[owner[k++] + 1];
       }
@@ -348,15 +348,15 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     std::size_t k = 0;
     for (auto& chunk : candidates) {
-      for (const ContactPair& cp : chunk) {
+      for (const ListedPair& cp : chunk) {
         const std::uint32_t at = fill[owner[k++]]++;
         pi[at] = cp.i;
         pj[at] = cp.j;
       }
-      std::vector<ContactPair>().swap(chunk);
+      std::vector<ListedPair>().swap(chunk);
     }
   }
-  std::vector<std::vector<ContactPair>>().swap(candidates);
+  std::vector<std::vector<ListedPair>>().swap(candidates);
   std::vector<std::uint32_t>().swap(owner);
   std::vector<std::uint32_t>().swap(count);
   std::vector<std::uint32_t>().swap(pair_slab);

@@ -78,7 +78,7 @@ std::vector<std::uint32_t> VerletList::deal_slabs(const std::vector<std::uint64_
   return first;
 }
 
-void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of,
+void VerletList::divide(std::vector<std::vector<ListedPair>>& chunks, const SlabOf& slab_of,
                         const std::vector<std::uint32_t>& count, std::vector<PairContact>& carry, bool whole,
                         std::vector<std::uint32_t>& pair_slab) {
   const std::size_t nslab = slab_of.count;
@@ -92,7 +92,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
   // position), its cost.
   std::vector<std::uint64_t> work(nslab, 0);
   for (const auto& chunk : chunks)
-    for (const ContactPair& c : chunk) ++work[slab(c.i, c.j)];
+    for (const ListedPair& c : chunk) ++work[slab(c.i, c.j)];
   if (history_ && (!whole || me == 0))
     for (const PairContact& c : carry) work[slab(c.i, c.j)] += kTouchCost;
   share.sum(work);
@@ -112,11 +112,11 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     // Each pair with its slab, which the process that found it has the positions to tell.
     std::vector<std::vector<std::uint32_t>> out(size);
     for (auto& chunk : chunks) {
-      for (const ContactPair& c : chunk) {
+      for (const ListedPair& c : chunk) {
         const std::uint32_t s = slab(c.i, c.j);
         each_process(s, [&](std::uint32_t r) { out[r].insert(out[r].end(), {c.i, c.j, s}); });
       }
-      std::vector<ContactPair>().swap(chunk);
+      std::vector<ListedPair>().swap(chunk);
     }
     // From each process its rows' pairs in row order, the processes in row order: the
     // one-process order of the candidates.
@@ -126,7 +126,7 @@ void VerletList::divide(std::vector<std::vector<ContactPair>>& chunks, const Sla
     pair_slab.clear();
     pair_slab.reserve(in.size() / 3);
     for (std::size_t k = 0; k + 2 < in.size(); k += 3) {
-      chunks[0].push_back({in[k], in[k + 1], 0.0});
+      chunks[0].push_back({in[k], in[k + 1]});
       pair_slab.push_back(in[k + 2]);
     }
   }

@@ -41,6 +41,12 @@ struct ContactPair {
   double overlap;  // r_i + r_j - |X_j - X_i| [m]; >= -margin
 };
 
+/// A pair as a Verlet list's build lists it: the particles alone (8 B, not ContactPair's
+/// 16), for the build's candidates are its largest transient.
+struct ListedPair {
+  std::uint32_t i, j;
+};
+
 /// Pairs with |X_j - X_i| < r_i + r_j + margin.
 class AllPairsSearch {
  public:
@@ -62,15 +68,16 @@ class CellListSearch {
                      const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
   bool find_contacts(const StridedPoints& p, double margin, std::vector<ContactPair>& out,
                      const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
-  /// The same pairs in @p chunks, which concatenated in order are @p out above: above
+  /// The same pairs, without their overlaps, in @p chunks, which concatenated in order
+  /// are @p out above: above
   /// the parallel threshold each thread lists the pairs of its own run of particles i
   /// (thread_range) into a chunk of its own (so the list is built in parallel and never
   /// copied whole). @p expected: about how many pairs to expect in all (capacity).
-  bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+  bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ListedPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX) {
     return find_contacts(SearchPoints::of(p), margin, chunks, box, expected, limit);
   }
-  bool find_contacts(const SearchPoints& p, double margin, std::vector<std::vector<ContactPair>>& chunks,
+  bool find_contacts(const SearchPoints& p, double margin, std::vector<std::vector<ListedPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX);
   /// Rows in an order of their own, for the chunked find_contacts (VerletList): the
   /// particles of @p rows, in order of their ranks (rank[i], every particle's, distinct

@@ -364,7 +364,7 @@ class VerletList {
   /// pairs. @p whole: every process holds every contact of @p carry (loaded, or
   /// list_held_again), else each its own pairs' (collect_contacts). @p pair_slab: the
   /// slab of each pair left in @p chunks (whose positions this process may not hold).
-  void divide(std::vector<std::vector<ContactPair>>& chunks, const SlabOf& slab_of,
+  void divide(std::vector<std::vector<ListedPair>>& chunks, const SlabOf& slab_of,
               const std::vector<std::uint32_t>& count, std::vector<PairContact>& carry, bool whole,
               std::vector<std::uint32_t>& pair_slab);
   /// The listed pairs in contact, in list order: this process's own pairs' only
