@@ -60,7 +60,7 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   radius.push_back(r);
   mass.push_back(m);
   inv_mass.push_back(fixed ? 0.0 : 1.0 / m);
-  material.push_back(mat);
+  material.push_back(static_cast<std::uint8_t>(mat));
   if (fixed && fixed_flag.empty()) fixed_flag.resize(n, 0);
   if (fixed || !fixed_flag.empty()) fixed_flag.push_back(fixed ? 1 : 0);
   if (!id.empty()) {
@@ -84,7 +84,7 @@ std::size_t ParticleStore::bytes() const {
   std::size_t b = 0;
   for (const auto* v : double_arrays(*this))
     b += v->size() * sizeof(double);
-  b += material.size() * sizeof(int) + fixed_flag.size();
+  b += material.size() + fixed_flag.size();
   b += (id.size() + slot.size()) * sizeof(std::uint32_t);
   return b;
 }
@@ -98,7 +98,7 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
   std::vector<double> tmp;
   for (auto* v : double_arrays(*this))
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
-  std::vector<int> mat;
+  std::vector<std::uint8_t> mat;
   permute_array(material, from, mat);
   std::vector<std::uint8_t> flags;
   if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
@@ -113,7 +113,7 @@ void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
   std::vector<double> tmp;
   for (auto* v : double_arrays(*this))
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
-  std::vector<int> mat;
+  std::vector<std::uint8_t> mat;
   permute_array(material, from, mat);
   std::vector<std::uint8_t> flags;
   if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);

@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -138,7 +141,14 @@ void Simulation::save_population(OutArchive& a) const {
   // Among processes each holds its own particles' radii and masses: those stream to the writer.
   a.put_particles(p.radius);
   a.put_particles(p.mass); a.put_particles(p.inv_mass); a.put_particles(p.inv_inertia);
-  a.put(p.material);
+  // On disk as 4-byte integers, in blocks (the store holds each in one byte).
+  a.put<std::uint64_t>(p.material.size());
+  std::int32_t block[4096];
+  for (std::size_t k0 = 0; k0 < p.material.size(); k0 += std::size(block)) {
+    const std::size_t m = std::min(std::size(block), p.material.size() - k0);
+    for (std::size_t k = 0; k < m; ++k) block[k] = p.material[k0 + k];
+    a.put_values(block, m);
+  }
   population_->save_state(a);
 }
 
@@ -154,11 +164,21 @@ bool Simulation::load_population(InArchive& a, std::uint64_t n) {
   };
   arr(p.radius, n); arr(p.mass, n); arr(p.inv_mass, n);
   arr(p.inv_inertia, p.has_rotation() ? n : 0);
-  arr(p.material, n);
+  if (a.get_length(n, sizeof(std::int32_t)) != n) throw ArchiveError("a particle array has the wrong length");
+  p.material.resize(n);
+  std::int32_t block[4096];
+  for (std::size_t k0 = 0; k0 < n; k0 += std::size(block)) {
+    const std::size_t m = std::min(std::size(block), n - k0);
+    a.get_values(block, m);
+    for (std::size_t k = 0; k < m; ++k) {
+      if (block[k] < 0 || static_cast<std::size_t>(block[k]) >= spec_.materials.size())
+        throw ArchiveError("particle " + std::to_string(k0 + k) + "'s material is not valid");
+      p.material[k0 + k] = static_cast<std::uint8_t>(block[k]);
+    }
+  }
   for (std::size_t i = 0; i < n; ++i)
-    if (p.material[i] < 0 || static_cast<std::size_t>(p.material[i]) >= spec_.materials.size() ||
-        !(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
-      throw ArchiveError("particle " + std::to_string(i) + "'s radius, mass or material is not valid");
+    if (!(p.radius[i] > 0.0) || !(p.mass[i] > 0.0) || !std::isfinite(p.inv_mass[i]))
+      throw ArchiveError("particle " + std::to_string(i) + "'s radius or mass is not valid");
   p.flag_fixed_from_masses();
   // The store holds n particles from here: the arrays read next are sized to it.
   for (auto* v : {&p.x, &p.y, &p.z}) v->resize(n);

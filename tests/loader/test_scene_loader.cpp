@@ -147,6 +147,19 @@ TEST(SceneLoader, MissingContactPair) {
                  {"\"ball\", \"floor\"", "expected a [[contacts]] entry"});
 }
 
+TEST(SceneLoader, AtMost256Materials) {
+  // A particle's material is held in one byte: 256 materials load, the last one's index
+  // kept whole in the store; a 257th is refused, naming the key and the limit.
+  std::string many = base;
+  for (int m = 2; m < 256; ++m) many += "\n[[materials]]\nname = \"m" + std::to_string(m) + "\"\ndensity = 1.0\n";
+  const cdm::SceneSpec s = cdm::load_scene_from_string(many, "good.toml");
+  ASSERT_EQ(s.materials.size(), 256u);
+  cdm::ParticleStore p;
+  p.add({0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 0.1, s.materials[255].density, 255);
+  EXPECT_EQ(p.material[0], 255);
+  expect_refused(many + "\n[[materials]]\nname = \"m256\"\ndensity = 1.0\n", {"'materials'", "257", "at most 256"});
+}
+
 TEST(SceneLoader, CgsIsConvertedToSiOnce) {
   const cdm::SceneSpec s = cdm::load_scene_from_string(base, "good.toml");
   EXPECT_DOUBLE_EQ(s.particles[0].radius, 0.1);

@@ -108,15 +108,15 @@ TEST(ParticleStore, BytesCountEveryArrayTheSceneCarries) {
   const std::size_t n = 10;
   for (std::size_t i = 0; i < n; ++i) p.add({0.001 * double(i), 0.0, 0.0}, {}, 0.5e-3, 2500.0, 0);
   // x, v, f (9), radius, mass, 1/m, and the material index.
-  EXPECT_EQ(p.bytes(), n * (12 * sizeof(double) + sizeof(int)));
+  EXPECT_EQ(p.bytes(), n * (12 * sizeof(double) + sizeof(std::uint8_t)));
   p.enable_rotation();  // ω, torque, 1/I
-  EXPECT_EQ(p.bytes(), n * (19 * sizeof(double) + sizeof(int)));
+  EXPECT_EQ(p.bytes(), n * (19 * sizeof(double) + sizeof(std::uint8_t)));
   p.enable_drag_relaxation();  // K and the gas velocity
-  EXPECT_EQ(p.bytes(), n * (23 * sizeof(double) + sizeof(int)));
+  EXPECT_EQ(p.bytes(), n * (23 * sizeof(double) + sizeof(std::uint8_t)));
   p.enable_two_way();  // drag force and impulse
-  EXPECT_EQ(p.bytes(), n * (29 * sizeof(double) + sizeof(int)));
+  EXPECT_EQ(p.bytes(), n * (29 * sizeof(double) + sizeof(std::uint8_t)));
   std::vector<std::uint32_t> from(n);
   for (std::size_t i = 0; i < n; ++i) from[i] = static_cast<std::uint32_t>(n - 1 - i);
   p.permute(from);  // identities and slots
-  EXPECT_EQ(p.bytes(), n * (29 * sizeof(double) + sizeof(int) + 2 * sizeof(std::uint32_t)));
+  EXPECT_EQ(p.bytes(), n * (29 * sizeof(double) + sizeof(std::uint8_t) + 2 * sizeof(std::uint32_t)));
 }

@@ -195,7 +195,7 @@ void ContactModule::add_forces_impl(ParticleStore& p, double dt) {
     const double *const VX = p.vx.data(), *const VY = p.vy.data(), *const VZ = p.vz.data();
     const double *const WX = p.wx.data(), *const WY = p.wy.data(), *const WZ = p.wz.data();
     const double *const R = p.radius.data(), *const M = p.mass.data(), *const IM = p.inv_mass.data();
-    const int* const MAT = p.material.data();
+    const std::uint8_t* const MAT = p.material.data();
     double *const FX = p.fx.data(), *const FY = p.fy.data(), *const FZ = p.fz.data();
     double *const TX = p.tx.data(), *const TY = p.ty.data(), *const TZ = p.tz.data();
     Vec3* const HIST = list_.pair_history();

@@ -10,6 +10,10 @@ namespace cdm::scene {
 void read_materials(const Reader& rd, SceneSpec& spec) {
   const toml::array* mats = rd.array_of_tables(rd.root(), "materials");
   if (!mats) rd.fail_missing("materials", "at least one [[materials]] entry");
+  if (mats->size() > max_materials)
+    throw SceneError(rd.file() + ": key 'materials' holds " + std::to_string(mats->size()) +
+                     " [[materials]] entries: expected at most " + std::to_string(max_materials) +
+                     " (a particle's material is held in one byte)");
   for (std::size_t i = 0; i < mats->size(); ++i) {
     const toml::table& t = *mats->get(i)->as_table();
     const std::string path = "materials[" + std::to_string(i) + "]";

@@ -10,6 +10,7 @@
 /// A pair may instead use the Hertz–Mindlin law (contact/hertz_mindlin.hpp), whose
 /// parameters come from the two materials' Young's moduli and Poisson ratios.
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <numbers>
 #include <string>
@@ -19,6 +20,10 @@
 #include "cdm/solver/keywords.hpp"
 
 namespace cdm {
+
+/// The most materials a scene may define: a particle's material is held in one byte (the
+/// store holds every particle's on every MPI process).
+inline constexpr std::size_t max_materials = 256;
 
 struct Material {
   std::string name;

@@ -42,7 +42,7 @@ struct ParticleStore {
   std::vector<double> radius;      // [m]
   std::vector<double> mass;        // [kg]
   std::vector<double> inv_mass;    // [1/kg]
-  std::vector<int> material;       // index into Simulation::materials
+  std::vector<std::uint8_t> material;  // index into Simulation::materials (max_materials)
   // 1 where the particle is fixed (zero 1/m and 1/I), every particle's, on every MPI
   // process alike; empty while none is. Among processes each holds the masses of its own
   // particles and ghosts only (rank_split.hpp), so a build reads whether a particle is
