@@ -357,8 +357,7 @@ cmp -s "$work/sig-1/particles.dat" "$work/sig/particles.dat" || fail "the run st
 
 # Rank 0's write failing (a full device) among processes: every process stops at once,
 # exit 4 with the path and the reason, and the checkpoint's temporary file removed.
-fullrun=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]' --set integrator.end_time=0.03
-         --set output.interval=0.01 --set output.checkpoint_interval=0.01)
+fullrun=("${settle[@]}" --set output.vtk=false --set output.contacts=false --set output.checkpoint_interval=0.01)
 mkdir -p "$work/devfull" "$work/ckfull"
 ln -s /dev/full "$work/devfull/particles.dat"
 ln -s /dev/full "$work/ckfull/checkpoint.cdmck.tmp"
