@@ -69,10 +69,10 @@ class CellListSearch {
   bool find_contacts(const StridedPoints& p, double margin, std::vector<ContactPair>& out,
                      const PeriodicBox& box = {}, std::size_t limit = SIZE_MAX);
   /// The same pairs, without their overlaps, in @p chunks, which concatenated in order
-  /// are @p out above: above
-  /// the parallel threshold each thread lists the pairs of its own run of particles i
-  /// (thread_range) into a chunk of its own (so the list is built in parallel and never
-  /// copied whole). @p expected: about how many pairs to expect in all (capacity).
+  /// are @p out above: above the parallel threshold each thread lists the pairs of its
+  /// own run of particles i (thread_range) into a chunk of its own (so the list is built
+  /// in parallel and never copied whole). @p expected: about how many pairs to expect in
+  /// all (capacity).
   bool find_contacts(const ParticleStore& p, double margin, std::vector<std::vector<ListedPair>>& chunks,
                      const PeriodicBox& box = {}, std::size_t expected = 0, std::size_t limit = SIZE_MAX) {
     return find_contacts(SearchPoints::of(p), margin, chunks, box, expected, limit);
