@@ -285,8 +285,9 @@ void check_finite(const Simulation& sim, const std::string& path) {
   const std::pair<const char*, const std::vector<double>*> fields[] = {
       {"x", &p.x}, {"y", &p.y}, {"z", &p.z}, {"vx", &p.vx}, {"vy", &p.vy}, {"vz", &p.vz},
       {"wx", &p.wx}, {"wy", &p.wy}, {"wz", &p.wz}};
+  const IdentityOrder order(p);
   for (std::size_t k = 0; k < p.size(); ++k) {
-    const std::size_t i = p.slot_of(k);
+    const std::size_t i = order.slot_of(k);
     if (!counted[i]) continue;
     for (const auto& [name, v] : fields)
       if (i < v->size() && !std::isfinite((*v)[i]))

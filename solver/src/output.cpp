@@ -137,9 +137,10 @@ void ParticleTableObserver::operator()(const Simulation& sim) {
   if (rot_) moving.insert(moving.end(), {&p.wx, &p.wy, &p.wz});
   moving.push_back(&p.radius);
   std::vector<double> r(rot_ ? 13 : 10);
+  const IdentityOrder order(p);
   sim.written_rows(moving, [&](std::size_t k, const double* v) {
     if (!table_.writes()) return;  // a process that does not write
-    const std::size_t i = p.slot_of(k);
+    const std::size_t i = order.slot_of(k);
     r[0] = sim.time();
     r[1] = static_cast<double>(k);
     std::copy(v, v + moving.size(), r.begin() + 2);

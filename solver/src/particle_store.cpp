@@ -63,10 +63,7 @@ void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool 
   material.push_back(static_cast<std::uint8_t>(mat));
   if (fixed && fixed_flag.empty()) fixed_flag.resize(n, 0);
   if (fixed || !fixed_flag.empty()) fixed_flag.push_back(fixed ? 1 : 0);
-  if (!id.empty()) {
-    slot.push_back(static_cast<std::uint32_t>(id.size()));
-    id.push_back(static_cast<std::uint32_t>(id.size()));
-  }
+  if (!id.empty()) id.push_back(static_cast<std::uint32_t>(id.size()));
   if (two_way_enabled_)
     for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->push_back(0.0);
   if (drag_relaxation_enabled_) {
@@ -85,7 +82,7 @@ std::size_t ParticleStore::bytes() const {
   for (const auto* v : double_arrays(*this))
     b += v->size() * sizeof(double);
   b += material.size() + fixed_flag.size();
-  b += (id.size() + slot.size()) * sizeof(std::uint32_t);
+  b += id.size() * sizeof(std::uint32_t);
   return b;
 }
 
@@ -104,8 +101,6 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
   if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
   std::vector<std::uint32_t> ids;
   permute_array(id, from, ids);
-  slot.resize(n);
-  parallel_for(n, [&](std::size_t i) { slot[id[i]] = static_cast<std::uint32_t>(i); });
 }
 
 void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
@@ -126,8 +121,12 @@ void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
   std::vector<std::uint32_t> ids(m);
   for (std::size_t i = 0; i < m; ++i) ids[i] = rank[id[from[i]]];
   id.swap(ids);
-  slot.assign(m, 0);
-  for (std::size_t i = 0; i < m; ++i) slot[id[i]] = static_cast<std::uint32_t>(i);
+}
+
+IdentityOrder::IdentityOrder(const ParticleStore& p) {
+  if (p.id.empty()) return;
+  slot_.resize(p.id.size());
+  parallel_for(p.id.size(), [&](std::size_t i) { slot_[p.id[i]] = static_cast<std::uint32_t>(i); });
 }
 
 void ParticleStore::set_angular_velocity(std::size_t i, Vec3 w) {

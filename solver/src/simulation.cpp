@@ -358,40 +358,33 @@ void Simulation::load_state(InArchive& a) {
   if (!dynamic && n != p.size())
     throw ArchiveError("it holds " + std::to_string(n) + " particles, the scene " + std::to_string(p.size()));
   const std::uint64_t n0 = n;
-  if (dynamic) {
-    // The saved order is the store's order as read: the identities are set as they were.
-    std::vector<std::uint32_t> id;
-    a.get(id, n0);
-    a.get(last_sort_);
-    if (!id.empty() && id.size() != n0) throw ArchiveError("its particle order has the wrong length");
-    std::vector<std::uint32_t> slot(id.size(), new_particle);
-    for (std::size_t s = 0; s < id.size(); ++s) {
-      if (id[s] >= n0 || slot[id[s]] != new_particle) throw ArchiveError("its particle order is not a permutation");
-      slot[id[s]] = static_cast<std::uint32_t>(s);
-    }
-    p.id.swap(id);
-    p.slot.swap(slot);
-  } else {
-    // The saved order: a permutation of the particles, or empty (never sorted).
-    std::vector<std::uint32_t> id;
-    a.get(id, n0);
-    std::uint64_t last_sort = 0;
-    a.get(last_sort);
-    if (!id.empty() && id.size() != n0) throw ArchiveError("its particle order has the wrong length");
+  // The saved order: a permutation of the particles, or empty (never sorted).
+  std::vector<std::uint32_t> id;
+  a.get(id, n0);
+  std::uint64_t last_sort = 0;
+  a.get(last_sort);
+  if (!id.empty() && id.size() != n0) throw ArchiveError("its particle order has the wrong length");
+  {
     std::vector<std::uint8_t> seen(id.size(), 0);
     for (std::uint32_t k : id) {
       if (k >= n0 || seen[k]) throw ArchiveError("its particle order is not a permutation");
       seen[k] = 1;
     }
-    if (!id.empty() || !p.id.empty()) {
-      // Slot s takes particle id[s] (particle s when the saved run never sorted).
-      std::vector<std::uint32_t> from(n0);
-      for (std::size_t s = 0; s < n0; ++s) from[s] = static_cast<std::uint32_t>(p.slot_of(id.empty() ? s : id[s]));
-      permute(from);
-      if (id.empty()) { p.id.clear(); p.slot.clear(); }
-    }
-    last_sort_ = last_sort;
   }
+  if (dynamic) {
+    // The store was read in the saved order: the identities are set as they were.
+    p.id.swap(id);
+  } else if (!id.empty() || !p.id.empty()) {
+    // Slot s takes particle id[s] (particle s when the saved run never sorted).
+    std::vector<std::uint32_t> from(n0);
+    {
+      const IdentityOrder order(p);
+      for (std::size_t s = 0; s < n0; ++s) from[s] = static_cast<std::uint32_t>(order.slot_of(id.empty() ? s : id[s]));
+    }
+    permute(from);
+    if (id.empty()) p.id.clear();
+  }
+  last_sort_ = last_sort;
   auto arr = [&](std::vector<double>& v, std::size_t want) {
     get_slots(a, v, want);
     if (v.size() != want) throw ArchiveError("a particle array has the wrong length");

@@ -52,7 +52,8 @@ const ParticleStore& Simulation::written_particles() const {
 void Simulation::written_rows(const std::vector<const std::vector<double>*>& arrays,
                               const std::function<void(std::size_t, const double*)>& row, bool from_owners) const {
   const ParticleStore& p = local_particles();
-  const auto slot_of = [&p](std::size_t k) { return p.slot_of(k); };
+  const IdentityOrder order(p);
+  const auto slot_of = [&order](std::size_t k) { return order.slot_of(k); };
   if (ranks_ && (from_owners ? ranks_->partitioned() : !ranks_->writer_holds_all()))
     return ranks_->rows_to_writer(arrays, p.size(), slot_of, row);
   if (ranks_ && ranks_->share_rank() != 0) return;

@@ -76,7 +76,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // A velocity made NaN between steps: the next step's pass finds it before moving on.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().vx[sim.particles().slot_of(17)] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().vx[cdm::IdentityOrder(sim.particles()).slot_of(17)] = std::numeric_limits<double>::quiet_NaN();
     expect_reported([&] { sim.step(); }, "5", "17", "a NaN velocity went unreported");
   }
   {
@@ -84,7 +84,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // the state reports it at that step instead of returning it.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().fz[sim.particles().slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().fz[cdm::IdentityOrder(sim.particles()).slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
     expect_reported([&] { (void)sim.particles(); }, "6", "3", "a NaN state was returned");
   }
@@ -94,7 +94,7 @@ TEST(VelocityVerlet, NonFiniteStateIsReportedAtItsStep) {
     // its final kick done there) finds before moving on, and reports at its step.
     cdm::Simulation sim(scene());
     for (int k = 0; k < 5; ++k) sim.step();
-    sim.particles().tz[sim.particles().slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
+    sim.particles().tz[cdm::IdentityOrder(sim.particles()).slot_of(3)] = std::numeric_limits<double>::quiet_NaN();
     sim.step();
     expect_reported([&] { sim.step(); }, "6", "3", "a NaN spin went unreported");
   }

@@ -61,7 +61,8 @@ TEST(Population, MassRateAndTotalWithinOneParticle) {
     const cdm::ParticleStore& p = sim.particles();
     if (!p.id.empty()) {
       ASSERT_EQ(p.id.size(), p.size());
-      for (std::size_t s = 0; s < p.size(); ++s) ASSERT_EQ(p.slot[p.id[s]], s);
+      const cdm::IdentityOrder order(p);
+      for (std::size_t s = 0; s < p.size(); ++s) ASSERT_EQ(order.slot_of(p.id[s]), s);
     }
   }
   const auto& t = sim.population()->inserted()[0];
@@ -116,7 +117,8 @@ TEST(Population, KeepCompactsInOrderAndRanksIdentities) {
   EXPECT_EQ(p.vz, (std::vector<double>{5, 1, 0, 4}));
   EXPECT_EQ(p.wx.size(), 4u);
   EXPECT_EQ(p.id, (std::vector<std::uint32_t>{3, 1, 0, 2}));
-  EXPECT_EQ(p.slot, (std::vector<std::uint32_t>{2, 1, 3, 0}));
+  const cdm::IdentityOrder order(p);
+  for (std::uint32_t k = 0; k < 4; ++k) EXPECT_EQ(order.slot_of(k), (std::vector<std::size_t>{2, 1, 3, 0})[k]);
   // Never sorted: identities are the slots, kept in order.
   cdm::ParticleStore q;
   for (int i = 0; i < 4; ++i) q.add({double(i), 0, 0}, {}, 0.1, 1000.0, 0);

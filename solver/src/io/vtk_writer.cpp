@@ -75,7 +75,7 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   const bool owners = fc.from_owners;
   const ParticleStore& p = sim.local_particles();
   const std::size_t n = p.size();
-  // Points in identity order (p.slot_of), whatever order the store keeps them in; each
+  // Points in identity order (IdentityOrder), whatever order the store keeps them in; each
   // array streamed to the file as it is gathered.
   vtk::XmlFile f(path, encoding, "PolyData");
   field_data(f, sim.time(), sim.spec().materials);
@@ -92,7 +92,10 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   f.open("<PointData Scalars=\"radius\" Vectors=\"velocity\">");
   generated<std::int64_t>(f, "id", T::int64, n, [](std::size_t k) { return k; });
   // Every process holds every particle's material; the radius is its owner's.
-  generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[p.slot_of(k)]; });
+  {
+    const IdentityOrder order(p);
+    generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[order.slot_of(k)]; });
+  }
   per_particle(f, sim, "radius", {&p.radius}, owners);
   per_particle(f, sim, "velocity", {&p.vx, &p.vy, &p.vz}, owners);
   if (p.has_rotation()) per_particle(f, sim, "angular_velocity", {&p.wx, &p.wy, &p.wz}, owners);

@@ -65,16 +65,14 @@ struct ParticleStore {
   std::vector<double> jx, jy, jz;     // [N s]
 
   // Spatial sorting (Simulation, neighbour_list.sort_interval) reorders the arrays; each
-  // particle keeps its identity, its index in the scene. Both empty until the first sort:
-  // then slot i holds particle id[i], and particle k sits in slot slot[k].
-  std::vector<std::uint32_t> id;    // particle identity per slot
-  std::vector<std::uint32_t> slot;  // slot per particle identity
+  // particle keeps its identity, its index in the scene. Empty until the first sort: then
+  // slot i holds particle id[i]. Its inverse, the slot of each identity, is built only
+  // where rows are written in identity order (IdentityOrder), not held.
+  std::vector<std::uint32_t> id;  // particle identity per slot
 
   std::size_t size() const { return x.size(); }
   /// The scene index of the particle in slot @p i (i itself until a sort).
   std::size_t id_of(std::size_t i) const { return id.empty() ? i : id[i]; }
-  /// The slot of the particle with scene index @p k (k itself until a sort).
-  std::size_t slot_of(std::size_t k) const { return slot.empty() ? k : slot[k]; }
   /// Reorder every array: slot i takes what slot @p from[i] held (a permutation of
   /// 0..size()-1). Identities move with their particles.
   void permute(const std::vector<std::uint32_t>& from);
@@ -138,6 +136,20 @@ struct ParticleStore {
   bool rotation_enabled_ = false;
   bool drag_relaxation_enabled_ = false;
   bool two_way_enabled_ = false;
+};
+
+/// The slot of each particle identity of a store: the inverse of ParticleStore::id, for a
+/// pass over the particles in identity order (the rows a table, a frame or a check write).
+/// Built when constructed, 4 B a particle while it lives (none before the store's first
+/// sort); stale once the store is reordered.
+class IdentityOrder {
+ public:
+  explicit IdentityOrder(const ParticleStore& p);
+  /// The slot of the particle with identity @p k.
+  std::size_t slot_of(std::size_t k) const { return slot_.empty() ? k : slot_[k]; }
+
+ private:
+  std::vector<std::uint32_t> slot_;
 };
 
 template <class T>

@@ -131,7 +131,7 @@
 /// for rank 0 to list the whole list's pairs again from them), let go of with the rest.
 ///
 /// Limits: memory is divided for the pair list, the particles' state and the build
-/// positions but the identities, slots, materials and owners (each rank holds those of
+/// positions but the identities, materials and owners (each rank holds those of
 /// all the particles, and the whole gas), the gas step's
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, a build still passes over every
