@@ -138,7 +138,7 @@ void ParticleTableObserver::operator()(const Simulation& sim) {
   moving.push_back(&p.radius);
   std::vector<double> r(rot_ ? 13 : 10);
   const IdentityOrder order(p);
-  sim.written_rows(moving, [&](std::size_t k, const double* v) {
+  sim.written_rows(order, moving, [&](std::size_t k, const double* v) {
     if (!table_.writes()) return;  // a process that does not write
     const std::size_t i = order.slot_of(k);
     r[0] = sim.time();

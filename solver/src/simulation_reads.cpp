@@ -49,10 +49,9 @@ const ParticleStore& Simulation::written_particles() const {
   return particles_;
 }
 
-void Simulation::written_rows(const std::vector<const std::vector<double>*>& arrays,
+void Simulation::written_rows(const IdentityOrder& order, const std::vector<const std::vector<double>*>& arrays,
                               const std::function<void(std::size_t, const double*)>& row, bool from_owners) const {
   const ParticleStore& p = local_particles();
-  const IdentityOrder order(p);
   const auto slot_of = [&order](std::size_t k) { return order.slot_of(k); };
   if (ranks_ && (from_owners ? ranks_->partitioned() : !ranks_->writer_holds_all()))
     return ranks_->rows_to_writer(arrays, p.size(), slot_of, row);

@@ -57,12 +57,12 @@ void generated(vtk::XmlFile& f, const std::string& name, vtk::XmlFile::Type type
 
 /// The array @p name of the particles' values of @p arrays (one component each), in
 /// identity order: gathered to the writing process row by row (Simulation::written_rows,
-/// @p from_owners), never whole.
-void per_particle(vtk::XmlFile& f, const Simulation& sim, const std::string& name,
+/// @p from_owners), never whole; @p order is the frame's identity order.
+void per_particle(vtk::XmlFile& f, const Simulation& sim, const IdentityOrder& order, const std::string& name,
                   const std::vector<const std::vector<double>*>& arrays, bool from_owners = false) {
   const std::size_t m = arrays.size();
   f.begin_array(name, vtk::XmlFile::Type::float64, static_cast<int>(m), sim.particle_count());
-  sim.written_rows(arrays, [&](std::size_t, const double* v) { f.push(v, m); }, from_owners);
+  sim.written_rows(order, arrays, [&](std::size_t, const double* v) { f.push(v, m); }, from_owners);
   f.end_array();
 }
 
@@ -75,14 +75,15 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   const bool owners = fc.from_owners;
   const ParticleStore& p = sim.local_particles();
   const std::size_t n = p.size();
-  // Points in identity order (IdentityOrder), whatever order the store keeps them in; each
-  // array streamed to the file as it is gathered.
+  // Points in identity order, whatever order the store keeps them in; each array streamed
+  // to the file as it is gathered.
+  const IdentityOrder order(p);
   vtk::XmlFile f(path, encoding, "PolyData");
   field_data(f, sim.time(), sim.spec().materials);
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
          "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
   f.open("<Points>");
-  per_particle(f, sim, "position", {&p.x, &p.y, &p.z}, owners);
+  per_particle(f, sim, order, "position", {&p.x, &p.y, &p.z}, owners);
   f.close("</Points>");
   f.open("<Verts>");
   using T = vtk::XmlFile::Type;
@@ -92,14 +93,11 @@ void write_particles_vtp(const std::string& path, const Simulation& sim, vtk::En
   f.open("<PointData Scalars=\"radius\" Vectors=\"velocity\">");
   generated<std::int64_t>(f, "id", T::int64, n, [](std::size_t k) { return k; });
   // Every process holds every particle's material; the radius is its owner's.
-  {
-    const IdentityOrder order(p);
-    generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[order.slot_of(k)]; });
-  }
-  per_particle(f, sim, "radius", {&p.radius}, owners);
-  per_particle(f, sim, "velocity", {&p.vx, &p.vy, &p.vz}, owners);
-  if (p.has_rotation()) per_particle(f, sim, "angular_velocity", {&p.wx, &p.wy, &p.wz}, owners);
-  if (sim.contact()) per_particle(f, sim, "contact_force", {&fc.f[0], &fc.f[1], &fc.f[2]}, owners);
+  generated<std::int32_t>(f, "material", T::int32, n, [&](std::size_t k) { return p.material[order.slot_of(k)]; });
+  per_particle(f, sim, order, "radius", {&p.radius}, owners);
+  per_particle(f, sim, order, "velocity", {&p.vx, &p.vy, &p.vz}, owners);
+  if (p.has_rotation()) per_particle(f, sim, order, "angular_velocity", {&p.wx, &p.wy, &p.wz}, owners);
+  if (sim.contact()) per_particle(f, sim, order, "contact_force", {&fc.f[0], &fc.f[1], &fc.f[2]}, owners);
   f.close("</PointData>");
   f.close("</Piece>");
   f.write();
@@ -114,8 +112,9 @@ void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Enc
   f.open("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
          std::to_string(nc) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">");
   const ParticleStore& p = sim.local_particles();
+  const IdentityOrder order(p);
   f.open("<Points>");
-  per_particle(f, sim, "position", {&p.x, &p.y, &p.z}, owners);
+  per_particle(f, sim, order, "position", {&p.x, &p.y, &p.z}, owners);
   f.close("</Points>");
   // Each process's contacts after the ranks below's, streamed to the writer.
   using T = vtk::XmlFile::Type;

@@ -88,8 +88,9 @@ class Simulation : private integrators::StepHost {
   /// it. A collective call when several processes share the particles.
   /// With @p from_owners the values are gathered from each particle's owner even where
   /// process 0 holds the whole state: for arrays each process fills for its own
-  /// particles only (own_contacts_current()).
-  void written_rows(const std::vector<const std::vector<double>*>& arrays,
+  /// particles only (own_contacts_current()). @p order is the identity order of
+  /// local_particles(), built once by the caller for all the rows it writes.
+  void written_rows(const IdentityOrder& order, const std::vector<const std::vector<double>*>& arrays,
                     const std::function<void(std::size_t, const double*)>& row, bool from_owners = false) const;
   /// Whether each process can evaluate its own particles' contacts at time() with the
   /// contact module as it stands (ContactModule::probe_listed): nothing has changed the
