@@ -18,13 +18,19 @@ auto double_arrays(Store& p) {
                     &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz};
 }
 
+// @p v as @p n zeros whose pages are not held (slot_pages.hpp): they cost nothing until
+// written, so switching a field on holds no page for other processes' particles.
+void zeros(std::vector<double>& v, std::size_t n) {
+  std::vector<double>().swap(v);
+  resize_zeroed(v, n);
+}
+
 }  // namespace
 
 void ParticleStore::enable_rotation() {
   rotation_enabled_ = true;
   const std::size_t n = size();
-  wx.assign(n, 0.0); wy.assign(n, 0.0); wz.assign(n, 0.0);
-  tx.assign(n, 0.0); ty.assign(n, 0.0); tz.assign(n, 0.0);
+  for (auto* v : {&wx, &wy, &wz, &tx, &ty, &tz}) zeros(*v, n);
   inv_inertia.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double d = 2.0 * radius[i];
@@ -35,14 +41,22 @@ void ParticleStore::enable_rotation() {
 void ParticleStore::enable_drag_relaxation() {
   drag_relaxation_enabled_ = true;
   const std::size_t n = size();
-  drag_k.assign(n, 0.0);
-  ugx.assign(n, 0.0); ugy.assign(n, 0.0); ugz.assign(n, 0.0);
+  for (auto* v : {&drag_k, &ugx, &ugy, &ugz}) zeros(*v, n);
 }
 
 void ParticleStore::enable_two_way() {
   two_way_enabled_ = true;
   const std::size_t n = size();
-  for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->assign(n, 0.0);
+  for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) zeros(*v, n);
+}
+
+void ParticleStore::reserve(std::size_t n) {
+  std::vector<std::vector<double>*> grown = {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &radius, &mass, &inv_mass};
+  if (two_way_enabled_) grown.insert(grown.end(), {&dfx, &dfy, &dfz, &jx, &jy, &jz});
+  if (drag_relaxation_enabled_) grown.insert(grown.end(), {&drag_k, &ugx, &ugy, &ugz});
+  if (rotation_enabled_) grown.insert(grown.end(), {&wx, &wy, &wz, &tx, &ty, &tz, &inv_inertia});
+  for (auto* a : grown) reserve_zeroed(*a, n);
+  material.reserve(n);
 }
 
 void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool fixed) {

@@ -26,6 +26,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // pages that hold zeros only (a bed at rest: its velocities, forces, spins), which cost
   // nothing until written (slot_pages.hpp).
   const std::vector<ParticleSpec>& given = spec_.particles;
+  particles_.reserve(given.size());
   constexpr std::size_t block = 1 << 14;
   for (std::size_t k = 0, b0 = 0; k < given.size(); ++k) {
     const ParticleSpec& ps = given[k];
@@ -159,6 +160,14 @@ void Simulation::ready_for_list(double t) {
     // some particles have no owner yet that holds them, every position, gathered.
     // Between builds a rank needs only the slabs either side of its own.
     if (list.rebuild_due(particles_)) {
+      // Where every rank holds the whole state, each keeps its run of rows of the sorted
+      // order through the sort and the build (RankSplit::hold_rows), as after a restart.
+      if (!ranks_->partitioned() && particles_.size() > 0) {
+        std::vector<std::uint32_t> from;
+        if (sort_due_at_build()) from = list.spatial_order(particles_);
+        ranks_->hold_rows(particles_, from);
+        if (!from.empty()) sort_by(from);
+      }
       if (ranks_->holds_build(particles_)) {
         if (sort_due_at_build()) sort_by(list.held_spatial_order(particles_));
         ranks_->prepare_build(particles_, list);
@@ -389,14 +398,14 @@ void Simulation::load_state(InArchive& a) {
     get_slots(a, v, want);
     if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
   };
-  // The positions whole: every process reads them at the first build. Of the rest, among
-  // processes each keeps its share of the slots only (its run of rows,
-  // RankSplit::hold_rows): the state then moves to the particles' owners.
-  for (auto* v : {&p.x, &p.y, &p.z}) arr(*v, n0);
+  // Among processes each keeps its share of the slots only (its run of rows,
+  // RankSplit::hold_rows) and lets go of the rest of the scene's but the radii: the first
+  // build gathers the positions, and the state moves to the particles' owners.
   if (ranks_) {
     const auto [first, last] = ranks_->rows(n0);
     a.keep_slots(n0, first, last);
   }
+  for (auto* v : {&p.x, &p.y, &p.z}) arr(*v, n0);
   const std::size_t nr = p.has_rotation() ? n0 : 0;
   for (auto* v : {&p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz}) arr(*v, n0);
   for (auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz}) arr(*v, nr);
@@ -441,7 +450,7 @@ void Simulation::load_state(InArchive& a) {
   forces_valid_ = fv != 0;
   integrator_->discard_pending();  // the velocities read are those at time()
   integrator_->masses_changed();
-  if (ranks_) ranks_->hold_rows(n0);
+  if (ranks_) ranks_->hold_rows(p, {}, true);
   restarted_ = true;
 }
 

@@ -99,6 +99,10 @@ struct ParticleStore {
   /// reaches the gas) but never move it.
   void add(Vec3 position, Vec3 velocity, double radius, double density, int material, bool fixed = false);
   void set_angular_velocity(std::size_t i, Vec3 w);
+  /// Room for @p n particles in every array add() appends to, its pages committed only as
+  /// they are written (slot_pages.hpp): a scene's particles added one by one without the
+  /// copies of arrays grown by doubling.
+  void reserve(std::size_t n);
 
   Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
   /// Particle i's volume π d³/6 [m³], d = 2 r.

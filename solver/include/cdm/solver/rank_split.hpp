@@ -96,10 +96,11 @@
 /// step, deals the slabs out anew and moves the particles to their new owners. Until the next listing of the wall candidates
 /// the wall contacts are set aside (VerletList::pending_wall_contacts), each rank's own
 /// particles' current, and a gather joins those (share_contact_records). Until the slabs
-/// are first dealt out every rank holds, moves, removes and inserts every particle; a
-/// restart instead reads each rank's run of rows (rows()) of the state and of the pair
-/// contacts, the positions whole, and each rank moves those particles until the first
-/// build (hold_rows()).
+/// are first dealt out every rank holds, moves, removes and inserts every particle, and
+/// at that build, once the sort's order is found, each keeps only its run of rows of the
+/// sorted order (hold_rows()); a restart instead reads each rank's run of rows (rows())
+/// of the state and of the pair contacts, and each rank moves those particles until the
+/// first build (hold_rows()).
 ///
 /// The rolling resistance's pass follows the same order: the ghosts' torques arrive
 /// first (the pass reads each particle's torque so far), then its two phases over the
@@ -209,10 +210,18 @@ class RankSplit final : public SearchShare {
   /// @p count particles were appended to every rank's store alike (the same state on
   /// each): rank 0's until the next assign() deals the slabs out.
   void added(std::size_t count);
-  /// A restart: each rank holds the state of its run of rows(@p n) only (read so from the
-  /// checkpoint: InArchive::keep_slots), and moves those particles until the first
-  /// assign() sends each one's state on to its owner.
-  void hold_rows(std::size_t n);
+  /// Each rank holds the state of its run of rows(p.size()) only, the rows of the order
+  /// after @p from (a sort about to be made: slot i will take the particle of slot
+  /// from[i]; empty, none), lets go of the other rows' state (release_foreign()), and
+  /// moves its rows' particles until the first assign() sends each one's state on to its
+  /// owner; that build gathers the positions and radii first. For a restart (each rank
+  /// read its rows of the checkpoint: InArchive::keep_slots), with @p radii_whole (a
+  /// restored list lists its pairs again from its build positions with every particle's
+  /// radius before that build: VerletList::update); and before a build where every rank
+  /// holds the whole state alike (!partitioned(): a fresh run, or particles inserted or
+  /// removed before the slabs were dealt out), so that no rank holds every particle's
+  /// state through the sort and the build.
+  void hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from, bool radii_whole = false);
   /// Whether ownership follows build number @p builds of the list.
   bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && !held_rows_ && builds == builds_; }
 
@@ -372,8 +381,9 @@ class RankSplit final : public SearchShare {
   /// Zero the per-particle state (but the positions, which every rank gets at each
   /// build) of the slots that are neither this rank's particles nor its ghosts, and
   /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
-  /// particles. The rank no longer holds the whole state (stale_).
-  void release_foreign(ParticleStore& p);
+  /// particles. The rank no longer holds the whole state (stale_). @p kept, one of the
+  /// store's arrays, stays whole.
+  void release_foreign(ParticleStore& p, const std::vector<double>* kept = nullptr);
   /// Every rank, or with @p to_writer rank 0 alone, gets the whole state (synchronise(),
   /// gather_to_writer()): every particle's arrays, @p list's build positions where a rank
   /// holds its own particles' only, the wall history (as rows, or as records where the
