@@ -18,19 +18,12 @@ auto double_arrays(Store& p) {
                     &p.dfx, &p.dfy, &p.dfz, &p.jx, &p.jy, &p.jz};
 }
 
-// @p v as @p n zeros whose pages are not held (slot_pages.hpp): they cost nothing until
-// written, so switching a field on holds no page for other processes' particles.
-void zeros(std::vector<double>& v, std::size_t n) {
-  std::vector<double>().swap(v);
-  resize_zeroed(v, n);
-}
-
 }  // namespace
 
 void ParticleStore::enable_rotation() {
   rotation_enabled_ = true;
   const std::size_t n = size();
-  for (auto* v : {&wx, &wy, &wz, &tx, &ty, &tz}) zeros(*v, n);
+  for (auto* v : {&wx, &wy, &wz, &tx, &ty, &tz}) assign_zeroed(*v, n);
   inv_inertia.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double d = 2.0 * radius[i];
@@ -41,13 +34,13 @@ void ParticleStore::enable_rotation() {
 void ParticleStore::enable_drag_relaxation() {
   drag_relaxation_enabled_ = true;
   const std::size_t n = size();
-  for (auto* v : {&drag_k, &ugx, &ugy, &ugz}) zeros(*v, n);
+  for (auto* v : {&drag_k, &ugx, &ugy, &ugz}) assign_zeroed(*v, n);
 }
 
 void ParticleStore::enable_two_way() {
   two_way_enabled_ = true;
   const std::size_t n = size();
-  for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) zeros(*v, n);
+  for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) assign_zeroed(*v, n);
 }
 
 void ParticleStore::reserve(std::size_t n) {

@@ -70,6 +70,11 @@ void release_pages(const void* first, const void* last) {
 
 void zero_all(std::vector<double>& v) { zero_slots(v, {{0, v.size()}}); }
 
+void assign_zeroed(std::vector<double>& v, std::size_t n) {
+  std::vector<double>().swap(v);
+  resize_zeroed(v, n);
+}
+
 void reserve_zeroed(std::vector<double>& v, std::size_t capacity) {
   if (capacity <= v.capacity()) return;
   std::vector<double> w;
@@ -112,8 +117,7 @@ void get_slots(InArchive& a, std::vector<double>& v, std::uint64_t max_elements)
   if (v.size() == count) {
     zero_slots(v, {{0, w.first}, {w.last, count}});
   } else {
-    std::vector<double>().swap(v);
-    resize_zeroed(v, count);
+    assign_zeroed(v, count);
   }
   a.skip(std::uint64_t{w.first} * sizeof(double));
   a.get_values(v.data() + w.first, w.last - w.first);

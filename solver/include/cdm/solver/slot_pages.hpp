@@ -45,6 +45,8 @@ void zero_all(std::vector<double>& v);
 /// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted. Where
 /// @p v must grow beyond its capacity, it grows as reserve_zeroed() grows it.
 void resize_zeroed(std::vector<double>& v, std::size_t n);
+/// Make @p v @p n zeros, its former values dropped and its whole pages uncommitted.
+void assign_zeroed(std::vector<double>& v, std::size_t n);
 /// Give @p v room for @p capacity slots without committing pages for its zero values: a
 /// reallocation (std::vector's own copies every value, zeros too) that copies only the
 /// values that are not zero into pages that start uncommitted. The values keep their bits.
