@@ -38,8 +38,9 @@ args() {  # the problem's scene and options
   esac
 }
 
-shm=(mpirun -np 2 --mca pml ob1 --mca btl self,vader)
-tcp=(mpirun -np 2 --mca pml ob1 --mca btl self,tcp --mca btl_tcp_if_include lo)
+source "$here/mpi_transports.sh"
+shm=(mpirun -np 2 "${mpi_shared_memory[@]}")
+tcp=(mpirun -np 2 "${mpi_tcp[@]}")
 echo "shared memory:"; "${shm[@]}" "$latency"
 echo "TCP:"; "${tcp[@]}" "$latency"
 

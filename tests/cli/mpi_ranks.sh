@@ -9,7 +9,8 @@
 # 2 processes of 2 threads; a run stopped on 2 processes is restarted on 3 and must end
 # as the uninterrupted one, and restarted on 3 with no step left writes one process's
 # checkpoint (and so, between 2 and 3 either way, the fluidisation bed with
-# the drag once per gas step, the bed fed from above and the mesh pile); the settling bed with rolling resistance, and moved by the
+# the drag once per gas step, the bed fed from above and the mesh pile); the settling bed never sorted in memory (also fed
+# and drained), with rolling resistance, and moved by the
 # paper's Euler step, and moving walls are compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
@@ -185,9 +186,16 @@ shared "bed fed at every step" 3 "${fed[@]}" --set 'insertions[0].interval=0.0'
 # with its checkpoint and a VTK frame: the wall contacts set aside there are each
 # process's own, joined on rank 0 (without the join the checkpoint lacks the others'),
 # on 3 processes.
-shared "settle fed and drained" 3 "${settle[@]}" --set integrator.end_time=0.015 \
-  --set 'insertions=[{material="glass",lower=[0.001,0.001,0.06],upper=[0.021,0.021,0.07],count_rate=2000.0,count=40,start=0.0,interval=0.005,velocity=[0.0,0.0,-0.5],seed=7,size={distribution="normal",mean=0.001,std=0.0001}}]' \
-  --set 'outlets=[{name="corner",type="box",lower=[0.0,0.0,-0.001],upper=[0.004,0.004,0.002]}]'
+drained=(--set 'insertions=[{material="glass",lower=[0.001,0.001,0.06],upper=[0.021,0.021,0.07],count_rate=2000.0,count=40,start=0.0,interval=0.005,velocity=[0.0,0.0,-0.5],seed=7,size={distribution="normal",mean=0.001,std=0.0001}}]'
+         --set 'outlets=[{name="corner",type="box",lower=[0.0,0.0,-0.001],upper=[0.004,0.004,0.002]}]')
+shared "settle fed and drained" 3 "${settle[@]}" --set integrator.end_time=0.015 "${drained[@]}"
+# Never sorted (neighbour_list.sort_interval = 0): the first build deals the scene's
+# order as it is stored, each process's particles scattered over the store, and a removal
+# and the insertions append where no sort gathers them: the settling bed, and it fed and
+# drained, on 3 processes.
+shared "settle never sorted" 3 "${settle[@]}" --set neighbour_list.sort_interval=0
+shared "settle fed and drained, never sorted" 3 "${settle[@]}" --set integrator.end_time=0.015 "${drained[@]}" \
+  --set neighbour_list.sort_interval=0
 
 # An insertion among processes reads the positions of the particles near its box only,
 # which their owners share: a box whose floor lies less than two radii above a settled
@@ -304,7 +312,8 @@ grep -q "the particles' work and the gas step are shared among 4 MPI processes" 
 # and the Mueller bed (its gas step and multigrid solve divided by planes) give one
 # process's files on 2 processes.
 near_launch=("${launch[@]}")
-launch+=(--mca pml ob1 --mca btl self,tcp --mca btl_tcp_if_include lo)
+source "$src/bench/mpi_transports.sh"
+launch+=("${mpi_tcp[@]}")
 shared "chute over TCP" 2 "${chute[@]}"
 shared "mueller over TCP" 2 "${mueller[@]}" --max-steps 600 --set output.vtk=false \
   --set 'coupling.drag_evaluation="gas_step"' --set 'gas.division="planes"'
