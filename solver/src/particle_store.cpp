@@ -53,35 +53,41 @@ void ParticleStore::reserve(std::size_t n) {
 }
 
 void ParticleStore::add(Vec3 p, Vec3 v, double r, double density, int mat, bool fixed) {
+  append(p, r, mat, fixed);
+  const std::size_t i = size() - 1;
+  vx[i] = v.x; vy[i] = v.y; vz[i] = v.z;
+  set_mass(i, density);
+}
+
+void ParticleStore::append(Vec3 p, double r, int mat, bool fixed) {
   // Grown by doubling, as push_back would, but without committing the pages of the
   // slots whose values this process does not hold (zero, slot_pages.hpp).
   const std::size_t n = size();
   if (n > 0)
     for (auto* a : double_arrays(*this))
       if (a->size() == n && a->capacity() == n) reserve_zeroed(*a, 2 * n);
-  const double d = 2.0 * r;
-  const double m = density * std::numbers::pi * d * d * d / 6.0;
   x.push_back(p.x); y.push_back(p.y); z.push_back(p.z);
-  vx.push_back(v.x); vy.push_back(v.y); vz.push_back(v.z);
-  fx.push_back(0.0); fy.push_back(0.0); fz.push_back(0.0);
+  for (auto* a : {&vx, &vy, &vz, &fx, &fy, &fz, &mass, &inv_mass}) a->push_back(0.0);
   radius.push_back(r);
-  mass.push_back(m);
-  inv_mass.push_back(fixed ? 0.0 : 1.0 / m);
   material.push_back(static_cast<std::uint8_t>(mat));
   if (fixed && fixed_flag.empty()) fixed_flag.resize(n, 0);
   if (fixed || !fixed_flag.empty()) fixed_flag.push_back(fixed ? 1 : 0);
   if (!id.empty()) id.push_back(static_cast<std::uint32_t>(id.size()));
   if (two_way_enabled_)
-    for (auto* v : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) v->push_back(0.0);
-  if (drag_relaxation_enabled_) {
-    drag_k.push_back(0.0);
-    ugx.push_back(0.0); ugy.push_back(0.0); ugz.push_back(0.0);
-  }
-  if (rotation_enabled_) {
-    wx.push_back(0.0); wy.push_back(0.0); wz.push_back(0.0);
-    tx.push_back(0.0); ty.push_back(0.0); tz.push_back(0.0);
-    inv_inertia.push_back(fixed ? 0.0 : 10.0 / (m * d * d));
-  }
+    for (auto* a : {&dfx, &dfy, &dfz, &jx, &jy, &jz}) a->push_back(0.0);
+  if (drag_relaxation_enabled_)
+    for (auto* a : {&drag_k, &ugx, &ugy, &ugz}) a->push_back(0.0);
+  if (rotation_enabled_)
+    for (auto* a : {&wx, &wy, &wz, &tx, &ty, &tz, &inv_inertia}) a->push_back(0.0);
+}
+
+void ParticleStore::set_mass(std::size_t i, double density) {
+  const double d = 2.0 * radius[i];
+  const double m = density * std::numbers::pi * d * d * d / 6.0;
+  const bool fixed = is_fixed(i);
+  mass[i] = m;
+  inv_mass[i] = fixed ? 0.0 : 1.0 / m;
+  if (rotation_enabled_) inv_inertia[i] = fixed ? 0.0 : 10.0 / (m * d * d);
 }
 
 std::size_t ParticleStore::bytes() const {

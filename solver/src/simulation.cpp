@@ -6,6 +6,7 @@
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/scene_loader.hpp"
+#include "cdm/solver/initial_motion.hpp"
 #include "cdm/solver/slot_pages.hpp"
 
 #include <algorithm>
@@ -21,18 +22,16 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   // Build only the modules the scene names. Rotation exists only with a module that
   // makes torque (friction, rolling resistance).
   if (spec_.tangential != TangentialModel::none || spec_.rolling != RollingModel::none) particles_.enable_rotation();
-  // The scene's particles are read once, into the store: the pages read are returned as
-  // it goes, so that a large scene is not held twice at once, and so are the store's
-  // pages that hold zeros only (a bed at rest: its velocities, forces, spins), which cost
-  // nothing until written (slot_pages.hpp).
+  // The scene's particles are placed once, into the store, at rest and without mass: the
+  // pages read are returned as it goes, so that a large scene is not held twice at once,
+  // and so are the store's pages that hold zeros only, which cost nothing until written
+  // (slot_pages.hpp). Their velocities, spins and masses follow (fill_motion).
   const std::vector<ParticleSpec>& given = spec_.particles;
   particles_.reserve(given.size());
   constexpr std::size_t block = 1 << 14;
   for (std::size_t k = 0, b0 = 0; k < given.size(); ++k) {
     const ParticleSpec& ps = given[k];
-    const Material& mat = spec_.materials[ps.material];
-    particles_.add(ps.position, ps.velocity, ps.radius, mat.density, ps.material, mat.fixed);
-    particles_.set_angular_velocity(particles_.size() - 1, ps.angular_velocity);
+    particles_.append(ps.position, ps.radius, ps.material, spec_.materials[ps.material].fixed);
     if ((k + 1) % block != 0) continue;
     release_pages(given.data(), given.data() + k + 1);
     particles_.release_zero_pages(b0, k + 1);
@@ -40,6 +39,7 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   }
   spec_.particles.clear();
   spec_.particles.shrink_to_fit();
+  motion_pending_ = particles_.size() > 0;
   if (spec_.gas != GasModel::none) build_gas();
   if (spec_.gravity) {
     modules_.push_back(std::make_unique<GravityModule>(spec_.g));
@@ -76,15 +76,46 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
       drag_->take_pressure_gradient(*m);
     modules_.push_back(std::move(m));
   }
+  total_steps_ = static_cast<std::uint64_t>(step_count(spec_.end_time, spec_.dt));  // <= max_steps (loader)
+  integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
+  if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
+  split_among_ranks();
+  // Among processes each gives motion to the rows it holds from the first build on
+  // (ready_for_list): the others' would only be let go of.
+  if (!ranks_) fill_motion();
   if (spec_.tracers)  // a tracer moves with the gas from the start
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       const Vec3 u = gas_->velocity_at(particles_.position(i));
       particles_.vx[i] = u.x; particles_.vy[i] = u.y; particles_.vz[i] = u.z;
     }
-  total_steps_ = static_cast<std::uint64_t>(step_count(spec_.end_time, spec_.dt));  // <= max_steps (loader)
-  integrator_ = integrators::make_integrator({spec_, particles_, gas_.get(), contact_, gravity_ != nullptr});
-  if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
-  split_among_ranks();
+}
+
+void Simulation::set_scene_mass(std::size_t i) {
+  particles_.set_mass(i, spec_.materials[particles_.material[i]].density);
+}
+
+void Simulation::fill_motion() {
+  if (!motion_pending_) return;
+  motion_pending_ = false;
+  // The slots to fill by the scene index of their particle (their identity), increasing:
+  // every slot, or among processes those of this process's own particles.
+  const std::size_t n = particles_.size();
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> all{{0, static_cast<std::uint32_t>(n)}};
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_index;
+  for (const auto& [first, last] : ranks_ ? ranks_->own_runs(n) : all)
+    for (std::uint32_t i = first; i < last; ++i) by_index.push_back({particles_.id.empty() ? i : particles_.id[i], i});
+  std::sort(by_index.begin(), by_index.end());
+  InitialMotion motion(spec_.groups);
+  std::uint32_t next = 0;
+  for (const auto& [index, slot] : by_index) {
+    for (; next < index; ++next) motion.next();
+    const InitialMotion::Motion m = motion.next();
+    ++next;
+    particles_.vx[slot] = m.velocity.x; particles_.vy[slot] = m.velocity.y; particles_.vz[slot] = m.velocity.z;
+    particles_.set_angular_velocity(slot, m.angular_velocity);
+    set_scene_mass(slot);
+  }
+  if (ranks_) integrator_->masses_changed();
 }
 
 Simulation::~Simulation() = default;
@@ -167,6 +198,7 @@ void Simulation::ready_for_list(double t) {
         if (sort_due_at_build()) from = list.spatial_order(particles_);
         ranks_->hold_rows(particles_, from);
         if (!from.empty()) sort_by(from);
+        fill_motion();
       }
       if (ranks_->holds_build(particles_)) {
         if (sort_due_at_build()) sort_by(list.held_spatial_order(particles_));
@@ -355,6 +387,10 @@ void Simulation::save_state(OutArchive& a) const {
 }
 
 void Simulation::load_state(InArchive& a) {
+  // The checkpoint's state replaces the scene's, but for the masses where the population
+  // does not change (they follow from the radii and materials).
+  const bool masses_pending = motion_pending_;
+  motion_pending_ = false;
   ParticleStore& p = particles_;
   std::uint64_t n = 0;
   a.get(n);
@@ -449,8 +485,11 @@ void Simulation::load_state(InArchive& a) {
   if (gas_) gas_->set_time(time_);
   forces_valid_ = fv != 0;
   integrator_->discard_pending();  // the velocities read are those at time()
-  integrator_->masses_changed();
   if (ranks_) ranks_->hold_rows(p, {}, true);
+  if (masses_pending && !dynamic && ranks_)
+    for (const auto& [first, last] : ranks_->own_runs(n0))
+      for (std::uint32_t i = first; i < last; ++i) set_scene_mass(i);
+  integrator_->masses_changed();
   restarted_ = true;
 }
 

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <sstream>
 #include <numbers>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "cdm/solver/fluid/plane_share.hpp"
 #include "cdm/solver/scene_loader.hpp"
@@ -187,12 +189,8 @@ TEST(SceneLoader, OverridesApplyBeforeValidation) {
   EXPECT_THROW(cdm::parse_override("no-equals-sign"), cdm::SceneError);
 }
 
-TEST(SceneLoader, LatticeExpands) {
-  const std::string lat = replace(base, R"([[particles]]
-material = "ball"
-radius = 10.0
-position = [0.0, 50.0, 0.0]
-)", R"([[lattices]]
+// A lattice of 4 x 3 x 2 balls of radius 1 cm, the particles' contacts.
+const std::string lattice = R"([[lattices]]
 material = "ball"
 radius = 1.0
 origin = [0.0, 10.0, 0.0]
@@ -203,12 +201,62 @@ count = [4, 3, 2]
 pair = ["ball", "ball"]
 kn = 5.0e7
 en = 0.9
-)");
+)";
+
+TEST(SceneLoader, LatticeExpands) {
+  const std::string lat = replace(base, R"([[particles]]
+material = "ball"
+radius = 10.0
+position = [0.0, 50.0, 0.0]
+)", lattice);
   const cdm::SceneSpec s = cdm::load_scene_from_string(lat, "good.toml");
   ASSERT_EQ(s.particles.size(), 24u);
   EXPECT_DOUBLE_EQ(s.particles[23].position.x, 0.075);
   EXPECT_DOUBLE_EQ(s.particles[23].position.y, 0.16);
   EXPECT_DOUBLE_EQ(s.particles[23].position.z, 0.025);
+}
+
+// A lattice's radii (drawn by the loader) and its velocities' jitter (drawn again by the
+// run, InitialMotion) come from its one stream, site by site: the radius, then three
+// numbers in [-1, 1) that scale the jitter, one per component. A listed particle keeps
+// its own velocity. Restated here with the stream's generator, seeded as the scene says.
+TEST(SceneLoader, LatticeRadiiAndJitterShareOneStream) {
+  const std::string jittered = replace(lattice, "radius = 1.0\n", R"(size = { distribution = "normal", mean = 0.8, std = 0.1 }
+velocity = [0.0, -10.0, 0.0]
+velocity_jitter = 5.0
+seed = 42
+)");
+  const std::string lat =
+      replace(base, "position = [0.0, 50.0, 0.0]\n", "position = [0.0, 50.0, 0.0]\nvelocity = [1.0, 2.0, 3.0]\n\n" + jittered);
+  const cdm::SceneSpec s = cdm::load_scene_from_string(lat, "good.toml");
+  ASSERT_EQ(s.particles.size(), 25u);
+  ASSERT_EQ(s.groups.size(), 2u);
+  const cdm::SizeDistribution size = s.groups[1].size;
+  const std::vector<cdm::ParticleSpec> placed = s.particles;
+  const cdm::Simulation sim(s);
+  const cdm::ParticleStore& p = sim.particles();
+  ASSERT_EQ(p.size(), 25u);
+  const cdm::Vec3 listed = s.groups[0].velocity, v = s.groups[1].velocity;
+  const double jitter = s.groups[1].jitter, density = s.materials[0].density;
+  EXPECT_DOUBLE_EQ(listed.y, 0.02);  // cm/s in the file
+  EXPECT_DOUBLE_EQ(jitter, 0.05);
+  EXPECT_EQ(p.velocity(0).x, listed.x);
+  EXPECT_EQ(p.velocity(0).y, listed.y);
+  EXPECT_EQ(p.velocity(0).z, listed.z);
+  std::mt19937_64 rng(42);
+  const auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53 * 2.0 - 1.0; };
+  bool varied = false;
+  for (std::size_t k = 1; k < 25; ++k) {
+    EXPECT_EQ(placed[k].radius, size.sample(rng)) << "site " << k - 1;
+    varied = varied || placed[k].radius != placed[1].radius;
+    const double a = uniform(), b = uniform(), c = uniform();
+    EXPECT_EQ(p.velocity(k).x, v.x + jitter * a) << "site " << k - 1;
+    EXPECT_EQ(p.velocity(k).y, v.y + jitter * b) << "site " << k - 1;
+    EXPECT_EQ(p.velocity(k).z, v.z + jitter * c) << "site " << k - 1;
+    const double d = 2.0 * placed[k].radius;
+    EXPECT_EQ(p.mass[k], density * std::numbers::pi * d * d * d / 6.0) << "site " << k - 1;
+  }
+  EXPECT_TRUE(varied);
 }
 
 // "Only what a scene names is built": a frictionless scene keeps no rotation and no

@@ -2,6 +2,8 @@
 /// @brief Particles listed one by one, on lattices and on shells; the Verlet skin they set.
 #include "sections.hpp"
 
+#include "cdm/solver/initial_motion.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -94,12 +96,13 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
       p.radius = rd.positive(t, "radius", path, Dim::length, true);
       p.position = rd.vec3_required(t, "position", path, Dim::length);
       if (spec.tracers) rd.reject_unused(t, "velocity", path, "modules.tracers is true: a tracer moves with the gas");
-      p.velocity = rd.vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
+      ParticleGroup g{path, spec.particles.size(), 1, 0, 0};
+      g.velocity = rd.vec3(t, "velocity", path, Dim::velocity).value_or(Vec3{});
       if (spec.tangential == TangentialModel::none && spec.rolling == RollingModel::none)
         rd.reject_unused(t, "angular_velocity", path,
                          "modules.tangential and modules.rolling_resistance are \"none\", so particles do not rotate");
-      p.angular_velocity = rd.vec3(t, "angular_velocity", path, Dim::angular_velocity).value_or(Vec3{});
-      spec.groups.push_back({path, spec.particles.size(), 1, 0, 0});
+      g.angular_velocity = rd.vec3(t, "angular_velocity", path, Dim::angular_velocity).value_or(Vec3{});
+      spec.groups.push_back(std::move(g));
       spec.particles.push_back(p);
     }
   }
@@ -133,25 +136,24 @@ void read_particles(const Reader& rd, SceneSpec& spec) {
         rd.fail_value(path + ".spacing", *t.get("spacing"),
                       "a spacing of at least the largest diameter of " + path + ".size (" +
                           std::to_string(2.0 * size.largest() / rd.factor(Dim::length)) + ") along every axis");
-      // Per site its radius (from a distribution), then its velocity jitter, uniform in
-      // [-jitter, jitter] per component, from one stream.
-      std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
-      auto uniform = [&] { return uniform01(rng) * 2.0 - 1.0; };
+      // Per site its radius; its velocity, jittered, is drawn again by the run
+      // (InitialMotion) from the same stream.
       const std::array<long long, 3> c = lattice_count(rd, t, path);  // the total is checked
-      spec.groups.push_back({path, spec.particles.size(), static_cast<std::size_t>(c[0] * c[1] * c[2]), c[0], c[1]});
+      ParticleGroup g{path, spec.particles.size(), static_cast<std::size_t>(c[0] * c[1] * c[2]), c[0], c[1]};
+      g.velocity = vel;
+      g.jitter = jitter;
+      g.seed = static_cast<std::uint64_t>(seed);
+      g.size = size;
+      spec.groups.push_back(std::move(g));
+      LatticeDraws draws(size, jitter, static_cast<std::uint64_t>(seed));
       spec.particles.reserve(spec.particles.size() + static_cast<std::size_t>(c[0] * c[1] * c[2]));
       for (long long kz = 0; kz < c[2]; ++kz)
         for (long long ky = 0; ky < c[1]; ++ky)
           for (long long kx = 0; kx < c[0]; ++kx) {
             ParticleSpec p;
             p.material = mat;
-            p.radius = size.sample(rng);
+            p.radius = draws.next().radius;
             p.position = origin + Vec3{kx * spacing.x, ky * spacing.y, kz * spacing.z};
-            p.velocity = vel;
-            if (jitter > 0.0) {
-              const double a = uniform(), b = uniform(), c2 = uniform();
-              p.velocity += Vec3{jitter * a, jitter * b, jitter * c2};
-            }
             spec.particles.push_back(p);
           }
     }

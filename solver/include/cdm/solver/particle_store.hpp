@@ -98,6 +98,13 @@ struct ParticleStore {
   /// @p fixed particle has zero inverse mass and inertia: forces act on it (its drag
   /// reaches the gas) but never move it.
   void add(Vec3 position, Vec3 velocity, double radius, double density, int material, bool fixed = false);
+  /// Append one particle at rest and without mass (zero mass, 1/m and 1/I), which
+  /// set_mass() gives it: a scene's particles are placed first, and each process gives
+  /// masses and velocities to those it holds (Simulation::fill_motion).
+  void append(Vec3 position, double radius, int material, bool fixed = false);
+  /// Particle i's mass, 1/m and (with rotation) 1/I from its radius and @p density; a
+  /// fixed particle's inverses zero.
+  void set_mass(std::size_t i, double density);
   void set_angular_velocity(std::size_t i, Vec3 w);
   /// Room for @p n particles in every array add() appends to, its pages committed only as
   /// they are written (slot_pages.hpp): a scene's particles added one by one without the

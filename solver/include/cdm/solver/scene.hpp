@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/coupling/deposition.hpp"
@@ -42,21 +43,32 @@ enum class GasModel { none, prescribed, solved };
 inline constexpr Keywords<GasModel, 3> gas_model_keywords{
     {{"none", GasModel::none}, {"prescribed", GasModel::prescribed}, {"solved", GasModel::solved}}};
 
+/// A particle of the scene at the start: where it is, its size and material. Its velocity
+/// and spin are its group's (ParticleGroup, InitialMotion), not held per particle: a large
+/// scene is held whole on every process until the run deals it out.
 struct ParticleSpec {
-  Vec3 position;          // [m]
-  Vec3 velocity;          // [m/s]
-  Vec3 angular_velocity;  // [rad/s]
-  double radius = 0.0;    // [m]
+  Vec3 position;        // [m]
+  double radius = 0.0;  // [m]
   int material = 0;
 };
 
 /// Where a run of consecutive particles came from in the scene file, so messages can
 /// name a particle's key ("particles[3]", "lattices[0] (lattice site 4,1,0)") without
-/// storing a string per particle.
+/// storing a string per particle, and how they move at the start.
 struct ParticleGroup {
+  ParticleGroup(std::string k, std::size_t f, std::size_t n, long long cx = 0, long long cy = 0)
+      : key(std::move(k)), first(f), count(n), nx(cx), ny(cy) {}
   std::string key;               // "particles[3]" or "lattices[0]"
   std::size_t first = 0, count = 0;
   long long nx = 0, ny = 0;      // lattice counts along x and y (0 for a listed particle)
+  Vec3 velocity;                 // each particle's initial velocity [m/s] (but a lattice's jitter)
+  Vec3 angular_velocity;         // each particle's initial spin [rad/s]
+  /// A lattice's velocity jitter [m/s], its radii and the seed of the one stream both are
+  /// drawn from, site by site (LatticeDraws): the loader draws the radii, the run the
+  /// velocities, from the same numbers.
+  double jitter = 0.0;
+  std::uint64_t seed = 1;
+  SizeDistribution size;
 };
 
 /// The most time steps a scene may plan: beyond it a run would not end in practice

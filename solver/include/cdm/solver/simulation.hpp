@@ -270,6 +270,12 @@ class Simulation : private integrators::StepHost {
   /// particles is gathered.
   void complete_for_gas_step();
   void build_gas();
+  /// The scene's particles' velocities, spins and masses (InitialMotion), once: into every
+  /// slot, or among processes into the slots of this process's own particles, once the
+  /// first build has dealt out the rows (RankSplit::hold_rows).
+  void fill_motion();
+  /// Particle i's mass, 1/m and 1/I from its radius and its material's density.
+  void set_scene_mass(std::size_t i);
   /// Under mpirun with several processes: share the particles' work among them
   /// (rank_split.hpp), or, for a scene the distributed step does not cover, say why
   /// (unshared()).
@@ -302,6 +308,7 @@ class Simulation : private integrators::StepHost {
   std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
   bool restarted_ = false;
+  bool motion_pending_ = false;  // fill_motion() still to come
 };
 
 }  // namespace cdm
