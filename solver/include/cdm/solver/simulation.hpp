@@ -274,6 +274,9 @@ class Simulation : private integrators::StepHost {
   /// slot, or among processes into the slots of this process's own particles, once the
   /// first build has dealt out the rows (RankSplit::hold_rows).
   void fill_motion();
+  /// The scene's particles into the store, at rest and without mass, handing the scene's
+  /// pages back as it goes (fill_motion gives them their motion and masses).
+  void place_scene();
   /// Particle i's mass, 1/m and 1/I from its radius and its material's density.
   void set_scene_mass(std::size_t i);
   /// Under mpirun with several processes: share the particles' work among them
