@@ -26,9 +26,9 @@ InitialMotion::InitialMotion(const std::vector<ParticleGroup>& groups) : groups_
 void InitialMotion::enter(std::size_t g) {
   group_ = g;
   index_ = 0;
-  draws_.clear();
+  draws_.reset();
   if (g < groups_.size() && groups_[g].jitter > 0.0)
-    draws_.emplace_back(groups_[g].size, groups_[g].jitter, groups_[g].seed);
+    draws_.emplace(groups_[g].size, groups_[g].jitter, groups_[g].seed);
 }
 
 InitialMotion::Motion InitialMotion::next() {
@@ -36,7 +36,7 @@ InitialMotion::Motion InitialMotion::next() {
   if (group_ == groups_.size()) throw std::logic_error("InitialMotion: more particles than the groups hold");
   const ParticleGroup& g = groups_[group_];
   Motion m{g.velocity, g.angular_velocity};
-  if (!draws_.empty()) m.velocity += draws_.front().next().jitter;
+  if (draws_) m.velocity += draws_->next().jitter;
   ++index_;
   return m;
 }

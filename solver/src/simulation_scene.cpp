@@ -41,23 +41,30 @@ void Simulation::set_scene_mass(std::size_t i) {
 void Simulation::fill_motion() {
   if (!motion_pending_) return;
   motion_pending_ = false;
-  // The slots to fill by the scene index of their particle (their identity), increasing:
-  // every slot, or among processes those of this process's own particles.
-  const std::size_t n = particles_.size();
-  const std::vector<std::pair<std::uint32_t, std::uint32_t>> all{{0, static_cast<std::uint32_t>(n)}};
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_index;
-  for (const auto& [first, last] : ranks_ ? ranks_->own_runs(n) : all)
-    for (std::uint32_t i = first; i < last; ++i) by_index.push_back({particles_.id.empty() ? i : particles_.id[i], i});
-  std::sort(by_index.begin(), by_index.end());
   InitialMotion motion(spec_.groups);
-  std::uint32_t next = 0;
-  for (const auto& [index, slot] : by_index) {
+  std::uint32_t next = 0;  // the scene index of the particle motion.next() gives
+  auto give = [&](std::uint32_t index, std::uint32_t slot) {
     for (; next < index; ++next) motion.next();
     const InitialMotion::Motion m = motion.next();
     ++next;
     particles_.vx[slot] = m.velocity.x; particles_.vy[slot] = m.velocity.y; particles_.vz[slot] = m.velocity.z;
     particles_.set_angular_velocity(slot, m.angular_velocity);
     set_scene_mass(slot);
+  };
+  // Every slot, or among processes those of this process's own particles, in the order
+  // of their particles' scene indices (their identities).
+  const std::size_t n = particles_.size();
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> all{{0, static_cast<std::uint32_t>(n)}};
+  const auto& runs = ranks_ ? ranks_->own_runs(n) : all;
+  if (particles_.id.empty()) {  // never sorted: slot i holds particle i
+    for (const auto& [first, last] : runs)
+      for (std::uint32_t i = first; i < last; ++i) give(i, i);
+  } else {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_index;
+    for (const auto& [first, last] : runs)
+      for (std::uint32_t i = first; i < last; ++i) by_index.push_back({particles_.id[i], i});
+    std::sort(by_index.begin(), by_index.end());
+    for (const auto& [index, slot] : by_index) give(index, slot);
   }
   if (ranks_) integrator_->masses_changed();
 }

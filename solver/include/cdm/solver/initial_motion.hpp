@@ -5,6 +5,7 @@
 /// sites' radii to the loader and their velocities' jitter to the run.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -49,7 +50,7 @@ class InitialMotion {
   void enter(std::size_t g);
   const std::vector<ParticleGroup>& groups_;
   std::size_t group_ = 0, index_ = 0;  // the group of the next particle, its index there
-  std::vector<LatticeDraws> draws_;    // the current group's stream, where it is jittered
+  std::optional<LatticeDraws> draws_;  // the current group's stream, where it is jittered
 };
 
 }  // namespace cdm
