@@ -34,6 +34,11 @@ command -v mpirun > /dev/null || fail "mpirun not found (Debian's openmpi-bin)"
 # temporary folder: theirs does not exist.
 launch=(mpirun --oversubscribe -x TMPDIR="$work/no-such-folder")
 [ "$(id -u)" -eq 0 ] && launch+=(--allow-run-as-root)
+# Open MPI's session folders go into one of this test's own (short: it holds sockets), so
+# that no other Open MPI program of this user removes it while a launch here creates them.
+OMPI_MCA_orte_tmpdir_base=$(mktemp -d) || fail "mktemp"
+export OMPI_MCA_orte_tmpdir_base
+trap 'rm -rf "$OMPI_MCA_orte_tmpdir_base"' EXIT
 
 # same TAG DIR_A DIR_B: every file the runs wrote is the same, byte for byte.
 same() {
@@ -229,6 +234,10 @@ mueller=("$src/bench/scenes/mueller_bubbling_bed.toml" --set output.interval=0.0
 every=(--set 'coupling.drag_evaluation="every_step"')
 "$cdm" run "${mueller[@]}" "${every[@]}" -q -j 1 -o "$work/mueller-1" --max-steps 300 > /dev/null ||
   fail "mueller: one process"
+# One process without a launcher (MPI for hypre) starts no daemon that would outlive it
+# and remove Open MPI's session folder while the launch below creates its own there.
+[ -z "$(ls -A "$OMPI_MCA_orte_tmpdir_base")" ] ||
+  fail "mueller: one process left Open MPI's session folder behind: $(ls -A "$OMPI_MCA_orte_tmpdir_base")"
 "${launch[@]}" -np 2 "$cdm" run "${mueller[@]}" "${every[@]}" -q -j 1 -o "$work/mueller-2" --max-steps 300 \
   > "$work/mueller-2.out" 2>&1 ||
   fail "mueller: 2 processes: $(tail -5 "$work/mueller-2.out")"

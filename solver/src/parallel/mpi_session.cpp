@@ -56,7 +56,10 @@ void ensure_mpi() {
   int initialised = 0;
   MPI_Initialized(&initialised);
   if (!initialised) {
-    if (!under_launcher()) setenv("OMPI_MCA_pml", "ob1", 0);
+    if (!under_launcher()) {
+      setenv("OMPI_MCA_pml", "ob1", 0);
+      setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+    }
     int provided = 0;
     const int rc = MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     if (rc != MPI_SUCCESS) throw std::runtime_error("MPI_Init_thread failed (error " + std::to_string(rc) + ")");
