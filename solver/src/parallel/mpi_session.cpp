@@ -59,6 +59,7 @@ void ensure_mpi() {
     if (!under_launcher()) {
       setenv("OMPI_MCA_pml", "ob1", 0);
       setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+      setenv("OMPI_MCA_orte_create_session_dirs", "0", 0);
     }
     int provided = 0;
     const int rc = MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);

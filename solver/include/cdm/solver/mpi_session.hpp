@@ -8,10 +8,12 @@
 /// exit. A program started without a launcher (no mpirun) becomes an Open MPI singleton,
 /// a world of one process; it then defaults Open MPI's point-to-point layer to ob1
 /// (OMPI_MCA_pml, unless set), which starts in about 0.1 s instead of about 0.4 s spent
-/// probing network transports a single process never uses, and starts no supporting
-/// daemon (OMPI_MCA_ess_singleton_isolated, unless set; cdm never spawns processes). The
-/// daemon would outlive the program and remove Open MPI's session folder after it, while
-/// an mpirun started next may be creating its own there. hypre is initialised once.
+/// probing network transports a single process never uses. It also starts no supporting
+/// daemon and creates no session folder (OMPI_MCA_ess_singleton_isolated and
+/// OMPI_MCA_orte_create_session_dirs, unless set; cdm never spawns processes and one
+/// process shares no memory). The daemon would outlive the program and remove the user's
+/// session folder after it, while an mpirun started next may be creating its own there;
+/// without the daemon every singleton would share one such folder. hypre is initialised once.
 /// In a build without MPI (CMake option CDM_WITH_MPI off, or MPI or hypre not found),
 /// ensure_mpi() throws and mpi_world() reads the launcher's variables instead.
 
