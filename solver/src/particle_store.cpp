@@ -25,10 +25,13 @@ void ParticleStore::enable_rotation() {
   const std::size_t n = size();
   for (auto* v : {&wx, &wy, &wz, &tx, &ty, &tz}) assign_zeroed(*v, n);
   inv_inertia.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = 2.0 * radius[i];
-    inv_inertia[i] = 10.0 / (mass[i] * d * d);
-  }
+  for (std::size_t i = 0; i < n; ++i) inv_inertia[i] = inverse_inertia(i);
+}
+
+double ParticleStore::inverse_inertia(std::size_t i) const {
+  // A solid sphere's I = m d²/10.
+  const double d = 2.0 * radius[i];
+  return is_fixed(i) || mass[i] == 0.0 ? 0.0 : 10.0 / (mass[i] * d * d);
 }
 
 void ParticleStore::enable_drag_relaxation() {
@@ -84,10 +87,9 @@ void ParticleStore::append(Vec3 p, double r, int mat, bool fixed) {
 void ParticleStore::set_mass(std::size_t i, double density) {
   const double d = 2.0 * radius[i];
   const double m = density * std::numbers::pi * d * d * d / 6.0;
-  const bool fixed = is_fixed(i);
   mass[i] = m;
-  inv_mass[i] = fixed ? 0.0 : 1.0 / m;
-  if (rotation_enabled_) inv_inertia[i] = fixed ? 0.0 : 10.0 / (m * d * d);
+  inv_mass[i] = is_fixed(i) ? 0.0 : 1.0 / m;
+  if (rotation_enabled_) inv_inertia[i] = inverse_inertia(i);
 }
 
 std::size_t ParticleStore::bytes() const {

@@ -88,7 +88,9 @@ struct ParticleStore {
   bool has_drag_relaxation() const { return drag_relaxation_enabled_; }
   bool has_two_way() const { return two_way_enabled_; }
 
-  /// Switch on the rotational fields (called when a module that produces torque is built).
+  /// Switch on the rotational fields (called when a module that produces torque is built):
+  /// zero angular velocities and torques, 1/I from each particle's mass as set_mass() gives
+  /// it (zero for a fixed particle, or one without mass yet).
   void enable_rotation();
   /// Switch on the drag-relaxation fields (zero drag until a module fills them).
   void enable_drag_relaxation();
@@ -144,6 +146,9 @@ struct ParticleStore {
   void flag_fixed_from_masses();
 
  private:
+  /// Particle i's 1/I from its mass and radius; zero where fixed or without mass.
+  double inverse_inertia(std::size_t i) const;
+
   bool rotation_enabled_ = false;
   bool drag_relaxation_enabled_ = false;
   bool two_way_enabled_ = false;
