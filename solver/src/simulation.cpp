@@ -146,7 +146,8 @@ void Simulation::ready_for_list(double t) {
     // Between builds a rank needs only the slabs either side of its own.
     if (list.rebuild_due(particles_)) {
       // Where every rank holds the whole state, each keeps its run of rows of the sorted
-      // order through the sort and the build (RankSplit::hold_rows), as after a restart.
+      // order through the sort (RankSplit::hold_rows), as after a restart, and the build
+      // reads from the rows' holders the positions its search needs.
       if (!ranks_->partitioned() && particles_.size() > 0) {
         std::vector<std::uint32_t> from;
         if (sort_due_at_build()) from = list.spatial_order(particles_);

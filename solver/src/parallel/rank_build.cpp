@@ -12,10 +12,12 @@
 namespace cdm {
 
 bool RankSplit::holds_build(const ParticleStore& p) {
-  // Every particle must have an owner that holds its current state: not before the slabs
-  // are first dealt out, nor after a restart until then; and nothing to do where every
+  // Every particle must have an owner that holds its current state: not before the
+  // processes hold their rows (hold_rows), nor after a restart until its first build
+  // (its restored list reads every build position first); and nothing to do where every
   // process holds the whole state anyway.
-  const bool whole = !stale_ || moving_ || !assigned_ || held_rows_ || owner_.size() != p.size() || p.size() == 0;
+  const bool rows_whole = held_rows_ && !rows_searchable_;
+  const bool whole = !stale_ || moving_ || !assigned_ || rows_whole || owner_.size() != p.size() || p.size() == 0;
   return !any(whole);
 }
 

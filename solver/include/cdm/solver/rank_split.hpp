@@ -188,8 +188,8 @@ class RankSplit final : public SearchShare {
   /// Whether the next build (and a sort before it) can read each process's own
   /// particles' positions only (prepare_build, VerletList::held_spatial_order): the same
   /// answer on every process, false where the whole positions are to be gathered
-  /// (synchronise()) instead: before the slabs are first dealt out, after a restart until
-  /// then, or where every process holds the whole state already.
+  /// (synchronise()) instead: before each process holds its rows (hold_rows()), after a
+  /// restart until its first build, or where every process holds the whole state already.
   bool holds_build(const ParticleStore& p);
   /// Where holds_build(), before a build of @p list: each process gets the positions of
   /// the particles the build's search reads from their owners
@@ -214,13 +214,14 @@ class RankSplit final : public SearchShare {
   /// after @p from (a sort about to be made: slot i will take the particle of slot
   /// from[i]; empty, none), lets go of the other rows' state (release_foreign()), and
   /// moves its rows' particles until the first assign() sends each one's state on to its
-  /// owner; that build gathers the positions and radii first. For a restart (each rank
-  /// read its rows of the checkpoint: InArchive::keep_slots), with @p radii_whole (a
-  /// restored list lists its pairs again from its build positions with every particle's
-  /// radius before that build: VerletList::update); and before a build where every rank
-  /// holds the whole state alike (!partitioned(): a fresh run, or particles inserted or
-  /// removed before the slabs were dealt out), so that no rank holds every particle's
-  /// state through the sort and the build.
+  /// owner. Called before a build where every rank holds the whole state alike
+  /// (!partitioned(): a fresh run, or particles inserted or removed before the slabs were
+  /// dealt out), so that no rank holds every particle's state through the sort and the
+  /// build; that build reads the positions and radii its search needs from the rows'
+  /// holders (holds_build()). Called for a restart too (each rank read its rows of the
+  /// checkpoint: InArchive::keep_slots), with @p radii_whole: a restored list lists its
+  /// pairs again from its build positions with every particle's radius before that build
+  /// (VerletList::update), and the build gathers every position.
   void hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from, bool radii_whole = false);
   /// Whether ownership follows build number @p builds of the list.
   bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && !held_rows_ && builds == builds_; }
@@ -406,6 +407,7 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()
+  bool rows_searchable_ = false;  // hold_rows() without the radii whole: a held build may follow
   bool held_build_ = false;  // prepare_build(): each process holds its own particles' positions only
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
