@@ -16,8 +16,8 @@ bool RankSplit::holds_build(const ParticleStore& p) {
   // processes hold their rows (hold_rows), nor after a restart until its first build
   // (its restored list reads every build position first); and nothing to do where every
   // process holds the whole state anyway.
-  const bool rows_whole = held_rows_ && !rows_searchable_;
-  const bool whole = !stale_ || moving_ || !assigned_ || rows_whole || owner_.size() != p.size() || p.size() == 0;
+  const bool restart = held_rows_ && radii_whole_;
+  const bool whole = !stale_ || moving_ || !assigned_ || restart || owner_.size() != p.size() || p.size() == 0;
   return !any(whole);
 }
 

@@ -24,7 +24,7 @@ void RankSplit::hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& fr
   drop_boundaries();
   release_foreign(p, radii_whole ? &p.radius : nullptr);
   assigned_ = stale_ = held_rows_ = true;
-  rows_searchable_ = !radii_whole;
+  radii_whole_ = radii_whole;
   moving_ = written_ = gathered_ = false;
 }
 

@@ -407,7 +407,7 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()
-  bool rows_searchable_ = false;  // hold_rows() without the radii whole: a held build may follow
+  bool radii_whole_ = false;  // hold_rows() of a restart: its first build gathers every position
   bool held_build_ = false;  // prepare_build(): each process holds its own particles' positions only
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()
