@@ -141,10 +141,11 @@ void Simulation::ready_for_list(double t) {
       list.set_displacement(
           max_own(ranks_.get(), particles_.size(), [&](std::size_t i) { return list.displacement(particles_, i); }));
     // A build, and a sort before it, read the positions of each rank's own particles,
-    // and of the particles near the slabs it searches, which their owners send; where
-    // some particles have no owner yet that holds them, every position, gathered.
+    // and of the particles near the slabs it searches, which their owners send (a loaded
+    // list listing its pairs again, their build positions, which the rows' holders send);
+    // where some particles have no owner yet that holds them, every position, gathered.
     // Between builds a rank needs only the slabs either side of its own.
-    if (list.rebuild_due(particles_)) {
+    if (list.rebuild_due(particles_) || list.relist_due(particles_)) {
       // Where every rank holds the whole state, each keeps its run of rows of the sorted
       // order through the sort (RankSplit::hold_rows), as after a restart, and the build
       // reads from the rows' holders the positions its search needs.
@@ -156,7 +157,7 @@ void Simulation::ready_for_list(double t) {
         fill_motion();
       }
       if (ranks_->holds_build(particles_)) {
-        if (sort_due_at_build()) sort_by(list.held_spatial_order(particles_));
+        if (sort_due_at_build() && list.rebuild_due(particles_)) sort_by(list.held_spatial_order(particles_));
         ranks_->prepare_build(particles_, list);
         return;
       }
@@ -390,8 +391,9 @@ void Simulation::load_state(InArchive& a) {
     if (v.size() != want) throw ArchiveError("a particle array has the wrong length");
   };
   // Among processes each keeps its share of the slots only (its run of rows,
-  // RankSplit::hold_rows) and lets go of the rest of the scene's but the radii: the first
-  // build gathers the positions, and the state moves to the particles' owners.
+  // RankSplit::hold_rows) and lets go of the rest of the scene's: the first listing reads
+  // from the rows' holders the positions its search needs, and the state moves to the
+  // particles' owners.
   if (ranks_) {
     const auto [first, last] = ranks_->rows(n0);
     a.keep_slots(n0, first, last);
@@ -440,7 +442,7 @@ void Simulation::load_state(InArchive& a) {
   if (gas_) gas_->set_time(time_);
   forces_valid_ = fv != 0;
   integrator_->discard_pending();  // the velocities read are those at time()
-  if (ranks_) ranks_->hold_rows(p, {}, true);
+  if (ranks_) ranks_->hold_rows(p, {});
   if (masses_pending && !dynamic && ranks_)
     for (const auto& [first, last] : ranks_->own_runs(n0))
       for (std::uint32_t i = first; i < last; ++i) set_scene_mass(i);

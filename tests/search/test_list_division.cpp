@@ -344,7 +344,7 @@ TEST(ListDivision, SlabsAreDealtSoTheLargestLoadIsTheLeastRunsCanGive) {
       }
       return most;
     };
-    const std::vector<std::uint32_t> dealt = cdm::VerletList::deal_slabs(cost, work, size, wrap);
+    const std::vector<std::uint32_t> dealt = cdm::deal_slabs(cost, work, size, wrap);
     ASSERT_EQ(dealt.size(), size + 1);
     EXPECT_EQ(dealt.front(), 0u);
     EXPECT_EQ(dealt.back(), nslab);

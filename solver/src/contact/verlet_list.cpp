@@ -34,12 +34,14 @@ bool VerletList::walls_moved_away() const {
 
 VerletList::Update VerletList::update(const ParticleStore& p) {
   Update u;
-  if (pairs_pending_ && built_ && x0_.size() == p.size()) {
-    // A loaded list: its pairs as its build listed them, from the build positions.
+  const bool due = rebuild_due(p);
+  if (pairs_pending_ && !due && listed(p.size())) {
+    // A loaded list: its pairs as its build listed them, from the build positions. (A
+    // build due carries the loaded contacts over itself.)
     list_pairs(p, {x0_.data(), y0_.data(), z0_.data(), p.radius.data(), x0_.size()}, false);
     u.rebuilt = u.walls_listed = true;
   }
-  if (!built_ || needs_rebuild(p)) {
+  if (due) {
     rebuild(p);
     u.rebuilt = u.walls_listed = true;
   } else if (wall_candidates_stale_ || walls_moved_away()) {
@@ -48,6 +50,10 @@ VerletList::Update VerletList::update(const ParticleStore& p) {
   }
   displacement_ = -1.0;  // measured for these positions only
   return u;
+}
+
+bool VerletList::relist_due(const ParticleStore& p) const {
+  return pairs_pending_ && built_ && listed(p.size()) && !needs_rebuild(p);
 }
 
 bool VerletList::needs_rebuild(const ParticleStore& p) const {
@@ -213,7 +219,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   // A held build (prepare_held_build) brought its cut and counts, and the positions it
   // reads: the others' are not current here.
   const bool held = held_build_.ready;
-  if (held && !(build && divided && held_build_.held.size() == n))
+  if (held && !(build != held_build_.relist && divided && held_build_.held.size() == n))
     throw std::logic_error("VerletList: a held build prepared for another build");
   const std::uint8_t* const held_slots = held ? held_build_.held.data() : nullptr;
   const Slabs g = held ? held_build_.cut : build || !cut_known_ ? slabs(at.x, at.y, at.z, p.radius, n) : cut_;
@@ -394,6 +400,7 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
   if (divided) set_rank_slabs(rank_slab_first_[static_cast<std::size_t>(share_->share_rank())],
                               rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1]);
+  if (held && !build) keep_own_build_positions(at, slab_of);
   if (build) {
     if (divided) {
       keep_own_build_positions(at, slab_of);

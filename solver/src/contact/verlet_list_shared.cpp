@@ -40,9 +40,8 @@ void VerletList::list_held_again() {
   touch_.clear();
 }
 
-std::vector<std::uint32_t> VerletList::deal_slabs(const std::vector<std::uint64_t>& cost,
-                                                   const std::vector<std::uint64_t>& work, std::size_t size,
-                                                   bool wrap) {
+std::vector<std::uint32_t> deal_slabs(const std::vector<std::uint64_t>& cost, const std::vector<std::uint64_t>& work,
+                                      std::size_t size, bool wrap) {
   // Runs of slabs, one per process in turn, each as long as its load stays within a bound
   // L: a process's load is its slabs' cost (cost holds the running sums) and its shadow
   // slab's work, which it evaluates as the process below does. The smallest L for which
@@ -161,11 +160,11 @@ std::vector<std::uint32_t> VerletList::slab_owners() const {
   return owner;
 }
 
-VerletList::Slabs VerletList::held_cut(const ParticleStore& p) const {
+VerletList::Slabs VerletList::held_cut(const SearchPoints& at) const {
   // Every process's own particles' extent, joined alike on every process: the same bits
   // as one process's extent of all of them.
   SearchShare& share = *share_;
-  const SlabExtent e = extent(p.x.data(), p.y.data(), p.z.data(), p.radius.data(), p.size(), share.own_slots());
+  const SlabExtent e = extent(at.x, at.y, at.z, at.r, at.n, share.own_slots());
   std::vector<std::vector<double>> out(static_cast<std::size_t>(share.share_size()),
                                        std::vector<double>{e.lo[0], e.lo[1], e.lo[2], e.hi[0], e.hi[1], e.hi[2], e.rmax});
   const std::vector<double> in = share.swap_values(out);
@@ -194,7 +193,7 @@ std::vector<std::uint32_t> VerletList::held_spatial_order(const ParticleStore& p
   const std::uint8_t* const own = share.own_slots();
   const std::size_t n = p.size(), size = static_cast<std::size_t>(share.share_size());
   const auto me = static_cast<std::size_t>(share.share_rank());
-  const Slabs g = held_cut(p);
+  const Slabs g = held_cut(SearchPoints::of(p));
   const std::size_t nslab = g.count;
   const SlabOf slab_of = slab_map(g, SearchPoints::of(p));
   const std::vector<std::uint32_t> start = held_counts(slab_of, n);
@@ -262,10 +261,17 @@ void VerletList::prepare_held_build(ParticleStore& p) {
   const std::size_t n = p.size(), size = static_cast<std::size_t>(share.share_size());
   const auto me = static_cast<std::size_t>(share.share_rank());
   if (!own) throw std::logic_error("VerletList: a held build without owners");
+  if (pairs_pending_ && !carry_partial_ && history_)
+    throw std::logic_error("VerletList: a held build with every process's loaded contacts");
   HeldBuild h;
-  h.cut = held_cut(p);
+  // A loaded list whose build is not due lists its pairs again from its build positions
+  // (update()), which each process holds for its own rows: those are the positions sent.
+  h.relist = relist_due(p);
+  std::vector<double>* const pos[3] = {h.relist ? &x0_ : &p.x, h.relist ? &y0_ : &p.y, h.relist ? &z0_ : &p.z};
+  const SearchPoints at{pos[0]->data(), pos[1]->data(), pos[2]->data(), p.radius.data(), n};
+  h.cut = h.relist && cut_known_ ? cut_ : held_cut(at);
   const std::size_t nslab = h.cut.count;
-  const SlabOf slab_of = slab_map(h.cut, SearchPoints::of(p));
+  const SlabOf slab_of = slab_map(h.cut, at);
   h.count = held_counts(slab_of, n);
   // Each own particle's position and radius to the processes that search its slab.
   std::vector<std::vector<std::uint32_t>> readers(nslab);
@@ -281,19 +287,59 @@ void VerletList::prepare_held_build(ParticleStore& p) {
     if (!own[i]) continue;
     h.held[i] = 1;
     for (const std::uint32_t q : readers[slab_of(static_cast<std::uint32_t>(i))])
-      out[q].insert(out[q].end(), {static_cast<double>(i), p.x[i], p.y[i], p.z[i], p.radius[i]});
+      out[q].insert(out[q].end(), {static_cast<double>(i), at.x[i], at.y[i], at.z[i], p.radius[i]});
   }
   const std::vector<double> in = share.swap_values(out);
   for (std::size_t k = 0; k + 5 <= in.size(); k += 5) {
     const auto i = static_cast<std::size_t>(in[k]);
-    p.x[i] = in[k + 1];
-    p.y[i] = in[k + 2];
-    p.z[i] = in[k + 3];
+    for (int a = 0; a < 3; ++a) (*pos[a])[i] = in[k + 1 + a];
     p.radius[i] = in[k + 4];
     h.held[i] = 1;
   }
   h.ready = true;
   held_build_ = std::move(h);
+  if (pairs_pending_ && history_) route_loaded_contacts(slab_of);
+}
+
+void VerletList::route_loaded_contacts(const SlabOf& slab_of) {
+  // Each process read the contacts of its rows' particles i, whose partners j may be any
+  // process's. Each goes to the process that lists the rows of i's slab, which holds the
+  // positions of the slabs either side (where the slabs wrap, a pair of the last slab
+  // and slab 0 to slab 0's too, which holds both): the build finds its pair's slab there.
+  SearchShare& share = *share_;
+  const std::size_t size = static_cast<std::size_t>(share.share_size()), nslab = slab_of.count;
+  const auto me = static_cast<std::uint32_t>(share.share_rank());
+  const HeldBuild& h = held_build_;
+  std::vector<std::uint32_t> lister(nslab, 0);
+  std::vector<SearchSlabs> runs(size);
+  for (std::size_t q = 0; q < size; ++q) {
+    runs[q] = SearchSlabs::of(h.count, q, size, h.cut.wrap);
+    for (std::size_t s = runs[q].s0; s < runs[q].s1; ++s) lister[s] = static_cast<std::uint32_t>(q);
+  }
+  std::vector<std::vector<double>> out(size);
+  for (const PairContact& c : pair_carry_) {
+    const std::uint32_t s = slab_of(c.i);
+    auto send = [&](std::uint32_t q) {
+      out[q].insert(out[q].end(), {static_cast<double>(c.i), static_cast<double>(c.j), c.h.x, c.h.y, c.h.z});
+    };
+    send(lister[s]);
+    if (slab_of.wrap && s + 1 == nslab && lister[0] != lister[s]) send(lister[0]);
+  }
+  std::vector<std::uint64_t> tally{pair_carry_.size(), 0};
+  std::vector<PairContact>().swap(pair_carry_);
+  const std::vector<double> in = share.swap_values(out);
+  for (std::size_t k = 0; k + 5 <= in.size(); k += 5) {
+    const auto i = static_cast<std::uint32_t>(in[k]), j = static_cast<std::uint32_t>(in[k + 1]);
+    // Slab 0's lister keeps a pair of the last slab only where the last slab's lister
+    // does not hold its j.
+    const std::uint32_t q = lister[slab_of(i)];
+    if (!h.held[i] || !h.held[j] || (q != me && (slab_of(j) != 0 || runs[q].reads(0, nslab)))) continue;
+    pair_carry_.push_back({i, j, {in[k + 2], in[k + 3], in[k + 4]}});
+  }
+  tally[1] = pair_carry_.size();
+  share.sum(tally);
+  if (tally[0] != tally[1]) throw std::logic_error("VerletList: a loaded contact whose pair no process holds");
+  std::sort(pair_carry_.begin(), pair_carry_.end(), PairContact::by_key);
 }
 
 void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& slab_of) {
@@ -334,7 +380,10 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
     }
     std::sort(radius.begin(), radius.end());
   }
-  auto mine = [&](std::size_t i) { return held ? (held[i] & 2) != 0 : own(i); };
+  // A held listing of loaded pairs keeps the build positions of the process's rows too,
+  // from which the ranks find their particles' new owners (RankSplit::assign).
+  const std::uint8_t* const rows = held_build_.relist ? share_->own_slots() : nullptr;
+  auto mine = [&](std::size_t i) { return held ? (held[i] & 2) != 0 || (rows && rows[i]) : own(i); };
   const SlotRuns others = runs_not_held(n, mine);
   for (int a = 0; a < 3; ++a) {
     resize_zeroed(*to[a], n);
@@ -346,7 +395,7 @@ void VerletList::keep_own_build_positions(const SearchPoints& at, const SlabOf& 
   });
   for (std::size_t k = 0; k + 5 <= entering.size(); k += 5)
     for (int a = 0; a < 3; ++a) (*to[a])[static_cast<std::size_t>(entering[k])] = entering[k + 1 + a];
-  own_only_ = true;
+  own_only_ = !rows;
 }
 
 double VerletList::HeldBuild::radius(const ParticleStore& p, std::size_t i) const {

@@ -96,8 +96,10 @@ void VerletList::load_state(InArchive& a, bool built, std::uint64_t builds) {
   std::vector<std::uint32_t> wi, ww;
   std::vector<Vec3> wh;
   a.get(wi); a.get(ww); a.get(wh);
-  a.get(x0_); a.get(y0_); a.get(z0_);
-  own_only_ = walls_own_only_ = false;
+  // The build positions likewise: each process reads its window's (its rows').
+  for (auto* v : {&x0_, &y0_, &z0_}) get_slots(a, *v);
+  own_only_ = window.set && x0_.size() == window.n;
+  walls_own_only_ = false;
   std::uint8_t known = 0, axis = 0;
   std::uint64_t count = 0;
   a.get(known); a.get(axis); a.get(count);

@@ -13,11 +13,9 @@ namespace cdm {
 
 bool RankSplit::holds_build(const ParticleStore& p) {
   // Every particle must have an owner that holds its current state: not before the
-  // processes hold their rows (hold_rows), nor after a restart until its first build
-  // (its restored list reads every build position first); and nothing to do where every
-  // process holds the whole state anyway.
-  const bool restart = held_rows_ && radii_whole_;
-  const bool whole = !stale_ || moving_ || !assigned_ || restart || owner_.size() != p.size() || p.size() == 0;
+  // processes hold their rows (hold_rows); and nothing to do where every process holds
+  // the whole state anyway.
+  const bool whole = !stale_ || moving_ || !assigned_ || owner_.size() != p.size() || p.size() == 0;
   return !any(whole);
 }
 
@@ -90,11 +88,15 @@ void RankSplit::assign(VerletList& list, ParticleStore& p) {
 }
 
 void RankSplit::new_owners(const VerletList& list, const ParticleStore& p, const std::vector<Owner>& before) {
-  // This process's particles' positions are those the list was built from.
-  const VerletList::SlabOf slab = VerletList::slab_map(list.cut(), SearchPoints::of(p));
+  // This process's particles' positions are those the list was built from, or where it
+  // listed a loaded list's pairs again, their build positions (which it holds for its rows).
+  const std::size_t n = before.size();
+  const SearchPoints built{list.build_positions(0), list.build_positions(1), list.build_positions(2), nullptr, n};
+  const SearchPoints at = list.build_positions_own_only() ? SearchPoints::of(p) : built;
+  const VerletList::SlabOf slab = VerletList::slab_map(list.cut(), at);
   owner_ = before;
   std::vector<std::uint32_t> moves;  // (slot, new owner) of this process's particles
-  for (std::size_t i = 0; i < before.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     if (before[i] != rank_) continue;
     const int to = slab_owner_[slab(static_cast<std::uint32_t>(i))];
     if (to == rank_) continue;

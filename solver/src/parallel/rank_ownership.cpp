@@ -12,7 +12,7 @@
 
 namespace cdm {
 
-void RankSplit::hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from, bool radii_whole) {
+void RankSplit::hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from) {
   // Before the permutation: the particle that will be row i is in slot from[i] now.
   const std::size_t n = p.size();
   owner_.resize(n);
@@ -22,9 +22,8 @@ void RankSplit::hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& fr
   }
   own_from_owners();
   drop_boundaries();
-  release_foreign(p, radii_whole ? &p.radius : nullptr);
+  release_foreign(p);
   assigned_ = stale_ = held_rows_ = true;
-  radii_whole_ = radii_whole;
   moving_ = written_ = gathered_ = false;
 }
 
@@ -33,7 +32,7 @@ void RankSplit::drop_boundaries() {
   below_ = above_ = -1;
 }
 
-void RankSplit::release_foreign(ParticleStore& p, const std::vector<double>* kept) {
+void RankSplit::release_foreign(ParticleStore& p) {
   const std::size_t n = p.size();
   std::vector<std::uint8_t> held = owned_;
   held.resize(n, 0);
@@ -42,8 +41,7 @@ void RankSplit::release_foreign(ParticleStore& p, const std::vector<double>* kep
   const SlotRuns foreign = runs_not_held(n, [&](std::size_t i) { return held[i] != 0; });
   // The positions too: a build reads the own particles' and those their owners send it
   // (RankSplit::prepare_build), or gathers them all.
-  for (auto* a : dynamic_arrays(p, true))
-    if (a != kept) zero_slots(*a, foreign);
+  for (auto* a : dynamic_arrays(p, true)) zero_slots(*a, foreign);
   // The build positions: the own particles' only (the list holds no ghosts' either).
   if (list_ && list_->listed(n) && !list_->build_positions_own_only()) {
     const SlotRuns others = runs_not_held(n, [&](std::size_t i) { return i < owned_.size() && owned_[i] != 0; });

@@ -7,7 +7,7 @@
 /// Verlet list's slabs (verlet_list.hpp) are dealt out in contiguous runs, one per rank,
 /// at every build, so that the largest load (a run's listed pairs, those in contact
 /// weighed more, and particles, plus the pairs of its shadow slab, below) is the least
-/// (VerletList::deal_slabs). A rank owns the particles
+/// (deal_slabs). A rank owns the particles
 /// of its slabs (each particle's slab at the build) and the pairs listed in them, and
 /// holds only those pairs and the shadow slab's (below): the list is divided among the
 /// ranks (SearchShare). Within the rank its threads split its slabs as before. Per step:
@@ -188,8 +188,8 @@ class RankSplit final : public SearchShare {
   /// Whether the next build (and a sort before it) can read each process's own
   /// particles' positions only (prepare_build, VerletList::held_spatial_order): the same
   /// answer on every process, false where the whole positions are to be gathered
-  /// (synchronise()) instead: before each process holds its rows (hold_rows()), after a
-  /// restart until its first build, or where every process holds the whole state already.
+  /// (synchronise()) instead: before each process holds its rows (hold_rows()), or where
+  /// every process holds the whole state already.
   bool holds_build(const ParticleStore& p);
   /// Where holds_build(), before a build of @p list: each process gets the positions of
   /// the particles the build's search reads from their owners
@@ -219,10 +219,9 @@ class RankSplit final : public SearchShare {
   /// dealt out), so that no rank holds every particle's state through the sort and the
   /// build; that build reads the positions and radii its search needs from the rows'
   /// holders (holds_build()). Called for a restart too (each rank read its rows of the
-  /// checkpoint: InArchive::keep_slots), with @p radii_whole: a restored list lists its
-  /// pairs again from its build positions with every particle's radius before that build
-  /// (VerletList::update), and the build gathers every position.
-  void hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from, bool radii_whole = false);
+  /// checkpoint: InArchive::keep_slots): a restored list lists its pairs again from the
+  /// build positions that the rows' holders send likewise (VerletList::prepare_held_build).
+  void hold_rows(ParticleStore& p, const std::vector<std::uint32_t>& from);
   /// Whether ownership follows build number @p builds of the list.
   bool assigned_for(std::uint64_t builds) const { return assigned_ && !moving_ && !held_rows_ && builds == builds_; }
 
@@ -384,7 +383,7 @@ class RankSplit final : public SearchShare {
   /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
   /// particles. The rank no longer holds the whole state (stale_). @p kept, one of the
   /// store's arrays, stays whole.
-  void release_foreign(ParticleStore& p, const std::vector<double>* kept = nullptr);
+  void release_foreign(ParticleStore& p);
   /// Every rank, or with @p to_writer rank 0 alone, gets the whole state (synchronise(),
   /// gather_to_writer()): every particle's arrays, @p list's build positions where a rank
   /// holds its own particles' only, the wall history (as rows, or as records where the
@@ -407,7 +406,6 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()
-  bool radii_whole_ = false;  // hold_rows() of a restart: its first build gathers every position
   bool held_build_ = false;  // prepare_build(): each process holds its own particles' positions only
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()

@@ -105,6 +105,14 @@ struct SearchSlabs {
   bool reads(std::size_t s, std::size_t nslab) const { return (s >= a && s < b) || (last && s + 1 == nslab); }
 };
 
+/// The first slab of each of @p size processes, and the slab count after them: runs of
+/// slabs whose largest load is as small as it can be, a run's load being its slabs' cost
+/// (@p cost: running sums from 0, one more entry than slabs) plus the @p work (its pairs'
+/// estimated cost) of the slab below it, its shadow slab: none below slab 0, or where
+/// the slabs @p wrap the last one unless the run holds every slab.
+std::vector<std::uint32_t> deal_slabs(const std::vector<std::uint64_t>& cost, const std::vector<std::uint64_t>& work,
+                                      std::size_t size, bool wrap);
+
 /// Processes that share the contact search and the list (RankSplit). At a build each
 /// lists the rows of a run of whole slabs, about its share of the particles, in the
 /// order of their keys (VerletList::key_order); the slabs are dealt out in contiguous

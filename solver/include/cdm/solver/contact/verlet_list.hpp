@@ -90,6 +90,8 @@ class VerletList {
 
   /// True when the next update rebuilds the list (the moment to sort).
   bool rebuild_due(const ParticleStore& p) const { return !built_ || needs_rebuild(p); }
+  /// True when the next update lists a loaded list's pairs again (its build not due).
+  bool relist_due(const ParticleStore& p) const;
   /// Whether a list has been built for @p n particles, so that displacement() applies.
   bool listed(std::size_t n) const { return x0_.size() == n; }
   /// Whether the list stands as the last update left it for @p p's particles: built for
@@ -289,7 +291,9 @@ class VerletList {
   /// and into @p p the positions of the particles of the slabs this process searches
   /// (SearchSlabs), from their owners. The next update() builds from these; the
   /// particles of its new slabs that it did not receive then come with their positions
-  /// from their owners, which only the owners read. Every process calls it.
+  /// from their owners, which only the owners read. Before a loaded list's listing
+  /// (relist_due()) likewise, from the build positions of the processes' rows, in its
+  /// cut; its contacts go to the processes that list their pairs. Every process calls it.
   void prepare_held_build(ParticleStore& p);
   /// spatial_order(), where the processes that share the list hold their own particles'
   /// positions only (as prepare_held_build): every process gets the whole order. Every
@@ -333,14 +337,6 @@ class VerletList {
   /// How the last build dealt the slabs among the processes that share the list: process
   /// r's are [rank_slab_first()[r], rank_slab_first()[r + 1]). Empty on one process.
   const std::vector<std::uint32_t>& rank_slab_first() const { return rank_slab_first_; }
-  /// The first slab of each of @p size processes, and the slab count after them: runs of
-  /// slabs whose largest load is as small as it can be, a run's load being its slabs' cost
-  /// (@p cost: running sums from 0, one more entry than slabs) plus the @p work (its pairs'
-  /// estimated cost) of the slab below it, its shadow slab: none below slab 0, or where
-  /// the slabs @p wrap the last one unless the run holds every slab.
-  static std::vector<std::uint32_t> deal_slabs(const std::vector<std::uint64_t>& cost,
-                                               const std::vector<std::uint64_t>& work, std::size_t size,
-                                               bool wrap);
 
   /// The list's contacts and build positions, for checkpoints: the pairs (in list order,
   /// the same on any number of processes) and the particle–wall entries (in (i, w)
@@ -410,6 +406,7 @@ class VerletList {
   /// process's after the build (bit 1, set by the build: its position then in x0_).
   struct HeldBuild {
     bool ready = false;
+    bool relist = false;  // the loaded pairs listed again (prepare_held_build), not a build
     Slabs cut;
     std::vector<std::uint32_t> count;
     std::vector<std::uint8_t> held;
@@ -423,7 +420,10 @@ class VerletList {
   /// Each slab's process, as the last build dealt them out (rank_slab_first_).
   std::vector<std::uint32_t> slab_owners() const;
   /// A held build's cut (prepare_held_build) from the own particles' extents.
-  Slabs held_cut(const ParticleStore& p) const;
+  Slabs held_cut(const SearchPoints& at) const;
+  /// At a held build or listing of a loaded list (prepare_held_build, its slabs @p slab_of):
+  /// each loaded contact (pair_carry_) to the process whose search holds both particles.
+  void route_loaded_contacts(const SlabOf& slab_of);
   /// The particles before each slab of @p slab_of (nslab + 1 running counts), counted by
   /// their owners and summed.
   std::vector<std::uint32_t> held_counts(const SlabOf& slab_of, std::size_t n) const;
