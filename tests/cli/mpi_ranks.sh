@@ -20,7 +20,9 @@
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
 # bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
 # gathered in rounds of a few particles and pairs. The chute and the Mueller bed are
-# compared on 2 over TCP, without Open MPI's shared memory, as between machines. A run on 2
+# compared on 2 over TCP, without Open MPI's shared memory, as between machines. A lattice
+# thrown at the floor, stopped at each of 20 consecutive steps and continued on 2 or 3 (some
+# restarts' first step builds the list), ends as one process's run. A run on 2
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table;
 # a run on 3 that loses a process (SIGKILL) exits non-zero and continues on 2 from its last
 # checkpoint to the same files; rank 0's write failing on a full device stops both of 2
@@ -328,9 +330,9 @@ shared "mueller over TCP" 2 "${mueller[@]}" --max-steps 600 --set output.vtk=fal
   --set 'coupling.drag_evaluation="gas_step"' --set 'gas.division="planes"'
 launch=("${near_launch[@]}")
 
-# A restart reads each process's share of the state (its run of rows, the positions
-# whole) and of the pair contacts, and the first build moves each particle's state to its
-# owner: runs stopped on one count of processes and continued on another end as one
+# A restart reads each process's share of the state (its run of rows, the list's build
+# positions too) and of the pair contacts; its first listing reads from the rows' holders
+# the positions it searches and moves each particle's state to its owner: runs stopped on one count of processes and continued on another end as one
 # process's uninterrupted run (the runs above), with a gas and the drag kept per particle
 # between gas steps, with insertions and outlets, and with mesh contacts.
 # resumed TAG ONE_DIR NP1 NP2 STEPS SCENE ARGS...
@@ -355,6 +357,24 @@ resumed "bed fed from above" "$work/bed-fed-from-above-1" 3 2 3000 "${fed[@]}"
 resumed "mesh pile" "$work/mesh-pile-1" 3 2 1000 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
   --set output.interval=0.005 --set output.log_interval=0.001
 
+# A restart whose first step's build is due carries the loaded contacts into that build
+# (no listing of the loaded pairs first): a lattice thrown at the floor at 2 m/s, its list
+# built every 16 steps or so, stopped by one process at each of 20 consecutive steps and
+# continued on 2 or 3 processes, ends with one process's checkpoint and log every time.
+thrown=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,20]' --set 'lattices[0].velocity=[0.0,0.0,-2.0]'
+        --set integrator.end_time=0.03 --set output.particles=false --set output.vtk=false --set output.log_interval=1e-4)
+"$cdm" run "${thrown[@]}" -q -j 1 -o "$work/thrown-1" --max-steps 140 > /dev/null || fail "thrown: one process"
+for k in $(seq 100 119); do
+  d="$work/thrown-$k" np=$((2 + k % 2))
+  "$cdm" run "${thrown[@]}" -q -j 1 -o "$d" --max-steps "$k" > /dev/null || fail "thrown: stopped at step $k"
+  cp "$d/checkpoint.cdmck" "$d.cdmck"
+  "${launch[@]}" -np "$np" "$cdm" run "${thrown[@]}" -q -j 1 -o "$d" --restart "$d.cdmck" --max-steps $((140 - k)) \
+    > "$d.out" 2>&1 || fail "thrown: continued from step $k on $np processes: $(tail -3 "$d.out")"
+  for f in log.dat checkpoint.cdmck; do
+    cmp -s "$work/thrown-1/$f" "$d/$f" || fail "thrown, continued from step $k on $np processes: $f differs from one process's"
+  done
+done
+
 # SIGTERM to mpirun, which passes it to every process (as Slurm does to each task): a
 # checkpoint, the command to continue, and a restart on 3 processes that ends as one
 # process's uninterrupted run.
@@ -363,7 +383,16 @@ sigrun=("$src/bench/scenes/settle_1e4.toml" --set 'lattices[0].count=[10,10,50]'
 "$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig-1" > /dev/null || fail "signal: one process"
 "${launch[@]}" -np 2 "$cdm" run "${sigrun[@]}" -q -j 1 -o "$work/sig" > /dev/null 2> "$work/sig.err" &
 pid=$!
-sleep 2
+# The signal once both processes are in the loop, whatever the machine's speed: the
+# table's first bytes are written there, and it has grown since, a poll later.
+first=0
+for _ in $(seq 1 1200); do
+  size=$(stat -c %s "$work/sig/particles.dat" 2> /dev/null || echo 0)
+  [ "$first" = 0 ] && first=$size
+  [ "$first" -gt 0 ] && [ "$size" -gt "$first" ] && break
+  kill -0 "$pid" 2> /dev/null || fail "SIGTERM to mpirun: the run ended before its table grew"
+  sleep 0.1
+done
 kill -TERM "$pid"
 wait "$pid"
 [ -s "$work/sig/checkpoint.cdmck" ] || fail "SIGTERM to mpirun: no checkpoint: $(tail -3 "$work/sig.err")"
@@ -411,4 +440,4 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
 done
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
