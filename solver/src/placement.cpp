@@ -31,14 +31,23 @@ std::int64_t SequentialPlacement::cell(double v) const {
   return static_cast<std::int64_t>(std::clamp(std::floor(v / cell_), -0x1p62, 0x1p62));  // clamped: no overflow
 }
 
+std::size_t SequentialPlacement::slot_of(std::uint64_t key) const {
+  const std::size_t mask = table_.size() - 1;
+  std::size_t k = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & mask;
+  while (table_[k].head != 0 && table_[k].key != key) k = (k + 1) & mask;
+  return k;
+}
+
 bool SequentialPlacement::clear_of_spheres(Vec3 x, double r) const {
   const std::int64_t cx = cell(x.x), cy = cell(x.y), cz = cell(x.z);
-  for (int a = -1; a <= 1; ++a)
-    for (int b = -1; b <= 1; ++b)
-      for (int c = -1; c <= 1; ++c) {
-        const auto it = cells_.find(pack(cx + a, cy + b, cz + c));
-        if (it == cells_.end()) continue;
-        for (const Sphere& s : it->second) {
+  // The sphere's own cell first, where an overlap is likeliest: a rejected candidate,
+  // the common case in a dense fill, costs one lookup (the answer is the same in any order).
+  static constexpr int order[3] = {0, -1, 1};
+  for (const int a : order)
+    for (const int b : order)
+      for (const int c : order) {
+        for (std::uint32_t q = table_[slot_of(pack(cx + a, cy + b, cz + c))].head; q != 0; q = next_[q - 1]) {
+          const Sphere& s = spheres_[q - 1];
           const Vec3 d = x - s.x;
           if (dot(d, d) < (r + s.r) * (r + s.r)) return false;
         }
@@ -72,6 +81,19 @@ bool SequentialPlacement::clear(Vec3 x, double r) const {
   return true;
 }
 
-void SequentialPlacement::add(Vec3 x, double r) { cells_[pack(cell(x.x), cell(x.y), cell(x.z))].push_back({x, r}); }
+void SequentialPlacement::add(Vec3 x, double r) {
+  if (2 * (occupied_ + 1) > table_.size()) {  // grow: every occupied cell into a table twice the size
+    std::vector<Cell> old(2 * table_.size());
+    old.swap(table_);
+    for (const Cell& c : old)
+      if (c.head != 0) table_[slot_of(c.key)] = c;
+  }
+  spheres_.push_back({x, r});
+  Cell& c = table_[slot_of(pack(cell(x.x), cell(x.y), cell(x.z)))];
+  if (c.head == 0) ++occupied_;
+  c.key = pack(cell(x.x), cell(x.y), cell(x.z));
+  next_.push_back(c.head);
+  c.head = static_cast<std::uint32_t>(spheres_.size());
+}
 
 }  // namespace cdm

@@ -8,7 +8,6 @@
 /// insertions (population.hpp).
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 #include "cdm/solver/contact/mesh_contacts.hpp"
@@ -37,13 +36,24 @@ class SequentialPlacement {
   };
   std::int64_t cell(double v) const;  // the cell index of a coordinate
   bool clear_of_spheres(Vec3 x, double r) const;
+  /// The slot of packed cell @p key in table_: its own, or the empty one where it would go.
+  std::size_t slot_of(std::uint64_t key) const;
 
   double cell_;
   std::vector<Wall> walls_;  // at the placement time
   double time_;              // the placement time [s]
   std::unique_ptr<MeshContacts> meshes_;  // the meshes' search, when the scene has any
   PeriodicBox box_;
-  std::unordered_map<std::uint64_t, std::vector<Sphere>> cells_;
+  // The spheres by cell: an open-addressed table (linear probing, at most half full) of
+  // the occupied cells, each with its spheres as a chain through next_ (1-based; 0 ends).
+  struct Cell {
+    std::uint64_t key = 0;
+    std::uint32_t head = 0;  // 0: an empty slot
+  };
+  std::vector<Cell> table_ = std::vector<Cell>(64);
+  std::size_t occupied_ = 0;
+  std::vector<Sphere> spheres_;
+  std::vector<std::uint32_t> next_;
 };
 
 }  // namespace cdm
