@@ -89,9 +89,10 @@ void SequentialPlacement::add(Vec3 x, double r) {
       if (c.head != 0) table_[slot_of(c.key)] = c;
   }
   spheres_.push_back({x, r});
-  Cell& c = table_[slot_of(pack(cell(x.x), cell(x.y), cell(x.z)))];
+  const std::uint64_t key = pack(cell(x.x), cell(x.y), cell(x.z));
+  Cell& c = table_[slot_of(key)];
   if (c.head == 0) ++occupied_;
-  c.key = pack(cell(x.x), cell(x.y), cell(x.z));
+  c.key = key;
   next_.push_back(c.head);
   c.head = static_cast<std::uint32_t>(spheres_.size());
 }

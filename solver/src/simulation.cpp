@@ -145,7 +145,8 @@ void Simulation::ready_for_list(double t) {
     // list listing its pairs again, their build positions, which the rows' holders send);
     // where some particles have no owner yet that holds them, every position, gathered.
     // Between builds a rank needs only the slabs either side of its own.
-    if (list.rebuild_due(particles_) || list.relist_due(particles_)) {
+    const bool build = list.rebuild_due(particles_);
+    if (build || list.relist_due(particles_)) {
       // Where every rank holds the whole state, each keeps its run of rows of the sorted
       // order through the sort (RankSplit::hold_rows), as after a restart, and the build
       // reads from the rows' holders the positions its search needs.
@@ -157,7 +158,7 @@ void Simulation::ready_for_list(double t) {
         fill_motion();
       }
       if (ranks_->holds_build(particles_)) {
-        if (sort_due_at_build() && list.rebuild_due(particles_)) sort_by(list.held_spatial_order(particles_));
+        if (build && sort_due_at_build()) sort_by(list.held_spatial_order(particles_));
         ranks_->prepare_build(particles_, list);
         return;
       }

@@ -35,7 +35,7 @@ bool VerletList::walls_moved_away() const {
 VerletList::Update VerletList::update(const ParticleStore& p) {
   Update u;
   const bool due = rebuild_due(p);
-  if (pairs_pending_ && !due && listed(p.size())) {
+  if (!due && pairs_pending_ && listed(p.size())) {  // relist_due()
     // A loaded list: its pairs as its build listed them, from the build positions. (A
     // build due carries the loaded contacts over itself.)
     list_pairs(p, {x0_.data(), y0_.data(), z0_.data(), p.radius.data(), x0_.size()}, false);
@@ -53,7 +53,7 @@ VerletList::Update VerletList::update(const ParticleStore& p) {
 }
 
 bool VerletList::relist_due(const ParticleStore& p) const {
-  return pairs_pending_ && built_ && listed(p.size()) && !needs_rebuild(p);
+  return pairs_pending_ && listed(p.size()) && !rebuild_due(p);
 }
 
 bool VerletList::needs_rebuild(const ParticleStore& p) const {
@@ -400,11 +400,11 @@ void VerletList::list_pairs(const ParticleStore& p, const SearchPoints& at, bool
   slab_active_.assign(nslab, 0);  // the new slabs' contacts are not known yet
   if (divided) set_rank_slabs(rank_slab_first_[static_cast<std::size_t>(share_->share_rank())],
                               rank_slab_first_[static_cast<std::size_t>(share_->share_rank()) + 1]);
-  if (held && !build) keep_own_build_positions(at, slab_of);
+  // Divided, a build keeps its own slabs' build positions, and so does a held listing of
+  // loaded pairs (with the process's rows' too).
+  if (build ? divided : held) keep_own_build_positions(at, slab_of);
   if (build) {
-    if (divided) {
-      keep_own_build_positions(at, slab_of);
-    } else {
+    if (!divided) {
       x0_ = p.x; y0_ = p.y; z0_ = p.z;
       own_only_ = false;
     }

@@ -378,11 +378,10 @@ class RankSplit final : public SearchShare {
   /// them) nor the drag's values (its owner evaluates the drag).
   std::vector<std::vector<double>*> ghost_arrays(ParticleStore& p) const;
 
-  /// Zero the per-particle state (but the positions, which every rank gets at each
-  /// build) of the slots that are neither this rank's particles nor its ghosts, and
-  /// return their pages (slot_pages.hpp): a rank's memory for that state follows its own
-  /// particles. The rank no longer holds the whole state (stale_). @p kept, one of the
-  /// store's arrays, stays whole.
+  /// Zero the per-particle state, positions and radii included, of the slots that are
+  /// neither this rank's particles nor its ghosts, and the list's build positions of all
+  /// but its own, and return their pages (slot_pages.hpp): a rank's memory for that state
+  /// follows its own particles. The rank no longer holds the whole state (stale_).
   void release_foreign(ParticleStore& p);
   /// Every rank, or with @p to_writer rank 0 alone, gets the whole state (synchronise(),
   /// gather_to_writer()): every particle's arrays, @p list's build positions where a rank
