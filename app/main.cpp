@@ -186,14 +186,9 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
                    std::to_string(cdm::fluid::PlaneShare::min_divided_cells);
     whole_gas += ")";
   }
-  if (sim.ranks() > 1 && sim.unshared().empty())
+  if (sim.ranks() > 1)
     std::cout << "cdm run: the particles' work" << (gas_divided ? " and " + gas_part + " are" : " is")
               << " shared among " << sim.ranks() << " MPI processes" << whole_gas << "\n";
-  else if (sim.ranks() > 1)
-    std::cout << "cdm run: each of the " << sim.ranks() << " MPI processes runs the whole scene "
-              << (gas_divided ? "but " + gas_part + ", which they share," : "(no speed-up),") << " since "
-              << sim.unshared() << ": the shared step covers spheres with contacts, walls and periodic axes, with "
-              << "or without a gas, stepped by velocity Verlet, so far" << whole_gas << "\n";
   std::cout << std::flush;
   // Rank 0 writes the files. The other processes run the same observers, which read the
   // state (and so gather it) at the same steps, but write nothing: their paths are empty.
@@ -269,10 +264,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   progress.end_line();
   const double psteps = static_cast<double>(sim.steps() - steps_before) * static_cast<double>(sim.particle_count());
   const std::string where = sim.ranks() > 1 ? std::to_string(sim.ranks()) + " processes of " +
-                                                  std::to_string(omp_get_max_threads()) + " thread(s)" +
-                                                  (sim.unshared().empty() ? ""
-                                                   : gas_divided ? ", each the whole scene but the gas step"
-                                                                : ", each the whole scene")
+                                                  std::to_string(omp_get_max_threads()) + " thread(s)"
                                             : std::to_string(omp_get_max_threads()) + " thread(s)";
   std::printf("loop time %.3f s for %llu steps of %zu particles on %s: %.4g particle-steps/s; simulated time %.6g s\n",
               loop_s, static_cast<unsigned long long>(sim.steps() - steps_before), sim.particle_count(),

@@ -63,13 +63,19 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
   if (spec_.population_changes()) population_ = std::make_unique<Population>(spec_);
   split_among_ranks();
   // Among processes each gives motion to the rows it holds from the first build on
-  // (ready_for_list): the others' would only be let go of.
-  if (!ranks_) fill_motion();
-  if (spec_.tracers)  // a tracer moves with the gas from the start
-    for (std::size_t i = 0; i < particles_.size(); ++i) {
-      const Vec3 u = gas_->velocity_at(particles_.position(i));
-      particles_.vx[i] = u.x; particles_.vy[i] = u.y; particles_.vz[i] = u.z;
-    }
+  // (ready_for_list, divide_rows_if_due): the others' would only be let go of.
+  if (!ranks_) {
+    fill_motion();
+    if (spec_.tracers) tracers_follow_gas();
+  }
+}
+
+void Simulation::tracers_follow_gas() {
+  // A tracer moves with the gas from the start.
+  for_own_in_order(ranks_.get(), particles_.size(), [&](std::size_t i) {
+    const Vec3 u = gas_->velocity_at(particles_.position(i));
+    particles_.vx[i] = u.x; particles_.vy[i] = u.y; particles_.vz[i] = u.z;
+  });
 }
 
 Simulation::~Simulation() = default;
@@ -78,18 +84,8 @@ void Simulation::split_among_ranks() {
   ranks_ = RankSplit::create();
   if (!ranks_) return;
   world_size_ = ranks_->size();
-  // What the distributed step covers so far (rank_split.hpp). Any other scene runs whole
-  // on every process, alike (the same results; rank 0 writes them).
-  std::string why;
-  if (!contact_) why = "it has no contacts (modules.normal_contact), so no slabs to share";
-  else if (!integrator_->set_ranks(ranks_.get()))
-    why = std::string("its integrator is '") + to_string(spec_.integrator) + "' (the shared step is velocity Verlet's or the paper's Euler step)";
-  if (!why.empty()) {
-    unshared_ = why;
-    ranks_.reset();
-    return;
-  }
-  contact_->set_ranks(ranks_.get());
+  integrator_->set_ranks(ranks_.get());
+  if (contact_) contact_->set_ranks(ranks_.get());
   std::vector<std::vector<double>*> carried;
   for (auto& m : modules_)
     for (auto* a : m->share_among(ranks_.get())) carried.push_back(a);
@@ -131,8 +127,20 @@ void Simulation::remap(const std::vector<std::uint32_t>& from) {
   integrator_->masses_changed();
 }
 
+void Simulation::divide_rows_if_due() {
+  // Without contacts there are no slabs: each process moves its run of rows of the
+  // scene's order (RankSplit::divide_by_rows) from the first step's forces (or the first
+  // frame) on, when each gives its own particles their motion, as at a first build.
+  if (!ranks_ || contact_ || ranks_->partitioned() || particles_.size() == 0) return;
+  ranks_->divide_by_rows(particles_);
+  const bool start = motion_pending_;
+  fill_motion();
+  if (start && spec_.tracers) tracers_follow_gas();
+}
+
 void Simulation::ready_for_list(double t) {
-  if (contact_) contact_->set_time(t);
+  if (!contact_) return divide_rows_if_due();
+  contact_->set_time(t);
   if (ranks_) {
     // Where the integrator's drift bound reached the margin without a measure, the list
     // would measure every particle: each rank measures its own, the largest counts.
@@ -182,7 +190,8 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
 }
 
 void Simulation::list_first() {
-  if (!contact_ || contact_->list().built()) return;
+  if (!contact_) return divide_rows_if_due();
+  if (contact_->list().built()) return;
   // The first build as the first step's forces would make it (compute_forces), with
   // nothing evaluated: each process holds the whole state until it.
   ready_for_list(time_);

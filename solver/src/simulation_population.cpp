@@ -63,7 +63,7 @@ void Simulation::insert_due(bool own_part, bool positions_held) {
   // The list took every slot's position as its build position (VerletList::remap): the
   // own particles' and the new ones' alone are current, as after a divided build.
   if (!positions_held) contact_->list().build_positions_released();
-  if (own_part) ranks_->added(particles_.size() - n0);
+  if (own_part) ranks_->added(particles_, particles_.size() - n0);
 }
 
 std::vector<std::uint32_t> Simulation::share_near_insertions() {

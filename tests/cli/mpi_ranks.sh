@@ -14,9 +14,12 @@
 # paper's Euler step, and moving walls are compared on 3 processes, a bed fed from above (insertions, an outlet), the silo (a mesh, an outlet)
 # and the chute logged every few steps on 2. The Mueller bed (a gas, two-way drag) is compared on 2
 # processes, also with the drag evaluated once per gas step (and the fluidisation bed so
-# on 3), the fluidisation bed with the cell-average drag on 2, and the Mueller bed with the gas taking the drag implicitly on 3; the run logs, monitors and outlet tables are summed by each process over its own particles; a scene the shared step does not cover yet (a gas without contacts) runs
-# whole on each process but for its gas step, says so, and gives one process's results. The gas
-# step with the multigrid pressure solve, divided among the processes, gives the same files on 2, 3 and 4.
+# on 3), the fluidisation bed with the cell-average drag on 2, and the Mueller bed with the
+# gas taking the drag implicitly on 3; the run logs, monitors and outlet tables are summed
+# by each process over its own particles; particles without contacts (a gas scene, beads
+# raining through a gas with an insertion and an outlet, a Taylor-Green vortex, tracers,
+# with every integrator) are shared by rows. The gas step with the multigrid pressure
+# solve, divided among the processes, gives the same files on 2, 3 and 4.
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
 # bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
 # gathered in rounds of a few particles and pairs. The chute and the Mueller bed are
@@ -267,20 +270,21 @@ shared "cell-average drag" 2 "${fluid[@]}" --set 'coupling={mode="two_way", meth
 shared "implicit gas drag" 3 "${mueller[@]}" --max-steps 3000 --set output.vtk=false \
   --set 'drag.update="exponential"' --set 'coupling.gas_drag="implicit"'
 
-# Not covered yet (no contacts): each process runs the whole scene, and by default
-# (gas.division = "auto") the whole gas step too on a grid this small, as it says; with
-# gas.division = "planes" they divide the gas step's loops by planes (plane_share.hpp),
-# as it says. The results are those of one process.
+# Particles without contacts have no slabs: each process moves a fixed run of rows
+# (RankSplit::divide_by_rows). By default (gas.division = "auto") each steps the whole gas
+# on a grid this small, as it says; with gas.division = "planes" they divide the gas
+# step's loops by planes (plane_share.hpp), as it says. The results are those of one
+# process.
 gas=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[8,8,8]' --set integrator.end_time=2.0e-4)
 "$cdm" run "${gas[@]}" -q -o "$work/gas-1" > /dev/null || fail "gas scene: one process"
 "${launch[@]}" -np 2 "$cdm" run "${gas[@]}" -q -o "$work/gas-2" > "$work/gas-2.out" 2>&1 ||
   fail "gas scene: 2 processes: $(tail -5 "$work/gas-2.out")"
-[ "$(grep -c "each of the 2 MPI processes runs the whole scene (no speed-up), since it has no contacts.*; each steps the whole gas (gas.division = \"auto\": its 512 cells give a process fewer than 2048)" "$work/gas-2.out")" -eq 1 ] ||
+[ "$(grep -c "the particles' work is shared among 2 MPI processes; each steps the whole gas (gas.division = \"auto\": its 512 cells give a process fewer than 2048)" "$work/gas-2.out")" -eq 1 ] ||
   fail "gas scene on 2 processes: not one notice of the whole gas step: $(cat "$work/gas-2.out")"
 same "gas scene, 2 processes" "$work/gas-1" "$work/gas-2"
 "${launch[@]}" -np 2 "$cdm" run "${gas[@]}" --set 'gas.division="planes"' -q -o "$work/gas-2p" > "$work/gas-2p.out" 2>&1 ||
   fail "gas scene, planes: 2 processes: $(tail -5 "$work/gas-2p.out")"
-[ "$(grep -c "each of the 2 MPI processes runs the whole scene but the gas step (its direct pressure solve done whole by each), which they share, since it has no contacts" "$work/gas-2p.out")" -eq 1 ] ||
+[ "$(grep -c "the particles' work and the gas step (its direct pressure solve done whole by each) are shared among 2 MPI processes" "$work/gas-2p.out")" -eq 1 ] ||
   fail "gas scene, planes, on 2 processes: not one notice: $(cat "$work/gas-2p.out")"
 same "gas scene, gas step divided, 2 processes" "$work/gas-1" "$work/gas-2p"
 # "auto" divides where every process gets 2048 cells or more: 16 x 16 x 16 on 2.
@@ -288,9 +292,28 @@ gas16=("$src/bench/scenes/gas_scaling.toml" --set 'gas.cells=[16,16,16]' --set i
 "$cdm" run "${gas16[@]}" -q -o "$work/gas16-1" > /dev/null || fail "gas scene, 16^3: one process"
 "${launch[@]}" -np 2 "$cdm" run "${gas16[@]}" -q -o "$work/gas16-2" > "$work/gas16-2.out" 2>&1 ||
   fail "gas scene, 16^3: 2 processes: $(tail -5 "$work/gas16-2.out")"
-grep -q "each of the 2 MPI processes runs the whole scene but the gas step, which they share," "$work/gas16-2.out" ||
+grep -q "the particles' work and the gas step are shared among 2 MPI processes" "$work/gas16-2.out" ||
   fail "gas scene, 16^3, on 2 processes: the divided gas step not reported: $(cat "$work/gas16-2.out")"
 same "gas scene, 16^3, 2 processes" "$work/gas16-1" "$work/gas16-2"
+# Beads without contacts raining through a gas, fed by an insertion (whose particles each
+# process takes its run of rows of) and drained by an outlet: on 2, 3 and 4 processes; the
+# drag once per gas step, the gas taking it implicitly and the paper's Euler step on 3;
+# stopped on 3 and continued on 2 after the insertion (resumed, below). Inertial
+# particles in a prescribed Taylor-Green vortex on 3.
+rain=("$src/tests/cli/scenes/drag_rain.toml")
+for np in 2 3 4; do shared "rain without contacts" "$np" "${rain[@]}"; done
+shared "rain, drag once per gas step" 3 "${rain[@]}" --set 'coupling.drag_evaluation="gas_step"'
+shared "rain, implicit gas drag" 3 "${rain[@]}" --set 'drag.update="exponential"' --set 'coupling.gas_drag="implicit"'
+shared "rain, Euler step" 3 "${rain[@]}" --set 'integrator.scheme="paper_euler"'
+shared "Taylor-Green clustering" 3 "$src/verification/cases/taylor_green_clustering/scene.toml" \
+  --set integrator.end_time=0.4 --set output.interval=0.05 --set output.particles=true --set output.vtk=true
+shared "rain, exponential midpoint" 3 "${rain[@]}" --set 'integrator.scheme="exponential_midpoint"' \
+  --set 'drag.update="exponential"'
+# Tracers (Runge-Kutta steps, the gas velocity read where each is): on 3, and a restart
+# from 2 onto 3 (resumed, below).
+tracers=("$src/verification/cases/circle_advection/scene.toml" --set integrator.end_time=0.05
+         --set output.particles=true --set output.interval=0.01 --set output.vtk=true --set output.log_interval=0.01)
+shared "tracers" 3 "${tracers[@]}"
 
 # The gas step, its loops and its multigrid pressure solve, divided among the processes
 # (gas.division = "planes": each owns whole planes of cells; plane_share.hpp,
@@ -303,7 +326,7 @@ gas_mg=("${gas[@]}" --set 'gas.pressure_solver="multigrid"' --set output.interva
 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-1" > /dev/null || fail "gas scene, multigrid: one process"
 "${launch[@]}" -np 3 "$cdm" run "${gas_mg[@]}" -q -o "$work/gas-mg-3" > "$work/gas-mg-3.out" 2>&1 ||
   fail "gas scene, multigrid: 3 processes: $(tail -5 "$work/gas-mg-3.out")"
-grep -q "each of the 3 MPI processes runs the whole scene but the gas step, which they share," "$work/gas-mg-3.out" ||
+grep -q "the particles' work and the gas step are shared among 3 MPI processes" "$work/gas-mg-3.out" ||
   fail "gas scene, multigrid, on 3 processes: the shared solve not reported: $(cat "$work/gas-mg-3.out")"
 same "gas scene with the multigrid solve, 3 processes" "$work/gas-mg-1" "$work/gas-mg-3"
 mms=("$src/verification/cases/gas_mms/scene.toml" --set 'gas.cells=[32,32]' --set 'gas.pressure_solver="multigrid"'
@@ -354,6 +377,8 @@ resumed() {
 resumed "fluidisation once per gas step" "$work/fluidisation-once-per-gas-step-1" 2 3 1000 "${fluid[@]}" \
   --set 'coupling.drag_evaluation="gas_step"'
 resumed "bed fed from above" "$work/bed-fed-from-above-1" 3 2 3000 "${fed[@]}"
+resumed "rain without contacts" "$work/rain-without-contacts-1" 3 2 1111 "${rain[@]}"
+resumed "tracers" "$work/tracers-1" 2 3 9 "${tracers[@]}"
 resumed "mesh pile" "$work/mesh-pile-1" 3 2 1000 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
   --set output.interval=0.005 --set output.log_interval=0.001
 
@@ -440,4 +465,4 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
 done
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, a scene without contacts run whole on each, the multigrid pressure solve divided on 2-4, a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, particles without contacts shared by rows on 2-4 (fed, drained, restarted from 3 onto 2; every integrator; tracers on 3 and restarted from 2 onto 3), the multigrid pressure solve divided on 2-4, a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"

@@ -5,7 +5,7 @@ Runs each scene of examples/ and bench/scenes/ and every variant of every verifi
 case (the case's scene with the variant's overrides) for a fixed number of steps, logged
 at every step, on one process without a launcher and on NP processes under mpirun, and
 compares every file the two runs wrote. Results must be identical (the shared step,
-rank_split.hpp, or the whole scene on each process where it is not shared).
+rank_split.hpp).
 
 usage: mpi_audit.py CDM SOURCE_DIR WORK_DIR [NP [STEPS [FILTER...]]]
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::integrators {
@@ -42,18 +43,20 @@ double ExponentialMidpoint::step(StepHost& host, StepTimes times) {
   const std::size_t n = p.size();
   const double dt = dt_;
   host.ensure_forces();
+  if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   vx0_ = p.vx; vy0_ = p.vy; vz0_ = p.vz;
-  parallel_for(n, [&](std::size_t i) { advance(i, 0.5 * dt, false); });
+  for_own(ranks_, n, [&](std::size_t i) { advance(i, 0.5 * dt, false); });
   wrap_positions(p, box_);
   if (gas_) gas_->set_time(times.t + 0.5 * dt);
   host.compute_forces(times.t + 0.5 * dt);  // coefficients at mid-step
   // The full step starts again from x(t), v(t) (saved above), with mid-step coefficients.
-  parallel_for(n, [&](std::size_t i) { advance(i, dt, true); });
+  for_own(ranks_, n, [&](std::size_t i) { advance(i, dt, true); });
   wrap_positions(p, box_);
+  const double bad = own_state_not_finite(ranks_, p);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);
-  return -1.0;
+  return bad;
 }
 
 void ExponentialMidpoint::permute(const std::vector<std::uint32_t>& from) {

@@ -4,6 +4,7 @@
 #include "cdm/solver/integrators/paper_euler.hpp"
 #include "cdm/solver/integrators/tracer_rk.hpp"
 #include "cdm/solver/integrators/velocity_verlet.hpp"
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::integrators {
@@ -17,6 +18,11 @@ std::unique_ptr<Integrator> make_integrator(const IntegratorParts& parts) {
     case IntegratorScheme::rk4: return std::make_unique<TracerRungeKutta>(parts, true);
   }
   return std::make_unique<PaperEuler>(parts);
+}
+
+double own_state_not_finite(RankSplit* ranks, const ParticleStore& p) {
+  if (!ranks) return -1.0;
+  return max_own(ranks, p.size(), [&](std::size_t i) { return p.state_finite(i) ? 0.0 : 1.0; });
 }
 
 void wrap_positions(ParticleStore& p, const PeriodicBox& box) {

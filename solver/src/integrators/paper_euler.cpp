@@ -26,10 +26,7 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
       p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
     });
   wrap_positions(p, box_);
-  // Among ranks each checks its own particles (the guards see only the last gathered
-  // state of the others'); on one rank the guards check them all.
-  const double bad =
-      !ranks_ ? -1.0 : max_own(ranks_, n, [&](std::size_t i) { return p.state_finite(i) ? 0.0 : 1.0; });
+  const double bad = own_state_not_finite(ranks_, p);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);
   return bad;

@@ -1,5 +1,6 @@
 #include "cdm/solver/integrators/tracer_rk.hpp"
 
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 
 namespace cdm::integrators {
@@ -12,12 +13,13 @@ double TracerRungeKutta::step(StepHost& /*host*/, StepTimes times) {
   ParticleStore& p = p_;
   const std::size_t n = p.size();
   const double h = dt_, t = times.t;
+  if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
   x0_ = p.x; y0_ = p.y; z0_ = p.z;
   kx_.assign(n, 0.0); ky_.assign(n, 0.0); kz_.assign(n, 0.0);
   // Velocity at time ts of the point X0 + c·k_prev; adds weight·k to the sum.
   auto stage = [&](double ts, double c, double weight) {
     gas_->set_time(ts);
-    parallel_for(n, [&](std::size_t i) {
+    for_own(ranks_, n, [&](std::size_t i) {
       const Vec3 x = gas_->wrap({x0_[i] + c * p.vx[i], y0_[i] + c * p.vy[i], z0_[i] + c * p.vz[i]});
       const Vec3 k = gas_->velocity_at(x);
       p.vx[i] = k.x; p.vy[i] = k.y; p.vz[i] = k.z;  // the stage slope, kept for the next stage
@@ -34,17 +36,17 @@ double TracerRungeKutta::step(StepHost& /*host*/, StepTimes times) {
     stage(t + 0.5 * h, 0.5 * h, 2.0 / 6.0);
     stage(t + h, h, 1.0 / 6.0);
   }
-  parallel_for(n, [&](std::size_t i) {
+  for_own(ranks_, n, [&](std::size_t i) {
     p.x[i] = x0_[i] + h * kx_[i]; p.y[i] = y0_[i] + h * ky_[i]; p.z[i] = z0_[i] + h * kz_[i];
   });
   wrap_positions(p, box_);
   // The tracers' velocity is the gas velocity where they are now.
   gas_->set_time(t + h);
-  parallel_for(n, [&](std::size_t i) {
+  for_own(ranks_, n, [&](std::size_t i) {
     const Vec3 u = gas_->velocity_at(p.position(i));
     p.vx[i] = u.x; p.vy[i] = u.y; p.vz[i] = u.z;
   });
-  return -1.0;
+  return own_state_not_finite(ranks_, p);
 }
 
 void TracerRungeKutta::permute(const std::vector<std::uint32_t>& from) {

@@ -61,10 +61,9 @@ double VelocityVerlet::final_kick() {
   return max_own(ranks_, p.size(), one);
 }
 
-bool VelocityVerlet::set_ranks(RankSplit* ranks) {
+void VelocityVerlet::set_ranks(RankSplit* ranks) {
   ranks_ = ranks;
   ranks->set_extra_arrays({&hvx_, &hvy_, &hvz_, &hwx_, &hwy_, &hwz_});
-  return true;
 }
 
 double VelocityVerlet::complete() {

@@ -89,11 +89,24 @@ void RankSplit::keep(const std::vector<std::uint32_t>& from) {
   written_ = false;
 }
 
-void RankSplit::added(std::size_t count) {
+void RankSplit::added(ParticleStore& p, std::size_t count) {
   if (!assigned_) return;
-  owner_.resize(owner_.size() + count, 0);
+  const std::size_t n0 = owner_.size();
+  owner_.resize(n0 + count, 0);
+  if (by_rows_)
+    for (int r = 0; r < size_; ++r) {
+      const auto [first, last] = row_run(count, r);
+      std::fill(owner_.begin() + static_cast<std::ptrdiff_t>(n0 + first),
+                owner_.begin() + static_cast<std::ptrdiff_t>(n0 + last), static_cast<Owner>(r));
+    }
   own_from_owners();
+  if (by_rows_) release_foreign(p);
   written_ = false;
+}
+
+void RankSplit::divide_by_rows(ParticleStore& p) {
+  by_rows_ = true;
+  hold_rows(p, {});
 }
 
 }  // namespace cdm

@@ -199,20 +199,24 @@ void RankSplit::boundary_torques(ParticleStore& p, int pass) {
   exchange(f, sends, recvs, 15 + pass, legs_, {});
 }
 
-void RankSplit::share_whole_state(ParticleStore& p, VerletList& list, bool to_writer) {
+void RankSplit::share_whole_state(ParticleStore& p, VerletList* list, bool to_writer) {
   std::vector<std::vector<double>*> arrays = dynamic_arrays(p, true);
-  const bool own_x0 = list.listed(p.size()) && list.build_positions_own_only();
+  if (!list) {  // particles without contacts: their arrays are the whole state
+    share_particles(arrays, {}, to_writer);
+    return;
+  }
+  const bool own_x0 = list->listed(p.size()) && list->build_positions_own_only();
   if (own_x0)
-    for (auto* a : list.build_position_arrays()) arrays.push_back(a);
+    for (auto* a : list->build_position_arrays()) arrays.push_back(a);
   // Wall entries listed for the own particles only cannot take the others' rows: the
   // contacts are set aside and joined as records (share_contact_records).
-  if (list.wall_entries_own_only() && list.wall_entries_current()) list.set_aside_walls();
-  share_particles(arrays, wall_rows(list, p.size()), to_writer);
-  share_contact_records(list, to_writer);
-  if (own_x0 && (!to_writer || rank_ == 0)) list.build_positions_whole();
+  if (list->wall_entries_own_only() && list->wall_entries_current()) list->set_aside_walls();
+  share_particles(arrays, wall_rows(*list, p.size()), to_writer);
+  share_contact_records(*list, to_writer);
+  if (own_x0 && (!to_writer || rank_ == 0)) list->build_positions_whole();
 }
 
-void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) {
+void RankSplit::synchronise(ParticleStore& p, VerletList* list, bool for_build) {
   if (!stale_ || (moving_ && for_build)) return;
   // A build reads the positions; the rest of the state (the mesh contacts too) moves with
   // the particles that change owner (assign). The mesh contacts are joined only here.
@@ -226,7 +230,7 @@ void RankSplit::synchronise(ParticleStore& p, VerletList& list, bool for_build) 
   stale_ = moving_ = positions_only;
 }
 
-void RankSplit::gather_to_writer(ParticleStore& p, VerletList& list) {
+void RankSplit::gather_to_writer(ParticleStore& p, VerletList* list) {
   if (!stale_ || written_) return;
   share_whole_state(p, list, true);
   written_ = true;
@@ -372,8 +376,8 @@ std::unique_ptr<RankSplit> RankSplit::create() { return nullptr; }
 void RankSplit::exchange_ghosts(ParticleStore&, bool) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::boundary_torques(ParticleStore&, int) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::exchange_ghost_torques(ParticleStore&) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::synchronise(ParticleStore&, VerletList&, bool) { throw std::logic_error("RankSplit without MPI"); }
-void RankSplit::gather_to_writer(ParticleStore&, VerletList&) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::synchronise(ParticleStore&, VerletList*, bool) { throw std::logic_error("RankSplit without MPI"); }
+void RankSplit::gather_to_writer(ParticleStore&, VerletList*) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::gather(const std::vector<std::vector<double>*>&) { throw std::logic_error("RankSplit without MPI"); }
 void RankSplit::migrate(ParticleStore&, VerletList&, const std::vector<Owner>&) { throw std::logic_error("RankSplit without MPI"); }
 

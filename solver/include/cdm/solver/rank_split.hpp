@@ -137,8 +137,15 @@
 /// smaller loops (ghost layers, the pressure's update, the interpolators' refresh) and a
 /// direct pressure solve are done whole by each rank, a build still passes over every
 /// slot (1 or 2 bytes each: the owners, which slots it holds), a sort gives every rank
-/// the whole permutation (4 bytes a particle), and scenes without contacts (tracers, or particles moved by drag alone) are run whole by
-/// every rank but for their gas step (Simulation::unshared()).
+/// the whole permutation (4 bytes a particle).
+///
+/// Particles without contacts (moved by drag alone, by any integrator, or tracers) have no
+/// list, so no slabs and no ghosts: each rank holds and
+/// moves a fixed run of rows of the scene's order from the first step on
+/// (divide_by_rows()), and no particle ever changes rank. An insertion's particles,
+/// inserted alike by every rank, are dealt out by rows of their own (added()); a removal
+/// keeps the others where they are (keep()). The drag, the deposits, the outputs and the
+/// checkpoints read each rank's own particles as above.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -207,9 +214,15 @@ class RankSplit final : public SearchShare {
   /// of slot from[i]; ParticleStore::keep): the ownership and the boundary slabs' lists
   /// follow, and the rest of each rank's state stays its own.
   void keep(const std::vector<std::uint32_t>& from);
-  /// @p count particles were appended to every rank's store alike (the same state on
-  /// each): rank 0's until the next assign() deals the slabs out.
-  void added(std::size_t count);
+  /// @p count particles were appended to every rank's store @p p alike (the same state on
+  /// each): rank 0's until the next assign() deals the slabs out; divided by rows
+  /// (divide_by_rows()), each rank takes its run of rows of them and lets go of the rest.
+  void added(ParticleStore& p, std::size_t count);
+  /// For particles without contacts, which have no slabs and no ghosts: each rank holds
+  /// and moves its run of rows (hold_rows(), no sort) for good, and takes its run of rows
+  /// of an insertion's particles likewise (added()); a removal keeps the rest where they
+  /// are (keep()). Called where every rank holds the whole state alike (!partitioned()).
+  void divide_by_rows(ParticleStore& p);
   /// Each rank holds the state of its run of rows(p.size()) only, the rows of the order
   /// after @p from (a sort about to be made: slot i will take the particle of slot
   /// from[i]; empty, none), lets go of the other rows' state (release_foreign()), and
@@ -261,13 +274,14 @@ class RankSplit final : public SearchShare {
   /// particles (not the pairs', which stay divided). A no-op while nothing is stale.
   /// @p for_build: the list is built next, which reads the positions only, so only those
   /// are sent; assign() then moves the rest with the particles that change owner.
-  void synchronise(ParticleStore& p, VerletList& list, bool for_build = false);
+  /// @p list: nullptr for particles without contacts.
+  void synchronise(ParticleStore& p, VerletList* list, bool for_build = false);
   /// Rank 0, which writes what reads the whole state (a VTK frame whose list changed since
   /// the step's update: output_fields.hpp), gets all of it as
   /// synchronise() gives every rank; the others send
   /// their own particles and keep their state as it is. Called on every rank alike; a
-  /// no-op while rank 0 holds the whole state already.
-  void gather_to_writer(ParticleStore& p, VerletList& list);
+  /// no-op while rank 0 holds the whole state already. @p list: nullptr without contacts.
+  void gather_to_writer(ParticleStore& p, VerletList* list);
   /// Whether rank 0 holds every particle's current state (each rank moves every particle,
   /// or the state was gathered since the last step); the same on every rank.
   bool writer_holds_all() const { return !assigned_ || !stale_ || written_; }
@@ -387,8 +401,8 @@ class RankSplit final : public SearchShare {
   /// gather_to_writer()): every particle's arrays, @p list's build positions where a rank
   /// holds its own particles' only, the wall history (as rows, or as records where the
   /// entries list the own particles only: VerletList::wall_entries_own_only) and the
-  /// contacts kept per particle.
-  void share_whole_state(ParticleStore& p, VerletList& list, bool to_writer);
+  /// contacts kept per particle; the arrays alone where there is no @p list.
+  void share_whole_state(ParticleStore& p, VerletList* list, bool to_writer);
 
   /// Rank @p r's run of rows of @p n: the r-th of size() equal runs.
   std::pair<std::size_t, std::size_t> row_run(std::size_t n, int r) const {
@@ -405,6 +419,7 @@ class RankSplit final : public SearchShare {
   bool assigned_ = false, stale_ = false;
   bool moving_ = false;  // positions gathered for a build: the owners change at assign()
   bool held_rows_ = false;  // hold_rows(): the owners change at assign()
+  bool by_rows_ = false;  // divide_by_rows(): the owners never change
   bool held_build_ = false;  // prepare_build(): each process holds its own particles' positions only
   bool written_ = false;  // rank 0 holds the whole state (gather_to_writer) though stale_
   bool gathered_ = false;  // this rank got the whole state since release_foreign()

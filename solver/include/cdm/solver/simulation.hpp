@@ -50,9 +50,6 @@ class Simulation : private integrators::StepHost {
   std::size_t particle_count() const { return particles_.size(); }
   /// The MPI processes of the run (1 without a launcher).
   int ranks() const;
-  /// Why the processes each run the whole scene instead of sharing it (empty when they
-  /// share it, or on one process): what the distributed step does not cover yet.
-  const std::string& unshared() const { return unshared_; }
   /// Whether @p flag is set on any of the processes (a collective call when several).
   bool any_rank(bool flag) const { return ranks_ ? ranks_->any(flag) : flag; }
   /// The sum of @p v over the processes, and the largest of @p x (collective calls
@@ -216,12 +213,19 @@ class Simulation : private integrators::StepHost {
   /// Before the output at the start: the contact list's first build, and the particles'
   /// first sort, as the first step would do them from the same positions, so that the
   /// output reads the run's own list (and among MPI processes each process its own part
-  /// of it, as at any later step) instead of a copy listing every pair again.
+  /// of it, as at any later step) instead of a copy listing every pair again. Without
+  /// contacts, among MPI processes, the rows divided instead (divide_rows_if_due).
   void list_first();
+  /// Among MPI processes, particles without contacts not yet divided: each process keeps
+  /// its run of rows (RankSplit::divide_by_rows) and gives them their motion.
+  void divide_rows_if_due();
+  /// The tracers this process moves take the gas velocity where they are (at the start).
+  void tracers_follow_gas();
   /// Before the contact list's update for the positions at time @p t: the walls moved
   /// there; among MPI processes, where the list is due to be built, the positions the
   /// build (and a sort before it) reads, else the ghosts; the particles sorted where due
-  /// (sort_if_due, or among processes VerletList::held_spatial_order).
+  /// (sort_if_due, or among processes VerletList::held_spatial_order). Without contacts,
+  /// divide_rows_if_due() alone.
   void ready_for_list(double t);
   /// Sort the particles spatially when neighbour_list.sort_interval asks for it and
   /// the contact list is about to be rebuilt.
@@ -280,8 +284,7 @@ class Simulation : private integrators::StepHost {
   /// Particle i's mass, 1/m and 1/I from its radius and its material's density.
   void set_scene_mass(std::size_t i);
   /// Under mpirun with several processes: share the particles' work among them
-  /// (rank_split.hpp), or, for a scene the distributed step does not cover, say why
-  /// (unshared()).
+  /// (rank_split.hpp).
   void split_among_ranks();
   /// Every rank gets the whole state (a no-op on one rank or when nothing is stale);
   /// @p for_build: for the list build that follows (RankSplit::synchronise).
@@ -294,7 +297,6 @@ class Simulation : private integrators::StepHost {
   ContactModule* contact_ = nullptr;
   std::unique_ptr<RankSplit> ranks_;  // several MPI processes sharing the scene (split_among_ranks)
   int world_size_ = 1;                // MPI processes
-  std::string unshared_;              // see unshared()
   const ForceModule* gravity_ = nullptr;
   std::unique_ptr<fluid::GasField> gas_;
   coupling::DragModule* drag_ = nullptr;

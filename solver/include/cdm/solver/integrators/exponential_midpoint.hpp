@@ -18,6 +18,7 @@ class ExponentialMidpoint final : public Integrator {
   explicit ExponentialMidpoint(const IntegratorParts& parts);
   double step(StepHost& host, StepTimes times) override;
   void permute(const std::vector<std::uint32_t>& from) override;
+  void set_ranks(RankSplit* ranks) override { ranks_ = ranks; }
 
  private:
   /// Particle i advanced by @p h from the saved state at t with the present coefficients.
@@ -28,6 +29,7 @@ class ExponentialMidpoint final : public Integrator {
   double dt_;
   PeriodicBox box_;
   std::vector<double> x0_, y0_, z0_, vx0_, vy0_, vz0_;  // the state at t
+  RankSplit* ranks_ = nullptr;  // set_ranks: the step moves this rank's particles only
 };
 
 }  // namespace cdm::integrators

@@ -67,8 +67,8 @@ class Integrator {
   /// Reorder the integrator's per-particle arrays (slot i takes what slot @p from[i] held).
   virtual void permute(const std::vector<std::uint32_t>& /*from*/) {}
   /// Move only this MPI rank's particles (rank_split.hpp), telling @p ranks which
-  /// per-particle arrays of its own a step carries; false when this integrator cannot.
-  virtual bool set_ranks(RankSplit* /*ranks*/) { return false; }
+  /// per-particle arrays of its own a step carries.
+  virtual void set_ranks(RankSplit* ranks) = 0;
 };
 
 /// What an integrator is built from: the scene, the particles, the gas (or nullptr),
@@ -83,6 +83,12 @@ struct IntegratorParts {
 
 /// The integrator the scene names.
 std::unique_ptr<Integrator> make_integrator(const IntegratorParts& parts);
+
+/// What a step returns of the state it reached: among MPI ranks (@p ranks) 1 if any
+/// rank's own particles' state is not finite, else 0 (each rank checks its own, since the
+/// guards see only the last gathered state of the others'); −1 on one rank, where the
+/// guards check them all.
+double own_state_not_finite(RankSplit* ranks, const ParticleStore& p);
 
 /// Wrap every particle's position into @p box (nothing where it has no periodic axis).
 void wrap_positions(ParticleStore& p, const PeriodicBox& box);

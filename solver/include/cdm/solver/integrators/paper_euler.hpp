@@ -13,10 +13,7 @@ class PaperEuler final : public Integrator {
  public:
   explicit PaperEuler(const IntegratorParts& parts);
   double step(StepHost& host, StepTimes times) override;
-  bool set_ranks(RankSplit* ranks) override {
-    ranks_ = ranks;
-    return true;
-  }
+  void set_ranks(RankSplit* ranks) override { ranks_ = ranks; }
 
  private:
   ParticleStore& p_;

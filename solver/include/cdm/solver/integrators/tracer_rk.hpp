@@ -15,6 +15,7 @@ class TracerRungeKutta final : public Integrator {
   TracerRungeKutta(const IntegratorParts& parts, bool fourth_order);
   double step(StepHost& host, StepTimes times) override;
   void permute(const std::vector<std::uint32_t>& from) override;
+  void set_ranks(RankSplit* ranks) override { ranks_ = ranks; }
 
  private:
   ParticleStore& p_;
@@ -23,6 +24,7 @@ class TracerRungeKutta final : public Integrator {
   PeriodicBox box_;
   bool fourth_order_;
   std::vector<double> x0_, y0_, z0_, kx_, ky_, kz_;  // X at t, the weighted sum of the slopes
+  RankSplit* ranks_ = nullptr;  // set_ranks: the step moves this rank's particles only
 };
 
 }  // namespace cdm::integrators

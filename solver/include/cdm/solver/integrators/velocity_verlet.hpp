@@ -33,7 +33,7 @@ class VelocityVerlet final : public Integrator {
   void discard_pending() override { kick_pending_ = false; }
   void masses_changed() override { one_mass_ = -1; }
   void permute(const std::vector<std::uint32_t>& from) override;
-  bool set_ranks(RankSplit* ranks) override;
+  void set_ranks(RankSplit* ranks) override;
 
  private:
   /// The one fused pass per step where nothing reads the velocities between steps.
