@@ -25,19 +25,20 @@ void Simulation::update_population() {
              : pop.any_leaving(particles_, 0, particles_.size());
   const bool due = pop.insertion_due(time_);
   if (!leaving && !due) return;
-  // Among ranks that share the particles, each completes its own. A list that is not
-  // kept (VerletList::remap) takes its build positions from the particles: then every
-  // rank gets the positions alone. Else an insertion reads the positions of the
-  // particles near its boxes only, which their owners share (insert_due). The leaving
-  // particles are found by their owners and removed alike everywhere (remove_leaving).
-  // Until the slabs are dealt out, every rank holds the whole state.
+  // Among ranks that share the particles, each completes its own. A contact list that is
+  // not kept (VerletList::remap) takes its build positions from the particles: then every
+  // rank gets the positions alone. Else (or without contacts) an insertion reads the
+  // positions of the particles near its boxes only, which their owners share
+  // (insert_due). The leaving particles are found by their owners and removed alike
+  // everywhere (remove_leaving). Until the particles are dealt out, every rank holds the
+  // whole state.
   const bool own_part = ranks_ && ranks_->partitioned();
   bool positions_held = true;
   if (own_part) {
     local_particles();
     const bool list_kept = contact_ && contact_->list().built() && contact_->list().listed(particles_.size());
-    if (!list_kept) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.radius});
-    positions_held = !list_kept;
+    positions_held = contact_ && !list_kept;
+    if (positions_held) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.radius});
   } else {
     complete_step();  // the state at the step's end, velocities included
   }
@@ -62,7 +63,7 @@ void Simulation::insert_due(bool own_part, bool positions_held) {
   remap(from);
   // The list took every slot's position as its build position (VerletList::remap): the
   // own particles' and the new ones' alone are current, as after a divided build.
-  if (!positions_held) contact_->list().build_positions_released();
+  if (!positions_held && contact_) contact_->list().build_positions_released();
   if (own_part) ranks_->added(particles_, particles_.size() - n0);
 }
 
