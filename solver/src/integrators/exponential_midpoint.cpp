@@ -4,6 +4,7 @@
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::integrators {
 
@@ -44,15 +45,16 @@ double ExponentialMidpoint::step(StepHost& host, StepTimes times) {
   const double dt = dt_;
   host.ensure_forces();
   if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
-  x0_ = p.x; y0_ = p.y; z0_ = p.z;
-  vx0_ = p.vx; vy0_ = p.vy; vz0_ = p.vz;
+  // Among ranks the others' slots read zero in both: their pages stay uncommitted.
+  copy_changed(x0_, p.x); copy_changed(y0_, p.y); copy_changed(z0_, p.z);
+  copy_changed(vx0_, p.vx); copy_changed(vy0_, p.vy); copy_changed(vz0_, p.vz);
   for_own(ranks_, n, [&](std::size_t i) { advance(i, 0.5 * dt, false); });
-  wrap_positions(p, box_);
+  wrap_positions(p, box_, ranks_);
   if (gas_) gas_->set_time(times.t + 0.5 * dt);
   host.compute_forces(times.t + 0.5 * dt);  // coefficients at mid-step
   // The full step starts again from x(t), v(t) (saved above), with mid-step coefficients.
   for_own(ranks_, n, [&](std::size_t i) { advance(i, dt, true); });
-  wrap_positions(p, box_);
+  wrap_positions(p, box_, ranks_);
   const double bad = own_state_not_finite(ranks_, p);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);

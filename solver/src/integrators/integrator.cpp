@@ -25,9 +25,9 @@ double own_state_not_finite(RankSplit* ranks, const ParticleStore& p) {
   return max_own(ranks, p.size(), [&](std::size_t i) { return p.state_finite(i) ? 0.0 : 1.0; });
 }
 
-void wrap_positions(ParticleStore& p, const PeriodicBox& box) {
+void wrap_positions(ParticleStore& p, const PeriodicBox& box, RankSplit* ranks) {
   if (!box.any()) return;
-  parallel_for(p.size(), [&](std::size_t i) {
+  for_own(ranks, p.size(), [&](std::size_t i) {
     p.x[i] = box.wrap(p.x[i], 0);
     p.y[i] = box.wrap(p.y[i], 1);
     p.z[i] = box.wrap(p.z[i], 2);

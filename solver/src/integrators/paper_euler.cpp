@@ -25,7 +25,7 @@ double PaperEuler::step(StepHost& host, StepTimes times) {
       const double b = dt * p.inv_inertia[i];
       p.wx[i] += b * p.tx[i]; p.wy[i] += b * p.ty[i]; p.wz[i] += b * p.tz[i];
     });
-  wrap_positions(p, box_);
+  wrap_positions(p, box_, ranks_);
   const double bad = own_state_not_finite(ranks_, p);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new);

@@ -2,6 +2,7 @@
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::integrators {
 
@@ -14,8 +15,9 @@ double TracerRungeKutta::step(StepHost& /*host*/, StepTimes times) {
   const std::size_t n = p.size();
   const double h = dt_, t = times.t;
   if (ranks_) ranks_->mark_stale(p_);  // this rank's particles move on
-  x0_ = p.x; y0_ = p.y; z0_ = p.z;
-  kx_.assign(n, 0.0); ky_.assign(n, 0.0); kz_.assign(n, 0.0);
+  // Among ranks the others' slots read zero: their pages stay uncommitted.
+  copy_changed(x0_, p.x); copy_changed(y0_, p.y); copy_changed(z0_, p.z);
+  for (auto* k : {&kx_, &ky_, &kz_}) assign_zeroed(*k, n);
   // Velocity at time ts of the point X0 + c·k_prev; adds weight·k to the sum.
   auto stage = [&](double ts, double c, double weight) {
     gas_->set_time(ts);
@@ -39,7 +41,7 @@ double TracerRungeKutta::step(StepHost& /*host*/, StepTimes times) {
   for_own(ranks_, n, [&](std::size_t i) {
     p.x[i] = x0_[i] + h * kx_[i]; p.y[i] = y0_[i] + h * ky_[i]; p.z[i] = z0_[i] + h * kz_[i];
   });
-  wrap_positions(p, box_);
+  wrap_positions(p, box_, ranks_);
   // The tracers' velocity is the gas velocity where they are now.
   gas_->set_time(t + h);
   for_own(ranks_, n, [&](std::size_t i) {

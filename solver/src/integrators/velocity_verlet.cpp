@@ -93,7 +93,7 @@ double VelocityVerlet::step(StepHost& host, StepTimes times) {
     verlet::verlet_first_half(a, rot, false, false, box, dt, i, p.velocity(i), p.angular_velocity(i), kick);
   };
   for_own(ranks_, n, first_half);
-  wrap_positions(p, box_);
+  wrap_positions(p, box_, ranks_);
   if (gas_) gas_->set_time(times.t_new);
   host.compute_forces(times.t_new, ForceStart::zeroed);
   return final_kick();

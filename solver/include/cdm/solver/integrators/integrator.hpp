@@ -90,8 +90,9 @@ std::unique_ptr<Integrator> make_integrator(const IntegratorParts& parts);
 /// guards check them all.
 double own_state_not_finite(RankSplit* ranks, const ParticleStore& p);
 
-/// Wrap every particle's position into @p box (nothing where it has no periodic axis).
-void wrap_positions(ParticleStore& p, const PeriodicBox& box);
+/// Wrap the position of every particle this rank moves (every particle without @p ranks)
+/// into @p box (nothing where it has no periodic axis).
+void wrap_positions(ParticleStore& p, const PeriodicBox& box, RankSplit* ranks);
 
 /// Reorder those of @p arrays that hold one value per particle (@p n of them).
 void permute_arrays(std::initializer_list<std::vector<double>*> arrays, std::size_t n,
