@@ -36,8 +36,8 @@ void Simulation::update_population() {
   bool positions_held = true;
   if (own_part) {
     local_particles();
-    const bool list_kept = contact_ && contact_->list().built() && contact_->list().listed(particles_.size());
-    positions_held = contact_ && !list_kept;
+    const VerletList* list = contact_list();
+    positions_held = list && !(list->built() && list->listed(particles_.size()));
     if (positions_held) ranks_->gather({&particles_.x, &particles_.y, &particles_.z, &particles_.radius});
   } else {
     complete_step();  // the state at the step's end, velocities included
@@ -63,7 +63,7 @@ void Simulation::insert_due(bool own_part, bool positions_held) {
   remap(from);
   // The list took every slot's position as its build position (VerletList::remap): the
   // own particles' and the new ones' alone are current, as after a divided build.
-  if (!positions_held && contact_) contact_->list().build_positions_released();
+  if (VerletList* list = contact_list(); list && !positions_held) list->build_positions_released();
   if (own_part) ranks_->added(particles_, particles_.size() - n0);
 }
 

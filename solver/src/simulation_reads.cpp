@@ -12,9 +12,10 @@
 
 namespace cdm {
 
+VerletList* Simulation::contact_list() const { return contact_ ? &contact_->list() : nullptr; }
+
 void Simulation::synchronise_ranks(bool for_build) const {
-  if (ranks_)
-    ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_ ? &contact_->list() : nullptr, for_build);
+  if (ranks_) ranks_->synchronise(const_cast<ParticleStore&>(particles_), contact_list(), for_build);
 }
 
 void Simulation::complete_step() const {
@@ -45,7 +46,7 @@ const ParticleStore& Simulation::local_particles() const {
 const ParticleStore& Simulation::written_particles() const {
   if (!ranks_) return particles();
   const double bad = integrator_->complete();
-  ranks_->gather_to_writer(const_cast<ParticleStore&>(particles_), contact_ ? &contact_->list() : nullptr);
+  ranks_->gather_to_writer(const_cast<ParticleStore&>(particles_), contact_list());
   if (bad != 0.0) fail_not_finite();
   return particles_;
 }

@@ -289,6 +289,8 @@ class Simulation : private integrators::StepHost {
   /// Every rank gets the whole state (a no-op on one rank or when nothing is stale);
   /// @p for_build: for the list build that follows (RankSplit::synchronise).
   void synchronise_ranks(bool for_build = false) const;
+  /// The contact list, or nullptr for particles without contacts.
+  VerletList* contact_list() const;
   void gas_step();
 
   SceneSpec spec_;
