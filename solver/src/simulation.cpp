@@ -33,6 +33,10 @@ Simulation::Simulation(SceneSpec spec) : spec_(std::move(spec)) {
                                              spec_.tangential == TangentialModel::spring_coulomb, spec_.verlet_skin, rolling);
     contact_ = c.get();
     contact_->set_periodic_box(spec_.periodic);
+    // A solved gas in 3D is divided among MPI processes by its planes along z
+    // (plane_share.hpp): the particles' slabs follow them where the bed's shape allows, on
+    // any number of processes alike, so that the particles' order does not depend on it.
+    if (solver_ && !gas_->grid().two_d()) contact_->list().prefer_slab_axis(2);
     if (!spec_.meshes.empty()) contact_->set_meshes(spec_.meshes);
     modules_.push_back(std::move(c));
     // Rolling resistance acts through the contacts just evaluated, so it runs after them.

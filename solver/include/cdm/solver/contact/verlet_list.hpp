@@ -16,10 +16,9 @@
 /// near a wall pay for them, not the whole bed.
 ///
 /// Slabs: at each build the particles' bounding box is cut into slabs along its longest
-/// side (the first, x before y before z, of the sides within a tenth of it; along a
-/// periodic axis the side is the period), at least one interaction range wide, and each
-/// pair belongs to the lower of its particles' slabs, so it touches only particles of that
-/// slab and the next. Along a periodic axis the slabs tile the period, an even number of
+/// side (of the sides within a tenth of it the preferred axis, else the first, x before
+/// y before z; along a periodic axis the side is the period), each at least one
+/// interaction range wide; a pair belongs to the lower of its particles' slabs. Along a periodic axis the slabs tile the period, an even number of
 /// them and at least four, and wrap: the last slab's next is the first, and a pair across
 /// the periodic faces belongs to the last slab. Even slabs may run in parallel,
 /// then odd ones, each slab one thread's, in a fixed order: every particle receives its
@@ -78,13 +77,13 @@ class VerletList {
   /// walls are moved there.
   void set_time(double t);
   double time() const { return time_; }
-  /// Whether any wall moves.
-  bool walls_move() const { return walls_move_; }
-  /// Whether every wall is a plane at rest.
-  bool still_planes() const { return still_planes_; }
+  bool walls_move() const { return walls_move_; }      ///< whether any wall moves
+  bool still_planes() const { return still_planes_; }  ///< whether every wall is a plane at rest
   /// Particles interact through their nearest images along the box's periodic axes.
   void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   const PeriodicBox& periodic_box() const { return box_; }
+  /// Slabs along @p axis where its side is within a tenth of the longest (cut_of).
+  void prefer_slab_axis(int axis) { preferred_axis_ = axis; }
   std::size_t builds() const { return builds_; }
   bool built() const { return built_; }
 
@@ -491,6 +490,7 @@ class VerletList {
   // and in checkpoints, so that listing the pairs again from x0_ gives the same list.
   Slabs cut_;
   bool cut_known_ = false;
+  int preferred_axis_ = -1;             // prefer_slab_axis; -1: none
   double displacement_ = -1.0;          // see set_displacement; < 0: measure
   double drift_bound_ = 0.0;            // see displacement_needed [m]
   bool built_ = false;
