@@ -187,8 +187,13 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
   // Else the integrator zeroed the forces as it read them, or set them to the weight.
   if (start == integrators::ForceStart::stale) particles_.clear_forces();
   const ForceModule* applied = start == integrators::ForceStart::weight ? gravity_ : nullptr;
-  for (auto& m : modules_)
+  const std::size_t builds = contact_ ? contact_->list().builds() : 0;
+  for (auto& m : modules_) {
     if (m.get() != applied) m->add_forces(particles_, spec_.dt);
+    // A build deals the particles out anew: the gas under this process's, before the
+    // modules after the contacts read it.
+    if (m.get() == contact_ && contact_->list().builds() != builds) gas_follows_particles();
+  }
   gas_clock_.due = false;  // the gas was evaluated at the particles (if lagged)
   forces_valid_ = true;
 }
@@ -289,6 +294,7 @@ void Simulation::build_gas() {
 }
 
 void Simulation::gas_step() {
+  gas_follows_particles();
   fluid::GasSolver& gs = *solver_;
   const double dtg = spec_.gas_dt;
   gs.clear_force();

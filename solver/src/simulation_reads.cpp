@@ -1,6 +1,10 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "cdm/solver/archive.hpp"
+#include "cdm/solver/fluid/gas_solver.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/simulation.hpp"
 
@@ -8,7 +12,8 @@
 // the writing process (written_particles), streamed to it for a checkpoint
 // (hold_for_checkpoint, stream_particles), a table or a VTK frame (written_rows), or each
 // process its own part (local_particles, counted_runs), with its ghosts for its
-// particles' contacts (own_with_ghosts).
+// particles' contacts (own_with_ghosts). The gas likewise: each process the planes under
+// its own particles (gas_follows_particles), or every plane (whole_gas).
 
 namespace cdm {
 
@@ -79,6 +84,7 @@ const ParticleStore& Simulation::own_with_ghosts() const {
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
   local_particles();  // the step completed, each process its own particles
+  whole_gas();
   // The wall contacts, held on rank 0, go with the pair contacts' guard.
   if (ranks_ && contact_) ranks_->records_to_writer(contact_->list());
   return hold_contacts();
@@ -96,6 +102,42 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() 
   if (ranks_->partitioned()) return ranks_->own_runs(n);
   if (ranks_->share_rank() == 0) return {{0, n}};
   return {};
+}
+
+const fluid::GasField* Simulation::whole_gas() const {
+  if (solver_) solver_->make_whole();
+  return gas_.get();
+}
+
+void Simulation::gas_follows_particles() {
+  if (!solver_ || !solver_->divided() || !contact_ || !ranks_ || !ranks_->partitioned()) return;
+  const fluid::StaggeredGrid& g = gas_->grid();
+  if (g.two_d()) return;
+  // The own particles' extent along z. Until the next build each stays within half a skin
+  // of its build position, as it is now: within a skin of where it is. What is read at a
+  // particle reaches its kernel's width (3σ for the gaussian) and two planes of stencils
+  // further (GasSolver::read_planes adds the planes its own step reads).
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool finite = true;
+  for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double z = particles_.z[i];
+      finite = finite && std::isfinite(z);
+      lo = std::min(lo, z);
+      hi = std::max(hi, z);
+    }
+  const int nz = g.n(2);
+  int k_lo = 1, k_hi = 0;  // none: no own particles
+  if (!finite) {
+    k_lo = 0, k_hi = nz - 1;
+  } else if (lo <= hi) {
+    const double width = spec_.kernel == coupling::Kernel::gaussian ? 3.0 * spec_.kernel_width : 0.0;
+    const double margin = contact_->list().skin() + width;
+    auto plane = [&](double z) { return std::clamp(std::floor((z - g.lo(2)) * g.inv_h(2)), -4.0, nz + 4.0); };
+    k_lo = static_cast<int>(plane(lo - margin)) - 2;
+    k_hi = static_cast<int>(plane(hi + margin)) + 2;
+  }
+  solver_->read_planes(k_lo, k_hi);
 }
 
 }  // namespace cdm

@@ -340,6 +340,15 @@ shared "fluidisation with the multigrid solve" 4 "${fluid[@]}" --set 'gas.pressu
   --set 'gas.division="planes"'
 grep -q "the particles' work and the gas step are shared among 4 MPI processes" \
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
+# A bed as wide as it is deep over a gas divided by planes along z: its slabs are cut
+# along z too, and each process receives the gas on the planes under its particles and
+# next to its own (of 12 planes, 4 its own on 3 processes), not every plane; a frame, the
+# log's pressure drop and a checkpoint read the whole gas. 20,000 beads of the 1e5 bed
+# falling into 12 x 48 x 12 cells, on 3 processes, and stopped on 3 and continued on 2.
+bed=("$src/bench/scenes/bed_1e5.toml" --set 'random_particles[0].count=20000' --set 'gas.cells=[12,48,12]'
+     --set 'gas.division="planes"' --set integrator.end_time=0.002 --set output.interval=0.0005
+     --set output.particles=true --set output.log_interval=0.0005 --set output.checkpoint_interval=0.001)
+shared "bed over the gas planes" 3 "${bed[@]}"
 
 # Between machines Open MPI talks over a network, not through shared memory: with its
 # shared-memory transport left out (TCP on the loopback, as between two nodes) the chute
@@ -379,6 +388,7 @@ resumed "fluidisation once per gas step" "$work/fluidisation-once-per-gas-step-1
 resumed "bed fed from above" "$work/bed-fed-from-above-1" 3 2 3000 "${fed[@]}"
 resumed "rain without contacts" "$work/rain-without-contacts-1" 3 2 1111 "${rain[@]}"
 resumed "tracers" "$work/tracers-1" 2 3 9 "${tracers[@]}"
+resumed "bed over the gas planes" "$work/bed-over-the-gas-planes-1" 3 2 333 "${bed[@]}"
 resumed "mesh pile" "$work/mesh-pile-1" 3 2 1000 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
   --set output.interval=0.005 --set output.log_interval=0.001
 

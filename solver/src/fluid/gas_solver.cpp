@@ -27,10 +27,14 @@ void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, 
       for (int i = 0; i < n0; ++i) f(i, j, k);
 }
 
-/// Every process gets every plane of @p a (staggered as @p s) from the one that computed it.
-void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a) {
+/// Every process gets the planes of @p a (staggered as @p s) in its reach, or with @p all
+/// every plane, each from the process that computed it.
+void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a,
+                    bool all = false) {
   const int ghosts = StaggeredGrid::ghosts;
-  share.gather(a, g.at(-ghosts, -ghosts, 0), static_cast<std::size_t>(g.stride(2)), g.samples(s, 2));
+  const std::size_t first = g.at(-ghosts, -ghosts, 0), plane = static_cast<std::size_t>(g.stride(2));
+  if (all) share.gather_all(a, first, plane, g.samples(s, 2));
+  else share.gather(a, first, plane, g.samples(s, 2));
 }
 
 }  // namespace
@@ -59,6 +63,41 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
 }
 
 GasSolver::~GasSolver() = default;
+
+void GasSolver::read_planes(int lo, int hi) {
+  if (!divided()) return;
+  const StaggeredGrid& g = gas_.grid();
+  const int nz = g.n(2);
+  const auto [k0, k1] = share_.mine(nz);
+  // Its own planes and two either side (the step's stencils, and the ghosts and
+  // interpolators built from them); along a periodic z the planes wrap, so all.
+  if (k0 < k1) {
+    lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
+    hi = std::max(hi, k1 + 1);
+  }
+  if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
+  lo = std::max(lo, 0);
+  hi = std::min(hi, nz - 1);
+  if (share_.set_reach(lo, hi) && !whole_) receive_gas(false);
+}
+
+void GasSolver::make_whole() {
+  if (!divided() || whole_) return;
+  receive_gas(true);
+  whole_ = true;
+}
+
+void GasSolver::receive_gas(bool all) {
+  const StaggeredGrid& g = gas_.grid();
+  std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
+  for (int c = 0; c < g.dims(); ++c) gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], all);
+  gather_samples(share_, g, Staggering::centre, gas_.p, all);
+  // As the step left them, now on the planes received too.
+  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
+  set_drag_gradients(gas_.eps_g);
+  gas_.fill_pressure_ghosts();
+  gas_.refresh();
+}
 
 void GasSolver::clear_force() {
   std::fill(force_u.begin(), force_u.end(), 0.0);
@@ -294,14 +333,21 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   } else {
     own_cells_of(rhs);
   }
-  if (!pressure_->reads_own_planes())
-    share_.gather(b_cells_, 0, static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), nz);
+  const std::size_t cell_plane = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  if (!pressure_->reads_own_planes()) share_.gather_all(b_cells_, 0, cell_plane, nz);
   // A = −L, so L φ = rhs becomes A φ = −rhs, and b already carries the minus sign.
   // φ starts from zero, not from the previous step's φ: that warm start saved 3 % of the
   // iterations on bench/scenes/gas_scaling.toml, and it would make a run restarted from
   // a checkpoint (which does not hold φ) differ from the uninterrupted one.
   std::fill(phi_cells_.begin(), phi_cells_.end(), 0.0);
   last_solve_ = pressure_->solve({&d_[0], &d_[1], &d_[2]}, b_cells_, phi_cells_);
+  // A divided solve leaves each process its own planes of φ: the pressure is updated on
+  // the planes in its reach, or without an outlet (whose mean below reads every cell) on
+  // every plane.
+  if (pressure_->solves_own_planes()) {
+    if (has_outlet) share_.gather(phi_cells_, 0, cell_plane, nz);
+    else share_.gather_all(phi_cells_, 0, cell_plane, nz);
+  }
   cells_of([&](int i, int j, int k) { phi_[g.at(i, j, k)] = phi_cells_[row(i, j, k)]; });
   // φ ghosts: periodic wrap, zero normal gradient at walls/inlets, −φ at outlets.
   {
@@ -401,6 +447,7 @@ void GasSolver::step(double dt, const std::vector<double>& eps_new) {
   time_ += dt;
   gas_.set_time(time_);
   gas_.refresh();
+  whole_ = !divided() || share_.reach_whole(g.n(2));
 }
 
 void GasSolver::set_drag_gradients(const std::vector<double>& eps) {

@@ -1,5 +1,6 @@
 #include "cdm/solver/fluid/plane_share.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "cdm/solver/mpi_session.hpp"
@@ -31,7 +32,61 @@ PlaneShare::PlaneShare(bool divided) {
   size_ = w.size;
 }
 
+std::pair<int, int> PlaneShare::reach_of(int r, int planes) const {
+  if (reach_.empty()) return {0, planes};
+  const auto at = static_cast<std::size_t>(2 * r);
+  return {std::clamp(reach_[at], 0, planes), std::clamp(reach_[at + 1] + 2, 0, planes)};
+}
+
+bool PlaneShare::reach_whole(int planes) const {
+  for (int r = 0; r < size_; ++r)
+    if (reach_of(r, planes) != std::pair{0, planes}) return false;
+  return true;
+}
+
+bool PlaneShare::set_reach(int lo, int hi) {
+  if (size_ <= 1) return false;
+  std::vector<int> all(2 * static_cast<std::size_t>(size_));
+  const int mine[2] = {lo, hi};
+  if (MPI_Allgather(mine, 2, MPI_INT, all.data(), 2, MPI_INT, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allgather of the gas planes each process reads failed");
+  bool grew = false;
+  for (int r = 0; r < size_ && !reach_.empty(); ++r) {
+    const auto at = static_cast<std::size_t>(2 * r);
+    grew = grew || all[at] < reach_[at] || all[at + 1] > reach_[at + 1];
+  }
+  reach_ = std::move(all);
+  return grew;
+}
+
 void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
+  if (size_ <= 1) return;
+  if (reach_whole(planes)) return gather_all(a, first, plane, planes);
+  // Each process sends its planes in another's reach there, and receives its reach's
+  // planes from their owners: one message a pair whose runs meet.
+  std::vector<MPI_Request> req;
+  auto run = [&](std::pair<int, int> own, std::pair<int, int> reach) {
+    return std::pair{std::max(own.first, reach.first), std::min(own.second, reach.second)};
+  };
+  const std::pair<int, int> own = mine(planes), reach = reach_of(rank_, planes);
+  for (int r = 0; r < size_; ++r) {
+    if (r == rank_) continue;
+    for (const bool send : {false, true}) {
+      const auto [k0, k1] = send ? run(own, reach_of(r, planes)) : run(planes_of(planes, r, size_), reach);
+      if (k0 >= k1) continue;
+      double* const at = a.data() + first + plane * static_cast<std::size_t>(k0);
+      const int count = static_cast<int>(plane * static_cast<std::size_t>(k1 - k0));
+      req.emplace_back();
+      const int rc = send ? MPI_Isend(at, count, MPI_DOUBLE, r, 0, MPI_COMM_WORLD, &req.back())
+                          : MPI_Irecv(at, count, MPI_DOUBLE, r, 0, MPI_COMM_WORLD, &req.back());
+      if (rc != MPI_SUCCESS) throw std::runtime_error("MPI: a gas plane exchange failed to start");
+    }
+  }
+  if (MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: a gas plane exchange failed");
+}
+
+void PlaneShare::gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
   if (size_ <= 1) return;
   std::vector<int> counts(static_cast<std::size_t>(size_)), displs(counts.size());
   for (int r = 0; r < size_; ++r) {
@@ -59,6 +114,10 @@ void PlaneShare::max(double* x, int n) const {
 
 PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
+void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
+bool PlaneShare::set_reach(int, int) { return false; }
+bool PlaneShare::reach_whole(int) const { return true; }
+std::pair<int, int> PlaneShare::reach_of(int, int planes) const { return {0, planes}; }
 double PlaneShare::max(double x) const { return x; }
 void PlaneShare::max(double*, int) const {}
 

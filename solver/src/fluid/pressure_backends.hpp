@@ -50,6 +50,8 @@ class PressureSolver::Multigrid {
   std::pair<int, int> own_planes() const;
   /// Whether @p here holds on every process dividing the solve.
   bool everywhere(bool here) const;
+  /// Whether more than one process divides the solve.
+  bool divided() const;
 
  private:
   struct Hypre;  // the hypre objects (keeps hypre's headers out of this one)

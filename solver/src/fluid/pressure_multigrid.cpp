@@ -253,6 +253,8 @@ std::pair<int, int> PressureSolver::Multigrid::own_planes() const {
   return owned_planes(g_.n(g_.dims() - 1), h_->rank, h_->size);
 }
 
+bool PressureSolver::Multigrid::divided() const { return h_->size > 1; }
+
 bool PressureSolver::Multigrid::everywhere(bool here) const {
   if (h_->size <= 1) return here;
   int all = here ? 1 : 0;
@@ -392,7 +394,8 @@ PressureSolveStats PressureSolver::Multigrid::solve(const std::vector<double>& b
     HYPRE_StructVectorGetBoxValues(h.x, h.box.lo, h.box.hi, swap ? h.swapped.data() : phi.data() + mine);
     if (swap) h.from_hypre(g_, phi.data() + mine);
   }
-  if (h.size > 1)
+  // A 3D grid's caller gathers φ's planes (PressureSolver::solves_own_planes).
+  if (h.size > 1 && g_.dims() != 3)
     MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, phi.data(), h.counts.data(), h.offsets.data(), MPI_DOUBLE,
                    h.comm);
   if (!(st.relative_residual <= tolerance_)) {

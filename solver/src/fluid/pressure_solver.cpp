@@ -197,6 +197,14 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
   return direct_->solve(b, phi);
 }
 
+bool PressureSolver::solves_own_planes() const {
+#ifdef CDM_WITH_MPI
+  return multigrid_ && grid_.dims() == 3 && multigrid_->divided();
+#else
+  return false;
+#endif
+}
+
 std::pair<int, int> PressureSolver::coefficient_planes() const {
   const int n = grid_.n(2);
 #ifdef CDM_WITH_MPI

@@ -164,6 +164,10 @@ class Simulation : private integrators::StepHost {
   ContactModule* contact() { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
+  /// The gas with every plane on every process (a divided gas step sends each process only
+  /// the planes it reads: GasSolver::make_whole), for a reader of the whole grid: a frame,
+  /// a table, a checkpoint. Collective among MPI processes.
+  const fluid::GasField* whole_gas() const;
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
   fluid::GasField* gas_mutable() { return gas_.get(); }
   /// The gas solver (nullptr unless modules.gas = "solved").
@@ -221,6 +225,10 @@ class Simulation : private integrators::StepHost {
   void divide_rows_if_due();
   /// The tracers this process moves take the gas velocity where they are (at the start).
   void tracers_follow_gas();
+  /// Where a solved gas is divided among processes and the particles by slabs, each
+  /// process reads the gas on the planes under its own particles (GasSolver::read_planes),
+  /// from each gas step and each build on. Collective.
+  void gas_follows_particles();
   /// Before the contact list's update for the positions at time @p t: the walls moved
   /// there; among MPI processes, where the list is due to be built, the positions the
   /// build (and a sort before it) reads, else the ghosts; the particles sorted where due

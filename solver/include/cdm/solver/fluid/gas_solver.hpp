@@ -122,6 +122,15 @@ class GasSolver {
   const PressureSolver& pressure_solver() const { return *pressure_; }
   /// Whether the processes of an MPI run divide the step (else each steps the whole gas).
   bool divided() const { return share_.processes() > 1; }
+  /// The planes of cells [@p lo, @p hi] (along z; none where lo > hi) this process reads
+  /// the gas on besides those its step reads (its own and two either side): where
+  /// divided(), each step then sends it those planes only (PlaneShare::set_reach), and
+  /// where any process's reach grew, each receives the gas on its new planes at once.
+  /// Collective.
+  void read_planes(int lo, int hi);
+  /// Every plane of the gas on every process, for a reader of the whole grid (a frame, a
+  /// table, a checkpoint). Collective; nothing to do where the gas is whole already.
+  void make_whole();
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {
@@ -135,6 +144,9 @@ class GasSolver {
   /// The field's drag_gradient() on every face whose velocity is fixed, from the drag
   /// of the step just taken (force_*, and β, β V_s with the new velocities) and @p eps.
   void set_drag_gradients(const std::vector<double>& eps);
+  /// The velocity and pressure of every plane in each process's reach (all: every plane)
+  /// from their owners, and what follows from them on each process.
+  void receive_gas(bool all);
   bool unknown_face(int axis, int index) const;
   /// unknown_face(axis, i) for every face index i in [0, n(axis)].
   std::vector<char> unknown_faces(int axis) const;
@@ -148,6 +160,7 @@ class GasSolver {
   std::vector<double> phi_cells_, b_cells_;  // φ and the right-hand side, one per cell
   std::unique_ptr<PressureSolver> pressure_;
   PlaneShare share_;  // the loops' planes among MPI processes
+  bool whole_ = true;  // every process holds every plane of the gas (else its reach's)
   PressureSolveStats last_solve_;
   double continuity_residual_ = 0.0;
 };

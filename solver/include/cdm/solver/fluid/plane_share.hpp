@@ -18,6 +18,12 @@
 /// bits): GasDivision::automatic divides only where every process gets at least
 /// min_divided_cells cells of the multigrid solve's planes (bench/README.md, "The gas step
 /// divided or whole").
+///
+/// A process need not read every plane: its own and those next to them for its gas step,
+/// and those under its particles. Each process states the run of planes it reads
+/// (set_reach, collective), and gather() then sends each process the planes of its run
+/// only, each from the process that computed it: a slab of particles over a run of planes
+/// receives its run, not the grid. gather_all() sends every plane to every process.
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -53,9 +59,19 @@ class PlaneShare {
   }
   /// This process's planes [first, last) of @p planes.
   std::pair<int, int> mine(int planes) const { return planes_of(planes, rank_, size_); }
-  /// Every process gets the planes [0, @p planes) of @p a, each from the process that
-  /// computed it; plane k holds the @p plane values from @p first + k @p plane.
+  /// Every process gets the planes of [0, @p planes) of @p a in its reach (set_reach),
+  /// each from the process that computed it; plane k holds the @p plane values from
+  /// @p first + k @p plane.
   void gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
+  /// gather() of every plane to every process, whatever their reach.
+  void gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
+  /// The planes of cells [@p lo, @p hi] this process reads: gather() gives it plane k of
+  /// an array of n planes for k in [lo, hi + 1] (a staggered array's upper face), besides
+  /// its own. Collective. Returns whether any process's reach now holds a plane its last
+  /// did not.
+  bool set_reach(int lo, int hi);
+  /// Whether every process reads every plane of an array of @p planes planes.
+  bool reach_whole(int planes) const;
   /// The largest of @p x over the processes.
   double max(double x) const;
   /// Each of @p x[0 … n) replaced by its largest over the processes.
@@ -66,7 +82,11 @@ class PlaneShare {
   int processes() const { return size_; }
 
  private:
+  /// The planes [first, last) of @p planes in process @p r's reach.
+  std::pair<int, int> reach_of(int r, int planes) const;
+
   int rank_ = 0, size_ = 1;
+  std::vector<int> reach_;  // per process its planes of cells [lo, hi], 2 values; empty: all
 };
 
 }  // namespace cdm::fluid

@@ -122,6 +122,10 @@ class PressureSolver {
   /// sent to it: a 3D grid's multigrid solve with an outlet. A direct solve reads every
   /// cell, and so does the removal of b's mean without an outlet.
   bool reads_own_planes() const { return multigrid_ && grid_.dims() == 3 && has_outlet_; }
+  /// Whether solve() sets of φ only the cells of this process's planes, the caller
+  /// gathering the rest (PlaneShare::gather): a 3D grid's multigrid solve divided among
+  /// processes. Else it sets every cell.
+  bool solves_own_planes() const;
   /// The planes [first, last) of the z axis whose face coefficients (d, all three
   /// components) solve() reads: this process's planes of cells and the plane of faces
   /// above them, where a 3D grid's multigrid solve is divided among the processes, else
