@@ -291,6 +291,8 @@ void Simulation::build_gas() {
   solver_ = std::make_unique<fluid::GasSolver>(
       *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient,
                                        spec_.pressure_solver, spec_.gas_division});
+  // The implicit drag reads the reaction on every cell (implicit_drag.hpp).
+  if (solver_->divided() && spec_.two_way && !implicit_drag_) exchange_->share_planes(&solver_->planes());
 }
 
 void Simulation::gas_step() {

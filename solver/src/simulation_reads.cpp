@@ -85,6 +85,7 @@ const ParticleStore& Simulation::own_with_ghosts() const {
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
   local_particles();  // the step completed, each process its own particles
   whole_gas();
+  whole_reaction();
   // The wall contacts, held on rank 0, go with the pair contacts' guard.
   if (ranks_ && contact_) ranks_->records_to_writer(contact_->list());
   return hold_contacts();
@@ -107,6 +108,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() 
 const fluid::GasField* Simulation::whole_gas() const {
   if (solver_) solver_->make_whole();
   return gas_.get();
+}
+
+void Simulation::whole_reaction() const {
+  if (exchange_) exchange_->make_whole();
 }
 
 void Simulation::gas_follows_particles() {

@@ -342,13 +342,16 @@ grep -q "the particles' work and the gas step are shared among 4 MPI processes" 
   "$work/fluidisation-with-the-multigrid-solve-4.out" || fail "fluidisation, multigrid: the shared solve not reported"
 # A bed as wide as it is deep over a gas divided by planes along z: its slabs are cut
 # along z too, and each process receives the gas on the planes under its particles and
-# next to its own (of 12 planes, 4 its own on 3 processes), not every plane; a frame, the
-# log's pressure drop and a checkpoint read the whole gas. 20,000 beads of the 1e5 bed
-# falling into 12 x 48 x 12 cells, on 3 processes, and stopped on 3 and continued on 2.
+# next to its own (of 12 planes, 4 its own on 3 processes), not every plane, and adds up
+# the particles' deposits on those planes only; a frame, the log's pressure drop and a
+# checkpoint read the whole gas. 20,000 beads of the 1e5 bed falling into 12 x 48 x 12
+# cells on 3 processes, the drag once per gas step and at every step, and stopped on 3 and
+# continued on 2.
 bed=("$src/bench/scenes/bed_1e5.toml" --set 'random_particles[0].count=20000' --set 'gas.cells=[12,48,12]'
      --set 'gas.division="planes"' --set integrator.end_time=0.002 --set output.interval=0.0005
      --set output.particles=true --set output.log_interval=0.0005 --set output.checkpoint_interval=0.001)
 shared "bed over the gas planes" 3 "${bed[@]}"
+shared "bed over the gas planes, drag every step" 3 "${bed[@]}" --set 'coupling.drag_evaluation="every_step"'
 
 # Between machines Open MPI talks over a network, not through shared memory: with its
 # shared-memory transport left out (TCP on the loopback, as between two nodes) the chute

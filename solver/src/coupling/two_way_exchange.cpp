@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <tuple>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -73,10 +76,62 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     if (imp) imp->add(partial_[2 * t - 2]);
     vol.add(partial_[2 * t - 1]);
   }
-  if (own) {
-    if (imp) own->add_up(*imp, vol);
-    else own->add_up(vol);
+}
+
+int TwoWayExchange::plane_of(std::size_t c) const {
+  const int G = fluid::StaggeredGrid::ghosts;
+  return static_cast<int>((c - grid_.at(-G, -G, 0)) / static_cast<std::size_t>(grid_.stride(2)));
+}
+
+std::pair<int, int> TwoWayExchange::planes_reached(const ParticleStore& p, RankSplit& own) const {
+  const int nz = grid_.n(2);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool finite = true;
+  for (const auto& [i0, i1] : own.own_runs(p.size()))
+    for (std::size_t i = i0; i < i1; ++i) {
+      finite = finite && std::isfinite(p.z[i]);
+      lo = std::min(lo, p.z[i]);
+      hi = std::max(hi, p.z[i]);
+    }
+  if (!finite) return {-1, nz};
+  if (lo > hi) return {1, 0};
+  // The fractional cell-centre coordinate (deposition.cpp), a stencil's cells either side
+  // of it within its width (3σ for the gaussian), a cell to spare; a cell beyond a wall
+  // is folded back onto the one it mirrors.
+  const double w = deposition_->kernel() == Kernel::gaussian ? 3.0 * deposition_->width() * grid_.inv_h(2) : 0.0;
+  auto at = [&](double z) { return std::clamp((z - grid_.lo(2)) * grid_.inv_h(2) - 0.5, -2.0 * nz, 3.0 * nz); };
+  int k0 = static_cast<int>(std::floor(at(lo) - w)) - 1, k1 = static_cast<int>(std::floor(at(hi) + w)) + 2;
+  if (k0 < 0) k1 = std::max(k1, -1 - k0);
+  if (k1 > nz - 1) k0 = std::min(k0, 2 * nz - 1 - k1);
+  return {std::max(k0, 0), std::min(k1, nz - 1)};
+}
+
+bool TwoWayExchange::add_up_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const {
+  if (!own) return false;
+  const int nz = grid_.n(2);
+  const std::size_t nc = grid_.padded_size();
+  if (planes_ && !planes_->reach_whole(nz)) {
+    // The particles' totals, and whether some process's particles reached beyond its
+    // planes (then every cell is added up: the same sums either way), in one reduction.
+    const auto [k0, k1] = planes_reached(p, *own);
+    std::vector<std::int64_t> rest;
+    if (imp) rest.assign(imp->data() + 3 * nc, imp->data() + 3 * nc + 3);
+    rest.push_back(planes_->within_reach(k0, k1, nz) ? 0 : 1);
+    own->add_up(rest);
+    if (rest.back() == 0) {
+      std::vector<std::int64_t*> cells{vol.data()};
+      if (imp) {
+        std::copy_n(rest.begin(), 3, imp->data() + 3 * nc);
+        cells.insert(cells.end(), {imp->data(), imp->data() + nc, imp->data() + 2 * nc});
+      }
+      const int G = fluid::StaggeredGrid::ghosts;
+      planes_->add_up(cells, grid_.at(-G, -G, 0), static_cast<std::size_t>(grid_.stride(2)), nz);
+      return true;
+    }
   }
+  if (imp) own->add_up(*imp, vol);
+  else own->add_up(vol);
+  return false;
 }
 
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
@@ -85,6 +140,7 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
   ExactSums sums;
   start_volume_sums(p, own, sums);
   deposit_sums(p, own, nullptr, sums);
+  add_up_sums(p, own, nullptr, sums);
   finish_void_fraction(sums, eps, time);
 }
 
@@ -118,6 +174,7 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   imp.reset(3 * nc + 3, jmax, static_cast<double>(n) * jmax);
   start_volume_sums(p, own, vol);
   deposit_sums(p, own, &imp, vol);
+  if (add_up_sums(p, own, &imp, vol)) reaction_whole_ = false;
   for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
   for (std::size_t c = 0; c < nc; ++c) {
     imp_x_[c] += imp.value(c); imp_y_[c] += imp.value(nc + c); imp_z_[c] += imp.value(2 * nc + c);
@@ -130,15 +187,21 @@ void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<doub
   eps.resize(vol.size());
   for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = vol.value(c);
   const fluid::StaggeredGrid& g = grid_;
+  for (double& e : eps) e = 1.0 - e;
+  // Among processes sharing the gas's planes each looks at its own, and the smallest
+  // (the first in cell order of equal ones) is taken over them.
+  const auto [k0, k1] = planes_ ? planes_->mine(g.n(2)) : std::pair{0, g.n(2)};
   double worst = 1.0;
-  int wc[3] = {0, 0, 0};
-  for (int k = 0; k < g.n(2); ++k)
+  int at = 0;
+  for (int k = k0; k < k1; ++k)
     for (int j = 0; j < g.n(1); ++j)
-      for (int i = 0; i < g.n(0); ++i) {
-        double& e = eps[g.at(i, j, k)];
-        e = 1.0 - e;
-        if (e < worst) { worst = e; wc[0] = i; wc[1] = j; wc[2] = k; }
-      }
+      for (int i = 0; i < g.n(0); ++i)
+        if (const double e = eps[g.at(i, j, k)]; e < worst) {
+          worst = e;
+          at = i + g.n(0) * (j + g.n(1) * k);
+        }
+  if (planes_) std::tie(worst, at) = planes_->min_at(worst, at);
+  const int wc[3] = {at % g.n(0), at / g.n(0) % g.n(1), at / (g.n(0) * g.n(1))};
   // Random close packing leaves ε_g ≈ 0.36; a cell below 0.2 means the kernel is too
   // narrow for the cells (particles larger than cells) or the particles overlap.
   if (worst < 0.2) {
@@ -199,22 +262,41 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     s.clear(3 * c, 3 * c + 3);
   };
   if (own) {
+    // Where every process's particles reached only its planes (share_planes), the sums
+    // are added up on each process's planes; else over the run of cells reached.
+    const int nz = grid_.n(2);
+    const bool planes = planes_ && !planes_->reach_whole(nz);
     std::vector<double> reach{-static_cast<double>(lo), static_cast<double>(hi)};
+    if (planes) reach.push_back(lo > hi || planes_->within_reach(plane_of(lo), plane_of(hi), nz) ? 0.0 : 1.0);
     own->max(reach);
     lo = static_cast<std::size_t>(-reach[0]);
     hi = static_cast<std::size_t>(reach[1]);
-    const std::size_t first = 3 * lo, cells = lo <= hi ? 3 * (hi - lo + 1) : 0;
-    std::vector<std::int64_t> run(cells + 3);
-    std::copy_n(s.data() + first, cells, run.begin());
-    std::copy_n(s.data() + 3 * nc, 3, run.begin() + static_cast<std::ptrdiff_t>(cells));
-    own->add_up(run);
-    std::copy_n(run.begin(), cells, s.data() + first);
-    std::copy_n(run.begin() + static_cast<std::ptrdiff_t>(cells), 3, s.data() + 3 * nc);
+    reached_span_ = lo <= hi ? hi - lo + 1 : 0;  // alike on every process
+    if (planes && reach[2] == 0.0) {
+      std::vector<std::int64_t> total(s.data() + 3 * nc, s.data() + 3 * nc + 3);
+      own->add_up(total);
+      std::copy(total.begin(), total.end(), s.data() + 3 * nc);
+      const int G = fluid::StaggeredGrid::ghosts;
+      planes_->add_up({s.data()}, 3 * grid_.at(-G, -G, 0), 3 * static_cast<std::size_t>(grid_.stride(2)), nz);
+      reaction_whole_ = false;
+      // Beyond this process's reach its sums are zero.
+      const auto [k0, k1] = planes_->reach_of(planes_->rank(), nz);
+      lo = std::max(lo, grid_.at(-G, -G, k0));
+      hi = std::min(hi, grid_.at(-G, -G, k1));
+    } else {
+      const std::size_t first = 3 * lo, cells = lo <= hi ? 3 * (hi - lo + 1) : 0;
+      std::vector<std::int64_t> run(cells + 3);
+      std::copy_n(s.data() + first, cells, run.begin());
+      std::copy_n(s.data() + 3 * nc, 3, run.begin() + static_cast<std::ptrdiff_t>(cells));
+      own->add_up(run);
+      std::copy_n(run.begin(), cells, s.data() + first);
+      std::copy_n(run.begin() + static_cast<std::ptrdiff_t>(cells), 3, s.data() + 3 * nc);
+    }
     for (std::size_t c = lo; c <= hi; ++c) add_cell(c);
   } else {
     for (const std::uint32_t c : reached_cells_) add_cell(c);
+    reached_span_ = lo <= hi ? hi - lo + 1 : 0;
   }
-  reached_span_ = lo <= hi ? hi - lo + 1 : 0;
   for (const std::uint32_t c : reached_cells_) reached_[c] = 0;
   reached_cells_.clear();
   particle_impulse_ += Vec3{s.value(3 * nc), s.value(3 * nc + 1), s.value(3 * nc + 2)};
@@ -247,25 +329,43 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   Vec3 cells, faces;
   double* cc[3] = {&cells.x, &cells.y, &cells.z};
   double* fc[3] = {&faces.x, &faces.y, &faces.z};
+  // Where the reaction is valid on each process's reach only, each process counts its own
+  // planes in the balance, added up over the processes.
+  const auto [k0, k1] = reaction_whole_ ? std::pair{0, g.n(2)} : planes_->mine(g.n(2));
   for (int c = 0; c < g.dims(); ++c)
     for (int k = 0; k < g.n(2); ++k)
       for (int j = 0; j < g.n(1); ++j)
         for (int i = 0; i < g.n(0); ++i) {
           const double v = (*imp[c])[g.at(i, j, k)];
-          *cc[c] += v;
+          if (k >= k0 && k < k1) *cc[c] += v;
           int lo[3] = {i, j, k}, hi[3] = {i, j, k};
           hi[c] += 1;
           if (g.spec().periodic(c)) hi[c] %= g.n(c);
           const double half = 0.5 * v;
           (*force[c])[g.at(lo[0], lo[1], lo[2])] += half * per;
           (*force[c])[g.at(hi[0], hi[1], hi[2])] += half * per;
-          *fc[c] += half + half;
+          if (k >= k0 && k < k1) *fc[c] += half + half;
         }
+  if (!reaction_whole_) {
+    double sums[6] = {cells.x, cells.y, cells.z, faces.x, faces.y, faces.z};
+    planes_->sum(sums, 6);
+    cells = {sums[0], sums[1], sums[2]};
+    faces = {sums[3], sums[4], sums[5]};
+    reaction_whole_ = true;  // zero below
+  }
   balance_ = {particle_impulse_, cells, faces};
   particle_impulse_ = {};
   std::fill(imp_x_.begin(), imp_x_.end(), 0.0);
   std::fill(imp_y_.begin(), imp_y_.end(), 0.0);
   std::fill(imp_z_.begin(), imp_z_.end(), 0.0);
+}
+
+void TwoWayExchange::make_whole() {
+  if (reaction_whole_) return;
+  const int G = fluid::StaggeredGrid::ghosts;
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
+    planes_->gather_all(*v, grid_.at(-G, -G, 0), static_cast<std::size_t>(grid_.stride(2)), grid_.n(2));
+  reaction_whole_ = true;
 }
 
 void TwoWayExchange::save_state(OutArchive& a) const {

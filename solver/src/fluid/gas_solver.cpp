@@ -88,10 +88,18 @@ void GasSolver::make_whole() {
 }
 
 void GasSolver::receive_gas(bool all) {
+  // The velocity, pressure, gas fraction and drag force of each plane are its owner's
+  // (the particles' deposit may leave each process the gas fraction and the drag on its
+  // reach only: TwoWayExchange::share_planes).
   const StaggeredGrid& g = gas_.grid();
   std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
-  for (int c = 0; c < g.dims(); ++c) gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], all);
-  gather_samples(share_, g, Staggering::centre, gas_.p, all);
+  std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
+  for (int c = 0; c < g.dims(); ++c) {
+    gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], all);
+    gather_samples(share_, g, static_cast<Staggering>(c), *force[c], all);  // the drag gradients read them
+  }
+  for (auto* a : {&gas_.p, &gas_.eps_g}) gather_samples(share_, g, Staggering::centre, *a, all);
+  g.fill_scalar_ghosts(gas_.eps_g);
   // As the step left them, now on the planes received too.
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
   set_drag_gradients(gas_.eps_g);

@@ -59,6 +59,91 @@ bool PlaneShare::set_reach(int lo, int hi) {
   return grew;
 }
 
+bool PlaneShare::within_reach(int lo, int hi, int planes) const {
+  const auto [k0, k1] = reach_of(rank_, planes);
+  return lo > hi || (lo >= k0 && hi < k1);
+}
+
+namespace {
+
+/// Planes [k0, k1) of each of @p arrays (@p plane values each, from @p first) one after
+/// another in @p buf, or with @p back from it into them (@p add: added to them).
+template <class T>
+void pack(const std::vector<T*>& arrays, std::size_t first, std::size_t plane, std::pair<int, int> k,
+          std::vector<T>& buf, bool back = false, bool add = false) {
+  const std::size_t n = plane * static_cast<std::size_t>(k.second - k.first);
+  if (!back) buf.resize(n * arrays.size());
+  for (std::size_t a = 0; a < arrays.size(); ++a) {
+    T* const at = arrays[a] + first + plane * static_cast<std::size_t>(k.first);
+    T* const in = buf.data() + a * n;
+    if (!back) std::copy_n(at, n, in);
+    else if (!add) std::copy_n(in, n, at);
+    else
+      for (std::size_t i = 0; i < n; ++i) at[i] += in[i];
+  }
+}
+
+}  // namespace
+
+void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane,
+                        int planes) const {
+  if (size_ <= 1) return;
+  if (reach_whole(planes)) {
+    for (std::int64_t* a : arrays)
+      if (MPI_Allreduce(MPI_IN_PLACE, a + first, static_cast<int>(plane * static_cast<std::size_t>(planes)),
+                        MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD) != MPI_SUCCESS)
+        throw std::runtime_error("MPI: MPI_Allreduce of the deposited sums failed");
+    return;
+  }
+  auto meet = [](std::pair<int, int> a, std::pair<int, int> b) {
+    return std::pair{std::max(a.first, b.first), std::min(a.second, b.second)};
+  };
+  const std::pair<int, int> own = mine(planes), reach = reach_of(rank_, planes);
+  // First each process's partial sums to the planes' owners, then the owners' totals to
+  // the processes whose reach holds them; one message each way between a pair.
+  for (const bool totals : {false, true}) {
+    std::vector<std::pair<int, std::pair<int, int>>> from;  // (process, planes) received
+    std::vector<std::vector<std::int64_t>> out, in;
+    std::vector<MPI_Request> req;
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) continue;
+      const std::pair<int, int> other_own = planes_of(planes, r, size_), other_reach = reach_of(r, planes);
+      const auto send = totals ? meet(own, other_reach) : meet(reach, other_own);
+      const auto recv = totals ? meet(other_own, reach) : meet(other_reach, own);
+      if (recv.first < recv.second) {
+        in.emplace_back(arrays.size() * plane * static_cast<std::size_t>(recv.second - recv.first));
+        from.emplace_back(r, recv);
+        req.emplace_back();
+        if (MPI_Irecv(in.back().data(), static_cast<int>(in.back().size()), MPI_INT64_T, r, 1, MPI_COMM_WORLD,
+                      &req.back()) != MPI_SUCCESS)
+          throw std::runtime_error("MPI: a deposited sums exchange failed to start");
+      }
+      if (send.first < send.second) {
+        out.emplace_back();
+        pack(arrays, first, plane, send, out.back());
+        req.emplace_back();
+        if (MPI_Isend(out.back().data(), static_cast<int>(out.back().size()), MPI_INT64_T, r, 1, MPI_COMM_WORLD,
+                      &req.back()) != MPI_SUCCESS)
+          throw std::runtime_error("MPI: a deposited sums exchange failed to start");
+      }
+    }
+    if (MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE) != MPI_SUCCESS)
+      throw std::runtime_error("MPI: a deposited sums exchange failed");
+    for (std::size_t m = 0; m < from.size(); ++m) pack(arrays, first, plane, from[m].second, in[m], true, !totals);
+  }
+}
+
+std::pair<double, int> PlaneShare::min_at(double value, int at) const {
+  if (size_ <= 1) return {value, at};
+  struct {
+    double v;
+    int at;
+  } x{value, at};
+  if (MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE_INT, MPI_MINLOC, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the smallest gas fraction failed");
+  return {x.v, x.at};
+}
+
 void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
   if (size_ <= 1) return;
   if (reach_whole(planes)) return gather_all(a, first, plane, planes);
@@ -104,6 +189,12 @@ double PlaneShare::max(double x) const {
   return x;
 }
 
+void PlaneShare::sum(double* x, int n) const {
+  if (size_ <= 1) return;
+  if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the coupling's balance failed");
+}
+
 void PlaneShare::max(double* x, int n) const {
   if (size_ <= 1) return;
   if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS)
@@ -117,9 +208,13 @@ void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) con
 void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
 bool PlaneShare::set_reach(int, int) { return false; }
 bool PlaneShare::reach_whole(int) const { return true; }
+bool PlaneShare::within_reach(int, int, int) const { return true; }
+void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int) const {}
+std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {value, at}; }
 std::pair<int, int> PlaneShare::reach_of(int, int planes) const { return {0, planes}; }
 double PlaneShare::max(double x) const { return x; }
 void PlaneShare::max(double*, int) const {}
+void PlaneShare::sum(double*, int) const {}
 
 #endif
 

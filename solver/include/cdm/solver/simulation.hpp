@@ -168,6 +168,9 @@ class Simulation : private integrators::StepHost {
   /// the planes it reads: GasSolver::make_whole), for a reader of the whole grid: a frame,
   /// a table, a checkpoint. Collective among MPI processes.
   const fluid::GasField* whole_gas() const;
+  /// The drag's reaction gathered so far in the gas step on every plane of every process
+  /// (TwoWayExchange::make_whole), for a checkpoint. Collective.
+  void whole_reaction() const;
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
   fluid::GasField* gas_mutable() { return gas_.get(); }
   /// The gas solver (nullptr unless modules.gas = "solved").

@@ -5,6 +5,7 @@
 /// particle sub-steps of a gas step and handed to the gas as a force on its faces, with
 /// the balance of the momentum exchanged.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
@@ -80,6 +81,16 @@ class TwoWayExchange {
   /// The balance of the last gas step (zero without two-way coupling).
   const CouplingBalance& balance() const { return balance_; }
 
+  /// Among MPI processes that divide the gas step by planes (@p planes; nullptr: none):
+  /// where each process's particles deposit within its reach of planes
+  /// (PlaneShare::set_reach), the cells' sums are added up on each process's reach only
+  /// (PlaneShare::add_up), not on every cell; ε_g and the reaction are then valid there,
+  /// and the gas fraction's check reads each process's own planes.
+  void share_planes(const fluid::PlaneShare* planes) { planes_ = planes; }
+  /// The reaction gathered so far on every plane of every process (before a checkpoint).
+  /// Collective among the processes sharing the planes.
+  void make_whole();
+
   /// The reaction gathered so far in the present gas step.
   void save_state(OutArchive& a) const;
   void load_state(InArchive& a);
@@ -95,6 +106,15 @@ class TwoWayExchange {
   /// rank its own particles with @p own, the sums then added up over the ranks; each
   /// thread a range of them. The sums must be reset (their bounds) first.
   void deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
+  /// deposit_sums's sums added up over the ranks (@p own): on each process's reach of
+  /// planes where every process's particles deposited within its own (share_planes),
+  /// else on every cell. Returns whether by planes.
+  bool add_up_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
+  /// The planes of cells along z that the stencils of @p p's own particles reach (none:
+  /// first > second; a position not finite: beyond the grid).
+  std::pair<int, int> planes_reached(const ParticleStore& p, RankSplit& own) const;
+  /// The z plane of the padded cell index @p c.
+  int plane_of(std::size_t c) const;
   /// Reset @p vol for the volumes of @p p's particles (over the cell volume), each rank's
   /// own with @p own.
   void start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const;
@@ -103,6 +123,8 @@ class TwoWayExchange {
   void finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const;
 
   const fluid::StaggeredGrid& grid_;
+  const fluid::PlaneShare* planes_ = nullptr;  // share_planes
+  bool reaction_whole_ = true;  // imp_* valid on every plane (else on this process's reach)
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
   ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps

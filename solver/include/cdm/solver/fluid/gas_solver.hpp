@@ -122,6 +122,8 @@ class GasSolver {
   const PressureSolver& pressure_solver() const { return *pressure_; }
   /// Whether the processes of an MPI run divide the step (else each steps the whole gas).
   bool divided() const { return share_.processes() > 1; }
+  /// The planes among the processes (each process's own, and those it reads).
+  const PlaneShare& planes() const { return share_; }
   /// The planes of cells [@p lo, @p hi] (along z; none where lo > hi) this process reads
   /// the gas on besides those its step reads (its own and two either side): where
   /// divided(), each step then sends it those planes only (PlaneShare::set_reach), and
@@ -144,8 +146,8 @@ class GasSolver {
   /// The field's drag_gradient() on every face whose velocity is fixed, from the drag
   /// of the step just taken (force_*, and β, β V_s with the new velocities) and @p eps.
   void set_drag_gradients(const std::vector<double>& eps);
-  /// The velocity and pressure of every plane in each process's reach (all: every plane)
-  /// from their owners, and what follows from them on each process.
+  /// The velocity, pressure, gas fraction and drag force of every plane in each
+  /// process's reach (all: every plane) from their owners, and what follows from them.
   void receive_gas(bool all);
   bool unknown_face(int axis, int index) const;
   /// unknown_face(axis, i) for every face index i in [0, n(axis)].

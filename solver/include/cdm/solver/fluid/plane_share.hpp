@@ -25,6 +25,7 @@
 /// only, each from the process that computed it: a slab of particles over a run of planes
 /// receives its run, not the grid. gather_all() sends every plane to every process.
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -72,6 +73,21 @@ class PlaneShare {
   bool set_reach(int lo, int hi);
   /// Whether every process reads every plane of an array of @p planes planes.
   bool reach_whole(int planes) const;
+  /// Whether this process's reach holds the planes [@p lo, @p hi] of @p planes.
+  bool within_reach(int lo, int hi, int planes) const;
+  /// Integer sums in @p arrays (each laid out as gather()'s), each process's partial sums
+  /// on the planes of its reach and zero elsewhere, added up over the processes onto the
+  /// planes of each process's reach: each process's partial planes go to their owners,
+  /// which add them up and send the totals to the processes whose reach holds them. The
+  /// other planes keep this process's partial sums. Collective.
+  void add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane, int planes) const;
+  /// The smallest of @p value over the processes, and its @p at (the lowest at of equal
+  /// values).
+  std::pair<double, int> min_at(double value, int at) const;
+  /// Each of @p x[0 … n) replaced by its sum over the processes.
+  void sum(double* x, int n) const;
+  /// The planes [first, last) of @p planes in process @p r's reach.
+  std::pair<int, int> reach_of(int r, int planes) const;
   /// The largest of @p x over the processes.
   double max(double x) const;
   /// Each of @p x[0 … n) replaced by its largest over the processes.
@@ -82,9 +98,6 @@ class PlaneShare {
   int processes() const { return size_; }
 
  private:
-  /// The planes [first, last) of @p planes in process @p r's reach.
-  std::pair<int, int> reach_of(int r, int planes) const;
-
   int rank_ = 0, size_ = 1;
   std::vector<int> reach_;  // per process its planes of cells [lo, hi], 2 values; empty: all
 };
