@@ -221,8 +221,10 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
   // Among ranks the cells' sums are added up over the run of cells the step reaches; where
   // that run (3 sums a cell) outgrows the particles' positions and impulses (6 values a
   // particle), those are gathered instead and every rank deposits every particle: the
-  // same sums either way. Chosen from the last step's run, alike on every rank.
-  if (own && reached_span_ > 2 * n) {
+  // same sums either way. Chosen from the last step's run, alike on every rank. Where the
+  // sums are added up by planes (share_planes), each process's reach is what travels.
+  const bool by_planes = planes_ && !planes_->reach_whole(grid_.n(2));
+  if (own && !by_planes && reached_span_ > 2 * n) {
     own->gather({&p.x, &p.y, &p.z, &p.jx, &p.jy, &p.jz});
     own = nullptr;
   }
@@ -265,7 +267,7 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     // Where every process's particles reached only its planes (share_planes), the sums
     // are added up on each process's planes; else over the run of cells reached.
     const int nz = grid_.n(2);
-    const bool planes = planes_ && !planes_->reach_whole(nz);
+    const bool planes = by_planes;
     std::vector<double> reach{-static_cast<double>(lo), static_cast<double>(hi)};
     if (planes) reach.push_back(lo > hi || planes_->within_reach(plane_of(lo), plane_of(hi), nz) ? 0.0 : 1.0);
     own->max(reach);
