@@ -352,6 +352,12 @@ bed=("$src/bench/scenes/bed_1e5.toml" --set 'random_particles[0].count=20000' --
      --set output.particles=true --set output.log_interval=0.0005 --set output.checkpoint_interval=0.001)
 shared "bed over the gas planes" 3 "${bed[@]}"
 shared "bed over the gas planes, drag every step" 3 "${bed[@]}" --set 'coupling.drag_evaluation="every_step"'
+# Fed from above (2,000 beads inserted high in the column, which each process deals out
+# and whose planes it then reads) and drained at a floor corner (112 leave, their impulse
+# deposited where they left).
+shared "bed over the gas planes, fed and drained" 3 "${bed[@]}" \
+  --set 'insertions=[{material="glass", lower=[0.005,0.1,0.005], upper=[0.055,0.12,0.055], count_rate=1.0e6, count=2000, start=0.0, interval=0.0005, velocity=[0.0,-1.0,0.0], seed=7, radius=5.0e-4}]' \
+  --set 'outlets=[{name="drain", type="box", lower=[0.0,-0.01,0.0], upper=[0.02,0.003,0.02]}]'
 # 2,000 beads: fewer than the cells they reach, which without the planes would have every
 # process deposit every bead (the positions gathered); by planes each sends its reach.
 shared "dilute bed over the gas planes" 3 "${bed[@]}" --set 'random_particles[0].count=2000' \
