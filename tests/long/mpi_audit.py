@@ -7,7 +7,11 @@ at every step, on one process without a launcher and on NP processes under mpiru
 compares every file the two runs wrote. Results must be identical (the shared step,
 rank_split.hpp).
 
-usage: mpi_audit.py CDM SOURCE_DIR WORK_DIR [NP [STEPS [FILTER...]]]
+usage: mpi_audit.py [--gas-planes] CDM SOURCE_DIR WORK_DIR [NP [STEPS [FILTER...]]]
+
+With --gas-planes only the scenes with a solved gas run, with gas.division = "planes", so
+that their gas step is divided (each process reading the planes under its particles)
+however small their grid.
 
 A scene whose one-process run fails (a mesh the benchmarks generate first) is listed as
 skipped; a failure on NP processes, or any file that differs, fails the audit.
@@ -35,10 +39,14 @@ def scenes(root):
 
 
 def main():
-    cdm, root, work = sys.argv[1:4]
-    np_ = sys.argv[4] if len(sys.argv) > 4 else "2"
-    steps = sys.argv[5] if len(sys.argv) > 5 else "1500"
-    only = sys.argv[6:]
+    argv = sys.argv[1:]
+    planes = argv[:1] == ["--gas-planes"]
+    if planes:
+        argv = argv[1:]
+    cdm, root, work = argv[0:3]
+    np_ = argv[3] if len(argv) > 3 else "2"
+    steps = argv[4] if len(argv) > 4 else "1500"
+    only = argv[5:]
     launch = ["mpirun", "--oversubscribe", "-np", np_]
     if os.geteuid() == 0:
         launch.insert(1, "--allow-run-as-root")
@@ -52,6 +60,10 @@ def main():
         args = ["run", scene, "-q", "-j", "1", "--max-steps", steps,
                 "--set", "output.interval=1.0e-3", "--set", "output.log_interval=1.0e-9"]
         text = open(scene).read()
+        if planes:
+            if 'gas = "solved"' not in text:
+                continue
+            args += ["--set", 'gas.division="planes"']
         for x in sets:
             # A case's overrides of walls[...] or meshes[...] address its reference scene.
             if (x.startswith("walls[") and "[[walls]]" not in text) or (x.startswith("meshes[") and "[[meshes]]" not in text):
