@@ -1,10 +1,10 @@
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <utility>
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/fluid/gas_solver.hpp"
+#include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/rank_split.hpp"
 #include "cdm/solver/simulation.hpp"
 
@@ -122,15 +122,7 @@ void Simulation::gas_follows_particles() {
   // of its build position, as it is now: within a skin of where it is. What is read at a
   // particle reaches its kernel's width (3σ for the gaussian) and two planes of stencils
   // further (GasSolver::read_planes adds the planes its own step reads).
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  bool finite = true;
-  for (const auto& [i0, i1] : ranks_->own_runs(particles_.size()))
-    for (std::size_t i = i0; i < i1; ++i) {
-      const double z = particles_.z[i];
-      finite = finite && std::isfinite(z);
-      lo = std::min(lo, z);
-      hi = std::max(hi, z);
-    }
+  const auto [lo, hi, finite] = own_extent(*ranks_, particles_.size(), particles_.z.data());
   const int nz = g.n(2);
   int k_lo = 1, k_hi = 0;  // none: no own particles
   if (!finite) {

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
-#include <tuple>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
@@ -79,20 +79,12 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
 }
 
 int TwoWayExchange::plane_of(std::size_t c) const {
-  const int G = fluid::StaggeredGrid::ghosts;
-  return static_cast<int>((c - grid_.at(-G, -G, 0)) / static_cast<std::size_t>(grid_.stride(2)));
+  return static_cast<int>((c - grid_.plane_start(0)) / grid_.plane_size());
 }
 
 std::pair<int, int> TwoWayExchange::planes_reached(const ParticleStore& p, RankSplit& own) const {
   const int nz = grid_.n(2);
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  bool finite = true;
-  for (const auto& [i0, i1] : own.own_runs(p.size()))
-    for (std::size_t i = i0; i < i1; ++i) {
-      finite = finite && std::isfinite(p.z[i]);
-      lo = std::min(lo, p.z[i]);
-      hi = std::max(hi, p.z[i]);
-    }
+  const auto [lo, hi, finite] = own_extent(own, p.size(), p.z.data());
   if (!finite) return {-1, nz};
   if (lo > hi) return {1, 0};
   // The fractional cell-centre coordinate (deposition.cpp), a stencil's cells either side
@@ -124,8 +116,7 @@ bool TwoWayExchange::add_up_sums(const ParticleStore& p, RankSplit* own, ExactSu
         std::copy_n(rest.begin(), 3, imp->data() + 3 * nc);
         cells.insert(cells.end(), {imp->data(), imp->data() + nc, imp->data() + 2 * nc});
       }
-      const int G = fluid::StaggeredGrid::ghosts;
-      planes_->add_up(cells, grid_.at(-G, -G, 0), static_cast<std::size_t>(grid_.stride(2)), nz);
+      planes_->add_up(cells, grid_.plane_start(0), grid_.plane_size(), nz);
       return true;
     }
   }
@@ -185,9 +176,8 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
 
 void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {
   eps.resize(vol.size());
-  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = vol.value(c);
+  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = 1.0 - vol.value(c);
   const fluid::StaggeredGrid& g = grid_;
-  for (double& e : eps) e = 1.0 - e;
   // Among processes sharing the gas's planes each looks at its own, and the smallest
   // (the first in cell order of equal ones) is taken over them.
   const auto [k0, k1] = planes_ ? planes_->mine(g.n(2)) : std::pair{0, g.n(2)};
@@ -267,24 +257,22 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     // Where every process's particles reached only its planes (share_planes), the sums
     // are added up on each process's planes; else over the run of cells reached.
     const int nz = grid_.n(2);
-    const bool planes = by_planes;
     std::vector<double> reach{-static_cast<double>(lo), static_cast<double>(hi)};
-    if (planes) reach.push_back(lo > hi || planes_->within_reach(plane_of(lo), plane_of(hi), nz) ? 0.0 : 1.0);
+    if (by_planes) reach.push_back(lo > hi || planes_->within_reach(plane_of(lo), plane_of(hi), nz) ? 0.0 : 1.0);
     own->max(reach);
     lo = static_cast<std::size_t>(-reach[0]);
     hi = static_cast<std::size_t>(reach[1]);
     reached_span_ = lo <= hi ? hi - lo + 1 : 0;  // alike on every process
-    if (planes && reach[2] == 0.0) {
+    if (by_planes && reach[2] == 0.0) {
       std::vector<std::int64_t> total(s.data() + 3 * nc, s.data() + 3 * nc + 3);
       own->add_up(total);
       std::copy(total.begin(), total.end(), s.data() + 3 * nc);
-      const int G = fluid::StaggeredGrid::ghosts;
-      planes_->add_up({s.data()}, 3 * grid_.at(-G, -G, 0), 3 * static_cast<std::size_t>(grid_.stride(2)), nz);
+      planes_->add_up({s.data()}, 3 * grid_.plane_start(0), 3 * grid_.plane_size(), nz);
       reaction_whole_ = false;
       // Beyond this process's reach its sums are zero.
       const auto [k0, k1] = planes_->reach_of(planes_->rank(), nz);
-      lo = std::max(lo, grid_.at(-G, -G, k0));
-      hi = std::min(hi, grid_.at(-G, -G, k1));
+      lo = std::max(lo, grid_.plane_start(k0));
+      hi = std::min(hi, grid_.plane_start(k1));
     } else {
       const std::size_t first = 3 * lo, cells = lo <= hi ? 3 * (hi - lo + 1) : 0;
       std::vector<std::int64_t> run(cells + 3);
@@ -364,9 +352,7 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
 
 void TwoWayExchange::make_whole() {
   if (reaction_whole_) return;
-  const int G = fluid::StaggeredGrid::ghosts;
-  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
-    planes_->gather_all(*v, grid_.at(-G, -G, 0), static_cast<std::size_t>(grid_.stride(2)), grid_.n(2));
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) planes_->gather_all(*v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
   reaction_whole_ = true;
 }
 

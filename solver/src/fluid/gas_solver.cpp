@@ -31,10 +31,8 @@ void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, 
 /// every plane, each from the process that computed it.
 void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a,
                     bool all = false) {
-  const int ghosts = StaggeredGrid::ghosts;
-  const std::size_t first = g.at(-ghosts, -ghosts, 0), plane = static_cast<std::size_t>(g.stride(2));
-  if (all) share.gather_all(a, first, plane, g.samples(s, 2));
-  else share.gather(a, first, plane, g.samples(s, 2));
+  if (all) share.gather_all(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
+  else share.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
 }
 
 }  // namespace

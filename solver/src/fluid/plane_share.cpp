@@ -23,15 +23,6 @@ bool PlaneShare::divides(GasDivision d, const StaggeredGrid& g, int processes) {
   return true;
 }
 
-#ifdef CDM_WITH_MPI
-
-PlaneShare::PlaneShare(bool divided) {
-  if (!divided) return;
-  const WorldPlace w = mpi_world();
-  rank_ = w.rank;
-  size_ = w.size;
-}
-
 std::pair<int, int> PlaneShare::reach_of(int r, int planes) const {
   if (reach_.empty()) return {0, planes};
   const auto at = static_cast<std::size_t>(2 * r);
@@ -42,6 +33,20 @@ bool PlaneShare::reach_whole(int planes) const {
   for (int r = 0; r < size_; ++r)
     if (reach_of(r, planes) != std::pair{0, planes}) return false;
   return true;
+}
+
+bool PlaneShare::within_reach(int lo, int hi, int planes) const {
+  const auto [k0, k1] = reach_of(rank_, planes);
+  return lo > hi || (lo >= k0 && hi < k1);
+}
+
+#ifdef CDM_WITH_MPI
+
+PlaneShare::PlaneShare(bool divided) {
+  if (!divided) return;
+  const WorldPlace w = mpi_world();
+  rank_ = w.rank;
+  size_ = w.size;
 }
 
 bool PlaneShare::set_reach(int lo, int hi) {
@@ -59,12 +64,12 @@ bool PlaneShare::set_reach(int lo, int hi) {
   return grew;
 }
 
-bool PlaneShare::within_reach(int lo, int hi, int planes) const {
-  const auto [k0, k1] = reach_of(rank_, planes);
-  return lo > hi || (lo >= k0 && hi < k1);
-}
-
 namespace {
+
+/// The planes two runs [first, last) share.
+std::pair<int, int> meet(std::pair<int, int> a, std::pair<int, int> b) {
+  return {std::max(a.first, b.first), std::min(a.second, b.second)};
+}
 
 /// Planes [k0, k1) of each of @p arrays (@p plane values each, from @p first) one after
 /// another in @p buf, or with @p back from it into them (@p add: added to them).
@@ -95,9 +100,6 @@ void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t fi
         throw std::runtime_error("MPI: MPI_Allreduce of the deposited sums failed");
     return;
   }
-  auto meet = [](std::pair<int, int> a, std::pair<int, int> b) {
-    return std::pair{std::max(a.first, b.first), std::min(a.second, b.second)};
-  };
   const std::pair<int, int> own = mine(planes), reach = reach_of(rank_, planes);
   // First each process's partial sums to the planes' owners, then the owners' totals to
   // the processes whose reach holds them; one message each way between a pair.
@@ -150,14 +152,11 @@ void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t p
   // Each process sends its planes in another's reach there, and receives its reach's
   // planes from their owners: one message a pair whose runs meet.
   std::vector<MPI_Request> req;
-  auto run = [&](std::pair<int, int> own, std::pair<int, int> reach) {
-    return std::pair{std::max(own.first, reach.first), std::min(own.second, reach.second)};
-  };
   const std::pair<int, int> own = mine(planes), reach = reach_of(rank_, planes);
   for (int r = 0; r < size_; ++r) {
     if (r == rank_) continue;
     for (const bool send : {false, true}) {
-      const auto [k0, k1] = send ? run(own, reach_of(r, planes)) : run(planes_of(planes, r, size_), reach);
+      const auto [k0, k1] = send ? meet(own, reach_of(r, planes)) : meet(planes_of(planes, r, size_), reach);
       if (k0 >= k1) continue;
       double* const at = a.data() + first + plane * static_cast<std::size_t>(k0);
       const int count = static_cast<int>(plane * static_cast<std::size_t>(k1 - k0));
@@ -207,11 +206,8 @@ PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
 void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
 bool PlaneShare::set_reach(int, int) { return false; }
-bool PlaneShare::reach_whole(int) const { return true; }
-bool PlaneShare::within_reach(int, int, int) const { return true; }
 void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int) const {}
 std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {value, at}; }
-std::pair<int, int> PlaneShare::reach_of(int, int planes) const { return {0, planes}; }
 double PlaneShare::max(double x) const { return x; }
 void PlaneShare::max(double*, int) const {}
 void PlaneShare::sum(double*, int) const {}

@@ -158,10 +158,9 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
   // The values of d that solve() reads: the planes coefficient_planes() names (its ghost
   // planes are never set).
   const auto [k0, k1] = coefficient_planes();
-  const int G = StaggeredGrid::ghosts;
   const auto read = [&](const std::vector<double>& v) {
-    return std::pair{v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k0)),
-                     v.begin() + static_cast<std::ptrdiff_t>(grid_.at(-G, -G, k1))};
+    return std::pair{v.begin() + static_cast<std::ptrdiff_t>(grid_.plane_start(k0)),
+                     v.begin() + static_cast<std::ptrdiff_t>(grid_.plane_start(k1))};
   };
   bool same = true;
   for (int a = 0; a < grid_.dims(); ++a) {

@@ -3,12 +3,31 @@
 /// @brief Loops over the particles a rank moves and evaluates: all of them, or among MPI
 /// ranks this rank's own (rank_split.hpp), the threads splitting each run.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/rank_split.hpp"
 
 namespace cdm {
+
+/// The smallest and largest of @p v over this rank's own particles of @p n (lo > hi for
+/// none), and whether every one is finite.
+struct OwnExtent {
+  double lo, hi;
+  bool finite;
+};
+inline OwnExtent own_extent(RankSplit& ranks, std::size_t n, const double* v) {
+  OwnExtent e{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), true};
+  for (const auto& [i0, i1] : ranks.own_runs(n))
+    for (std::size_t i = i0; i < i1; ++i) {
+      e.finite = e.finite && std::isfinite(v[i]);
+      e.lo = std::min(e.lo, v[i]);
+      e.hi = std::max(e.hi, v[i]);
+    }
+  return e;
+}
 
 /// @p f(i) for each particle of @p n this rank moves (every one when @p ranks is nullptr).
 template <class F>

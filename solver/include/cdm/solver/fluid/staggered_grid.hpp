@@ -82,6 +82,10 @@ class StaggeredGrid {
            static_cast<std::size_t>(i + ghosts);
   }
   std::size_t padded_size() const { return ext_[0] * ext_[1] * ext_[2]; }
+  /// The flat index where stored plane @p k along z begins (its ghost rows included), and
+  /// the values a stored plane holds.
+  std::size_t plane_start(int k) const { return at(-ghosts, -ghosts, k); }
+  std::size_t plane_size() const { return ext_[0] * ext_[1]; }
   /// What at() adds for one step along @p axis.
   std::ptrdiff_t stride(int axis) const {
     return axis == 0 ? 1 : static_cast<std::ptrdiff_t>(axis == 1 ? ext_[0] : ext_[0] * ext_[1]);
