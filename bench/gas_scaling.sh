@@ -7,7 +7,10 @@
 # for 32). BUILD sets the build directory (default build/release). RANKS=N (N > 1) also
 # runs each multigrid size on N MPI processes of one thread, straight after its one-process
 # run (backend "multigrid-Np"; the gas step divided by planes; maxrss "-", since time sees
-# only mpirun): bench/README.md, "The divided gas step sends less".
+# only mpirun): bench/README.md, "The divided gas step sends less". CONTACTS=1 gives the
+# particles a (soft) contact law, so that among processes they are dealt out in slabs along
+# z and each process keeps only the gas's planes under its own (bench/README.md, "A divided
+# gas keeps its reach's planes only").
 set -euo pipefail
 reps=${1:-3}
 shift || true
@@ -17,6 +20,10 @@ scene=$(dirname "$0")/scenes/gas_scaling.toml
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 ranks=${RANKS:-1}
+extra=()
+if [ "${CONTACTS:-0}" = 1 ]; then
+  extra=(--set 'modules.normal_contact="linear_spring_dashpot"' --set 'contacts=[{pair=["p","p"],kn=1.0e-3,en=0.9}]')
+fi
 if [ "$ranks" -gt 1 ]; then
   export OMP_NUM_THREADS=1
   [ "$(id -u)" = 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -25,7 +32,7 @@ run() {  # N backend [processes]
   local np=${3:-1} launch=() label=$2 out
   [ "$np" -gt 1 ] && launch=(mpirun -np "$np") && label="$2-${np}p"
   out=$( { /usr/bin/time -f "TIME %e %U %M" "${launch[@]}" "$build/app/cdm" run "$scene" -j 1 -q \
-           --set "gas.cells=[$1,$1,$1]" --set "gas.pressure_solver=\"$2\"" --out "$tmp/run"; } 2>&1 )
+           --set "gas.cells=[$1,$1,$1]" --set "gas.pressure_solver=\"$2\"" "${extra[@]}" --out "$tmp/run"; } 2>&1 )
   local loop t rss
   loop=$(echo "$out" | sed -n 's/.*loop time \([0-9.]*\) s.*/\1/p')
   t=$(echo "$out" | grep '^TIME')

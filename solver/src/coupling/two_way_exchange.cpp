@@ -22,11 +22,25 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
   imp_y_ = imp_z_ = imp_x_;
 }
 
+std::pair<std::size_t, std::size_t> TwoWayExchange::held_span() const {
+  return planes_ ? grid_.window_span() : std::pair<std::size_t, std::size_t>{0, grid_.padded_size()};
+}
+
+void TwoWayExchange::touch(std::pair<std::size_t, std::size_t> span) {
+  if (span.first >= span.second) return;
+  if (touched_.first >= touched_.second) touched_ = span;
+  else touched_ = {std::min(touched_.first, span.first), std::max(touched_.second, span.second)};
+  if (!held_whole()) reaction_whole_ = false;
+}
+
 void TwoWayExchange::deposit_impulse(Vec3 j, Vec3 at) {
   particle_impulse_ += j;
+  const auto [lo, hi] = held_span();
   deposition_->for_each_weight(at, [&](std::size_t c, double w) {
+    if (c < lo || c >= hi) return;
     imp_x_[c] -= w * j.x; imp_y_[c] -= w * j.y; imp_z_[c] -= w * j.z;
   });
+  touch({lo, hi});
 }
 
 void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const {
@@ -167,16 +181,19 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   deposit_sums(p, own, &imp, vol);
   if (add_up_sums(p, own, &imp, vol)) reaction_whole_ = false;
   for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
-  for (std::size_t c = 0; c < nc; ++c) {
+  const auto [c0, c1] = held_span();
+  for (std::size_t c = c0; c < c1; ++c) {
     imp_x_[c] += imp.value(c); imp_y_[c] += imp.value(nc + c); imp_z_[c] += imp.value(2 * nc + c);
   }
+  touch({c0, c1});
   particle_impulse_ += Vec3{imp.value(3 * nc), imp.value(3 * nc + 1), imp.value(3 * nc + 2)};
   finish_void_fraction(vol, eps, time);
 }
 
 void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {
   eps.resize(vol.size());
-  for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = 1.0 - vol.value(c);
+  const auto [c0, c1] = held_span();
+  for (std::size_t c = c0; c < c1; ++c) eps[c] = 1.0 - vol.value(c);
   const fluid::StaggeredGrid& g = grid_;
   // Among processes sharing the gas's planes each looks at its own, and the smallest
   // (the first in cell order of equal ones) is taken over them.
@@ -246,11 +263,16 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
     p.jx[i] = p.jy[i] = p.jz[i] = 0.0;
   });
   // A cell whose sums are zero is left as it is, so the same cells change whether the
-  // cells reached are read from this process's list or from the run over the ranks.
+  // cells reached are read from this process's list or from the run over the ranks. A
+  // cell beyond those kept (held_span) is only cleared.
+  const auto [h0, h1] = held_span();
+  touch({h0, h1});
   auto add_cell = [&](std::size_t c) {
     const std::int64_t* const a = s.data() + 3 * c;
     if (a[0] == 0 && a[1] == 0 && a[2] == 0) return;
-    imp_x_[c] += s.value(3 * c); imp_y_[c] += s.value(3 * c + 1); imp_z_[c] += s.value(3 * c + 2);
+    if (c >= h0 && c < h1) {
+      imp_x_[c] += s.value(3 * c); imp_y_[c] += s.value(3 * c + 1); imp_z_[c] += s.value(3 * c + 2);
+    }
     s.clear(3 * c, 3 * c + 3);
   };
   if (own) {
@@ -320,10 +342,13 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   double* cc[3] = {&cells.x, &cells.y, &cells.z};
   double* fc[3] = {&faces.x, &faces.y, &faces.z};
   // Where the reaction is valid on each process's reach only, each process counts its own
-  // planes in the balance, added up over the processes.
-  const auto [k0, k1] = reaction_whole_ ? std::pair{0, g.n(2)} : planes_->mine(g.n(2));
+  // planes in the balance, added up over the processes. The faces are set on the cells
+  // kept (held_span).
+  const bool counted_whole = reaction_whole_ && held_whole();
+  const auto [k0, k1] = counted_whole ? std::pair{0, g.n(2)} : planes_->mine(g.n(2));
+  const auto [w0, w1] = planes_ ? g.window_planes(fluid::Staggering::centre) : std::pair{0, g.n(2)};
   for (int c = 0; c < g.dims(); ++c)
-    for (int k = 0; k < g.n(2); ++k)
+    for (int k = w0; k < w1; ++k)
       for (int j = 0; j < g.n(1); ++j)
         for (int i = 0; i < g.n(0); ++i) {
           const double v = (*imp[c])[g.at(i, j, k)];
@@ -336,23 +361,25 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
           (*force[c])[g.at(hi[0], hi[1], hi[2])] += half * per;
           if (k >= k0 && k < k1) *fc[c] += half + half;
         }
-  if (!reaction_whole_) {
+  if (!counted_whole) {
     double sums[6] = {cells.x, cells.y, cells.z, faces.x, faces.y, faces.z};
     planes_->sum(sums, 6);
     cells = {sums[0], sums[1], sums[2]};
     faces = {sums[3], sums[4], sums[5]};
-    reaction_whole_ = true;  // zero below
   }
+  reaction_whole_ = true;  // zero below
   balance_ = {particle_impulse_, cells, faces};
   particle_impulse_ = {};
-  std::fill(imp_x_.begin(), imp_x_.end(), 0.0);
-  std::fill(imp_y_.begin(), imp_y_.end(), 0.0);
-  std::fill(imp_z_.begin(), imp_z_.end(), 0.0);
+  const auto t0 = static_cast<std::ptrdiff_t>(touched_.first), t1 = static_cast<std::ptrdiff_t>(touched_.second);
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
+    if (t0 < t1) std::fill(v->begin() + t0, v->begin() + t1, 0.0);
+  touched_ = {0, 0};
 }
 
 void TwoWayExchange::make_whole() {
   if (reaction_whole_) return;
   for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) planes_->gather_all(*v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
+  touched_ = {0, grid_.padded_size()};
   reaction_whole_ = true;
 }
 
@@ -368,6 +395,7 @@ void TwoWayExchange::load_state(InArchive& a) {
     if (v->size() != want) throw ArchiveError("a particle array has the wrong length");
   }
   a.get(particle_impulse_.x); a.get(particle_impulse_.y); a.get(particle_impulse_.z);
+  touched_ = {0, want};
 }
 
 }  // namespace cdm::coupling

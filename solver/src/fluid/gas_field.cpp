@@ -66,7 +66,8 @@ void GasField::refresh() {
     const std::vector<double>* vel[3] = {&u, &v, &w};
     for (int a = 0; a < g.dims(); ++a) {
       const auto s = static_cast<Staggering>(a);
-      for (int k = 0; k < g.samples(s, 2); ++k)
+      const auto [k0, k1] = g.window_planes(s);
+      for (int k = k0; k < k1; ++k)
         for (int j = 0; j < g.samples(s, 1); ++j)
           for (int i = 0; i < g.samples(s, 0); ++i) {
             const std::size_t at = g.at(i, j, k);
@@ -98,19 +99,18 @@ void GasField::refresh() {
   } else {
     const std::vector<double>& pp = p;
     fill_pressure_ghosts();
-    for (int k = 0; k < g.samples(Staggering::u, 2); ++k)
-      for (int j = 0; j < g.samples(Staggering::u, 1); ++j)
-        for (int i = 0; i < g.samples(Staggering::u, 0); ++i)
-          gpx[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i - 1, j, k)]) / g.h(0);
-    for (int k = 0; k < g.samples(Staggering::v, 2); ++k)
-      for (int j = 0; j < g.samples(Staggering::v, 1); ++j)
-        for (int i = 0; i < g.samples(Staggering::v, 0); ++i)
-          gpy[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i, j - 1, k)]) / g.h(1);
-    if (!g.two_d())
-      for (int k = 0; k < g.samples(Staggering::w, 2); ++k)
-        for (int j = 0; j < g.samples(Staggering::w, 1); ++j)
-          for (int i = 0; i < g.samples(Staggering::w, 0); ++i)
-            gpz[g.at(i, j, k)] = (pp[g.at(i, j, k)] - pp[g.at(i, j, k - 1)]) / g.h(2);
+    std::vector<double>* grad[3] = {&gpx, &gpy, &gpz};
+    for (int a = 0; a < g.dims(); ++a) {
+      const auto s = static_cast<Staggering>(a);
+      const std::size_t down = static_cast<std::size_t>(g.stride(a));
+      const auto [k0, k1] = g.window_planes(s);
+      for (int k = k0; k < k1; ++k)
+        for (int j = 0; j < g.samples(s, 1); ++j)
+          for (int i = 0; i < g.samples(s, 0); ++i) {
+            const std::size_t f = g.at(i, j, k);
+            (*grad[a])[f] = (pp[f] - pp[f - down]) / g.h(a);
+          }
+    }
   }
   // The gradient's ghosts: periodic wrap, else mirrored evenly (zero normal derivative
   // of the gradient), which is exact for the linear hydrostatic part.
@@ -124,9 +124,10 @@ void GasField::refresh() {
   if (cell_gpx.size() != gpx.size()) cell_gpx = cell_gpy = cell_gpz = g.make_array();
   const std::vector<double>* face[3] = {&gpx, &gpy, &gpz};
   std::vector<double>* cell[3] = {&cell_gpx, &cell_gpy, &cell_gpz};
+  const auto [k0, k1] = g.window_planes(Staggering::centre);
   for (int a = 0; a < g.dims(); ++a) {
     const std::size_t up = static_cast<std::size_t>(g.stride(a));
-    for (int k = 0; k < g.n(2); ++k)
+    for (int k = k0; k < k1; ++k)
       for (int j = 0; j < g.n(1); ++j)
         for (int i = 0; i < g.n(0); ++i) {
           const std::size_t c = g.at(i, j, k);

@@ -76,7 +76,16 @@ void GasSolver::read_planes(int lo, int hi) {
   if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
   lo = std::max(lo, 0);
   hi = std::min(hi, nz - 1);
-  if (share_.set_reach(lo, hi) && !whole_) receive_gas(false);
+  const bool grew = share_.set_reach(lo, hi);
+  if (whole_) return;
+  hold_reach();
+  if (grew) receive_gas(false);
+}
+
+void GasSolver::hold_reach() {
+  if (!divided()) return;
+  const auto [lo, hi] = share_.held(gas_.grid().n(2));
+  gas_.hold_planes(lo, hi);
 }
 
 void GasSolver::make_whole() {
@@ -90,6 +99,8 @@ void GasSolver::receive_gas(bool all) {
   // (the particles' deposit may leave each process the gas fraction and the drag on its
   // reach only: TwoWayExchange::share_planes).
   const StaggeredGrid& g = gas_.grid();
+  if (all) gas_.hold_planes(0, g.n(2));
+  else hold_reach();
   std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
   std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
   for (int c = 0; c < g.dims(); ++c) {
@@ -106,9 +117,8 @@ void GasSolver::receive_gas(bool all) {
 }
 
 void GasSolver::clear_force() {
-  std::fill(force_u.begin(), force_u.end(), 0.0);
-  std::fill(force_v.begin(), force_v.end(), 0.0);
-  std::fill(force_w.begin(), force_w.end(), 0.0);
+  const StaggeredGrid& g = gas_.grid();
+  for (auto* f : {&force_u, &force_v, &force_w}) g.fill_window(*f, 0.0);
 }
 
 bool GasSolver::unknown_face(int axis, int index) const {
@@ -161,6 +171,7 @@ void GasSolver::predictor(double dt) {
   const int dims = g.dims();
   const double rho = gas_.density(), mu = gas_.viscosity();
   const double* const E = gas_.eps_g.data();
+  const std::vector<double>* const vel_of[3] = {&gas_.u, &gas_.v, &gas_.w};
   const double* const vel[3] = {gas_.u.data(), gas_.v.data(), gas_.w.data()};
   std::vector<double>* star[3] = {&us_, &vs_, &ws_};
   const double* const force[3] = {force_u.data(), force_v.data(), force_w.data()};
@@ -176,7 +187,7 @@ void GasSolver::predictor(double dt) {
   for (int c = 0; c < dims; ++c) {
     const double* const U = vel[c];
     std::vector<double>& star_c = *star[c];
-    star_c = c == 0 ? gas_.u : c == 1 ? gas_.v : gas_.w;  // fixed boundary faces keep their value
+    g.copy_window(*vel_of[c], star_c);  // fixed boundary faces keep their value
     double* const out = star_c.data();
     const auto s = static_cast<Staggering>(c);
     const std::vector<char> unknown = unknown_faces(c);
@@ -354,12 +365,22 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     if (has_outlet) share_.gather(phi_cells_, 0, cell_plane, nz);
     else share_.gather_all(phi_cells_, 0, cell_plane, nz);
   }
-  cells_of([&](int i, int j, int k) { phi_[g.at(i, j, k)] = phi_cells_[row(i, j, k)]; });
+  // φ is copied and the pressure updated on the grid's window, or without an outlet on
+  // every cell (the pressure's mean reads them all: it is kept whole).
+  const std::pair<int, int> updated = has_outlet ? g.window_planes(Staggering::centre) : std::pair{0, nz};
+  const int up_k0 = updated.first, up_k1 = updated.second;  // not bindings: clang cannot share them with OpenMP
+#pragma omp parallel for schedule(static) if (threads)
+  for (int k = up_k0; k < up_k1; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) phi_[g.at(i, j, k)] = phi_cells_[row(i, j, k)];
   // φ ghosts: periodic wrap, zero normal gradient at walls/inlets, −φ at outlets.
   {
     GridSpec zero = gs;
     for (auto& f : zero.faces) f.pressure = 0.0;
-    StaggeredGrid(zero).fill_scalar_ghosts(phi_);
+    StaggeredGrid zero_grid(zero);
+    zero_grid.set_window(g.window().first, g.window().second);
+    zero_grid.fill_scalar_ghosts(phi_);
+    const auto [z0, z1] = g.window_lines();
     for (int a = 0; a < dims; ++a)
       for (int side = 0; side < 2; ++side) {
         if (gs.faces[2 * a + side].kind != BoundaryKind::pressure_outlet) continue;
@@ -371,6 +392,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
             gh[a] = side ? g.n(a) : -1;
             in[o1] = gh[o1] = p;
             in[o2] = gh[o2] = q;
+            if (gh[2] < z0 || gh[2] > z1) continue;
             phi_[g.at(gh[0], gh[1], gh[2])] = -phi_[g.at(in[0], in[1], in[2])];
           }
       }
@@ -403,7 +425,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   // The mean in cell order, on one thread: the sum's order fixes its bits.
   double* const PN = gas_.p.data();
   double pmean = 0.0;
-  for (int k = 0; k < nz; ++k)
+  for (int k = up_k0; k < up_k1; ++k)
     for (int j = 0; j < ny; ++j) {
       const std::size_t r = g.at(0, j, k);
       for (int i = 0; i < nx; ++i) {
@@ -441,12 +463,15 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
 }
 
 void GasSolver::step(double dt, const std::vector<double>& eps_new) {
+  // The step computes and gathers the planes of each process's reach: those are kept.
+  hold_reach();
   const StaggeredGrid& g = gas_.grid();
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
   gas_.fill_pressure_ghosts();
   predictor(dt);
   project(dt, eps_new);
-  gas_.eps_g = eps_new;
+  if (g.window_whole() || eps_new.size() != gas_.eps_g.size()) gas_.eps_g = eps_new;
+  else g.copy_window(eps_new, gas_.eps_g);
   g.fill_scalar_ghosts(gas_.eps_g);
   set_drag_gradients(gas_.eps_g);
   gas_.fill_pressure_ghosts();

@@ -1,5 +1,6 @@
 #include "cdm/solver/fluid/interpolation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cdm::fluid {
@@ -19,7 +20,9 @@ void VectorInterpolator::update(const std::vector<double>& u, const std::vector<
   const bool d2 = g.two_d();
   // Corners (I, J, K) at lo + (I, J, K) h; the Lagrange stencils reach I−1 … I+1 for
   // I in [0, n], so corners −1 … n+1 are needed along each axis.
-  const int k0 = d2 ? 0 : -1, k1 = d2 ? 0 : g.n(2) + 1;
+  // Along z, those of the grid's window (StaggeredGrid::set_window).
+  const auto [z0, z1] = g.window_lines();
+  const int k0 = d2 ? 0 : std::max(-1, z0), k1 = d2 ? 0 : std::min(g.n(2) + 1, z1);
   for (int K = k0; K <= k1; ++K)
     for (int J = -1; J <= g.n(1) + 1; ++J)
       for (int I = -1; I <= g.n(0) + 1; ++I) {

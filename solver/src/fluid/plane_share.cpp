@@ -29,6 +29,12 @@ std::pair<int, int> PlaneShare::reach_of(int r, int planes) const {
   return {std::clamp(reach_[at], 0, planes), std::clamp(reach_[at + 1] + 2, 0, planes)};
 }
 
+std::pair<int, int> PlaneShare::held(int planes) const {
+  if (reach_.empty()) return {0, planes};
+  const auto at = static_cast<std::size_t>(2 * rank_);
+  return {std::clamp(reach_[at], 0, planes), std::clamp(reach_[at + 1] + 1, 0, planes)};
+}
+
 bool PlaneShare::reach_whole(int planes) const {
   for (int r = 0; r < size_; ++r)
     if (reach_of(r, planes) != std::pair{0, planes}) return false;

@@ -17,6 +17,25 @@ StaggeredGrid::StaggeredGrid(const GridSpec& spec) : spec_(spec) {
   }
   if (spec.two_d && (n_[2] != 1 || !spec.periodic(2)))
     throw std::invalid_argument("StaggeredGrid: a 2D grid has one cell along z and no z boundaries");
+  window_ = {0, n_[2]};
+}
+
+void StaggeredGrid::set_window(int lo, int hi) {
+  if (spec_.two_d || spec_.periodic(2)) return;
+  lo = std::clamp(lo, 0, n_[2]);
+  hi = std::clamp(hi, lo, n_[2]);
+  window_ = {lo, hi};
+}
+
+void StaggeredGrid::copy_window(const std::vector<double>& from, std::vector<double>& to) const {
+  const auto [lo, hi] = window_span();
+  std::copy(from.begin() + static_cast<std::ptrdiff_t>(lo), from.begin() + static_cast<std::ptrdiff_t>(hi),
+            to.begin() + static_cast<std::ptrdiff_t>(lo));
+}
+
+void StaggeredGrid::fill_window(std::vector<double>& a, double value) const {
+  const auto [lo, hi] = window_span();
+  std::fill(a.begin() + static_cast<std::ptrdiff_t>(lo), a.begin() + static_cast<std::ptrdiff_t>(hi), value);
 }
 
 Vec3 StaggeredGrid::position(Staggering s, int i, int j, int k) const {
@@ -34,14 +53,19 @@ struct GridLine {
 
 /// Visit the grid lines along each axis, the ghost layers of the two other axes included:
 /// wrap the ghosts of every line along a periodic axis, and call fill(axis, line) for every
-/// line along a bounded one. A 2D grid has one layer along z and nothing reads beyond it:
-/// no z pass, and the x and y passes touch layer 0 only.
+/// line along a bounded one, with whether to fill its lower and its upper ghosts. A 2D
+/// grid has one layer along z and nothing reads beyond it: no z pass, and the x and y
+/// passes touch layer 0 only. Lines across z visit the window's planes only
+/// (window_lines); the lines along z fill only the ends the window reaches.
 template <class Fill>
-void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill&& fill) {
+void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Staggering s, Fill&& fill) {
   const int g = StaggeredGrid::ghosts;
   const bool two_d = grid.two_d();
+  const auto [z0, z1] = grid.window_lines(s);
   for (int axis = 0; axis < grid.dims(); ++axis) {
     const int n = grid.n(axis);
+    const bool lo_end = axis != 2 || z0 == -g, hi_end = axis != 2 || z1 == n + g;
+    if (!lo_end && !hi_end) continue;
     const int o1 = (axis + 1) % 3, o2 = (axis + 2) % 3;
     int step[3] = {0, 0, 0};
     step[axis] = 1;
@@ -51,8 +75,10 @@ void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill
     int from[2 * g + 1];
     for (int m = -g; m < 0; ++m) from[m + g] = wrap(m, n);
     for (int m = n; m <= n + g; ++m) from[g + m - n] = wrap(m, n);
-    const int q0 = two_d && o2 == 2 ? 0 : -g, q1 = two_d && o2 == 2 ? 0 : grid.n(o2) + g;
-    const int p0 = two_d && o1 == 2 ? 0 : -g, p1 = two_d && o1 == 2 ? 0 : grid.n(o1) + g;
+    // The lines' indices along another axis b, its ghosts included: z's within the window.
+    auto first = [&](int b) { return b != 2 ? -g : two_d ? 0 : z0; };
+    auto last = [&](int b) { return b != 2 ? grid.n(b) + g : two_d ? 0 : z1; };
+    const int q0 = first(o2), q1 = last(o2), p0 = first(o1), p1 = last(o1);
     for (int q = q0; q <= q1; ++q)
       for (int p = p0; p <= p1; ++p) {
         int start[3];  // sample 0 of the line at (p along o1, q along o2)
@@ -61,11 +87,11 @@ void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill
         start[o2] = q;
         const GridLine idx{static_cast<long>(grid.at(start[0], start[1], start[2])), stride};
         if (periodic) {
-          for (int m = -g; m < 0; ++m) a[idx(m)] = a[idx(from[m + g])];
-          for (int m = n; m <= n + g; ++m) a[idx(m)] = a[idx(from[g + m - n])];
+          for (int m = -g; m < 0 && lo_end; ++m) a[idx(m)] = a[idx(from[m + g])];
+          for (int m = n; m <= n + g && hi_end; ++m) a[idx(m)] = a[idx(from[g + m - n])];
           continue;
         }
-        fill(axis, idx);
+        fill(axis, idx, lo_end, hi_end);
       }
   }
 }
@@ -73,15 +99,15 @@ void fill_ghosts_by_line(const StaggeredGrid& grid, std::vector<double>& a, Fill
 
 void StaggeredGrid::fill_component(std::vector<double>& a, Staggering s, bool even) const {
   const int g = ghosts;
-  fill_ghosts_by_line(*this, a, [&](int axis, const GridLine& idx) {
+  fill_ghosts_by_line(*this, a, s, [&](int axis, const GridLine& idx, bool lo_end, bool hi_end) {
     const int n = n_[axis];
     const bool normal = static_cast<int>(s) == axis;  // the component normal to these faces
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
     if (s == Staggering::centre || (even && !normal)) {
       // Zero normal gradient: mirror about the boundary face.
-      for (int m = 0; m < g; ++m) a[idx(-1 - m)] = a[idx(m)];
-      for (int m = 0; m <= g; ++m) a[idx(n + m)] = a[idx(n - 1 - m)];
+      for (int m = 0; m < g && lo_end; ++m) a[idx(-1 - m)] = a[idx(m)];
+      for (int m = 0; m <= g && hi_end; ++m) a[idx(n + m)] = a[idx(n - 1 - m)];
       return;
     }
     if (normal) {
@@ -95,15 +121,13 @@ void StaggeredGrid::fill_component(std::vector<double>& a, Staggering s, bool ev
           case BoundaryKind::periodic: break;  // solved for, not imposed
         }
       };
-      if (!even) {
-        set_face(lower, 0, 1.0);
-        set_face(upper, n, -1.0);
-      }
+      if (!even && lo_end) set_face(lower, 0, 1.0);
+      if (!even && hi_end) set_face(upper, n, -1.0);
       const bool lo_flat = !even && lower.kind == BoundaryKind::pressure_outlet;
       const bool hi_flat = !even && upper.kind == BoundaryKind::pressure_outlet;
       for (int m = 1; m <= g; ++m) {
-        a[idx(-m)] = lo_flat ? a[idx(0)] : a[idx(m)];
-        a[idx(n + m)] = hi_flat ? a[idx(n)] : a[idx(n - m)];
+        if (lo_end) a[idx(-m)] = lo_flat ? a[idx(0)] : a[idx(m)];
+        if (hi_end) a[idx(n + m)] = hi_flat ? a[idx(n)] : a[idx(n - m)];
       }
     } else {
       // Tangential: odd about a no-slip wall or an inlet (zero tangential velocity on
@@ -112,8 +136,8 @@ void StaggeredGrid::fill_component(std::vector<double>& a, Staggering s, bool ev
         return b.kind == BoundaryKind::no_slip || b.kind == BoundaryKind::velocity_inlet ? -1.0 : 1.0;
       };
       const double sl = sign(lower), su = sign(upper);
-      for (int m = 0; m < g; ++m) a[idx(-1 - m)] = sl * a[idx(m)];
-      for (int m = 0; m <= g; ++m) a[idx(n + m)] = su * a[idx(n - 1 - m)];
+      for (int m = 0; m < g && lo_end; ++m) a[idx(-1 - m)] = sl * a[idx(m)];
+      for (int m = 0; m <= g && hi_end; ++m) a[idx(n + m)] = su * a[idx(n - 1 - m)];
     }
   });
 }
@@ -129,18 +153,18 @@ void StaggeredGrid::fill_scalar_ghosts(std::vector<double>& s) const { fill_comp
 
 void StaggeredGrid::fill_pressure_ghosts(std::vector<double>& a) const {
   const int g = ghosts;
-  fill_ghosts_by_line(*this, a, [&](int axis, const GridLine& idx) {
+  fill_ghosts_by_line(*this, a, Staggering::centre, [&](int axis, const GridLine& idx, bool lo_end, bool hi_end) {
     const int n = n_[axis];
     const Boundary& lower = spec_.faces[2 * axis];
     const Boundary& upper = spec_.faces[2 * axis + 1];
     // Lower side: ghost −1−m mirrors cell m about the face.
-    for (int m = 0; m < g; ++m) {
+    for (int m = 0; m < g && lo_end; ++m) {
       const double inner = a[idx(m)];
       a[idx(-1 - m)] = lower.kind == BoundaryKind::pressure_outlet
                            ? 2.0 * lower.pressure - inner
                            : a[idx(0)] - (m + 1) * (a[idx(n > 1 ? 1 : 0)] - a[idx(0)]);
     }
-    for (int m = 0; m <= g; ++m) {
+    for (int m = 0; m <= g && hi_end; ++m) {
       const double inner = a[idx(n - 1 - m)];
       a[idx(n + m)] = upper.kind == BoundaryKind::pressure_outlet
                           ? 2.0 * upper.pressure - inner

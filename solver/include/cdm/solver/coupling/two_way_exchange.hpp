@@ -85,7 +85,8 @@ class TwoWayExchange {
   /// where each process's particles deposit within its reach of planes
   /// (PlaneShare::set_reach), the cells' sums are added up on each process's reach only
   /// (PlaneShare::add_up), not on every cell; ε_g and the reaction are then valid there,
-  /// and the gas fraction's check reads each process's own planes.
+  /// and the gas fraction's check reads each process's own planes. The reaction and ε_g
+  /// are then kept on the grid's window only (StaggeredGrid::set_window).
   void share_planes(const fluid::PlaneShare* planes) { planes_ = planes; }
   /// The reaction gathered so far on every plane of every process (before a checkpoint).
   /// Collective among the processes sharing the planes.
@@ -115,6 +116,12 @@ class TwoWayExchange {
   std::pair<int, int> planes_reached(const ParticleStore& p, RankSplit& own) const;
   /// The z plane of the padded cell index @p c.
   int plane_of(std::size_t c) const;
+  /// The flat range of the cells whose reaction and ε_g are kept: the grid's window where
+  /// the planes are shared (share_planes), else every cell; and whether that is all.
+  std::pair<std::size_t, std::size_t> held_span() const;
+  bool held_whole() const { return !planes_ || grid_.window_whole(); }
+  /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
+  void touch(std::pair<std::size_t, std::size_t> span);
   /// Reset @p vol for the volumes of @p p's particles (over the cell volume), each rank's
   /// own with @p own.
   void start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const;
@@ -127,6 +134,7 @@ class TwoWayExchange {
   bool reaction_whole_ = true;  // imp_* valid on every plane (else on this process's reach)
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
+  std::pair<std::size_t, std::size_t> touched_{0, 0};  // the flat range where imp_* may be nonzero
   ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps
   ExactSums step_sums_;  // deposit_impulses's: per cell x, y, z interleaved, then the total; zero between steps
   std::vector<std::uint8_t> reached_;         // deposit_impulses: 1 for a cell reached this step

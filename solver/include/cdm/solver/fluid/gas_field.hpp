@@ -45,6 +45,8 @@ class GasField {
       throw std::logic_error("set_inlet_velocity: the face is not a velocity inlet");
     grid_.set_inlet_velocity(face, v);
   }
+  /// The planes of cells [@p lo, @p hi) along z kept current (StaggeredGrid::set_window).
+  void hold_planes(int lo, int hi) { grid_.set_window(lo, hi); }
   double density() const { return spec_.density; }
   double viscosity() const { return spec_.viscosity; }
   const PrescribedField* prescribed() const { return prescribed_ ? &*prescribed_ : nullptr; }
@@ -157,7 +159,8 @@ class GasField {
   /// and outlet faces.
   std::vector<double>& drag_gradient(int face) { return drag_gradient_[static_cast<std::size_t>(face)]; }
   const std::vector<double>& drag_gradient(int face) const { return drag_gradient_[static_cast<std::size_t>(face)]; }
-  /// Calls f(axis, side, c, index) for every cell next to a face with a drag_gradient():
+  /// Calls f(axis, side, c, index) for every cell within the grid's window
+  /// (StaggeredGrid::set_window) next to a face with a drag_gradient():
   /// the face normal to @p axis on its lower (side 0) or upper (1) end, c the cell's
   /// (i, j, k), index its place in drag_gradient(2 axis + side).
   template <class F>
@@ -166,7 +169,11 @@ class GasField {
       for (int side = 0; side < 2; ++side) {
         if (drag_gradient(2 * a + side).empty()) continue;
         const int o1 = a == 0 ? 1 : 0, o2 = a == 2 ? 1 : 2;
-        for (int q = 0; q < grid_.n(o2); ++q)
+        // z within the grid's window (StaggeredGrid::set_window).
+        const auto [k0, k1] = grid_.window();
+        const int q0 = o2 == 2 ? k0 : 0, q1 = o2 == 2 ? k1 : grid_.n(o2);
+        if (a == 2 && (side == 0 ? k0 > 0 : k1 < grid_.n(2))) continue;
+        for (int q = q0; q < q1; ++q)
           for (int r = 0; r < grid_.n(o1); ++r) {
             int c[3];
             c[o1] = r;

@@ -149,6 +149,9 @@ class GasSolver {
   /// The velocity, pressure, gas fraction and drag force of every plane in each
   /// process's reach (all: every plane) from their owners, and what follows from them.
   void receive_gas(bool all);
+  /// The field keeps this process's reach current (GasField::hold_planes); every plane
+  /// where the step is not divided.
+  void hold_reach();
   bool unknown_face(int axis, int index) const;
   /// unknown_face(axis, i) for every face index i in [0, n(axis)].
   std::vector<char> unknown_faces(int axis) const;

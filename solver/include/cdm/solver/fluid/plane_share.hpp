@@ -23,7 +23,9 @@
 /// and those under its particles. Each process states the run of planes it reads
 /// (set_reach, collective), and gather() then sends each process the planes of its run
 /// only, each from the process that computed it: a slab of particles over a run of planes
-/// receives its run, not the grid. gather_all() sends every plane to every process.
+/// receives its run, not the grid. gather_all() sends every plane to every process. The
+/// gas field then keeps that run current and no other plane (held(), the grid's window:
+/// StaggeredGrid::set_window), though every process still allocates the whole grid.
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -86,6 +88,9 @@ class PlaneShare {
   std::pair<double, int> min_at(double value, int at) const;
   /// Each of @p x[0 … n) replaced by its sum over the processes.
   void sum(double* x, int n) const;
+  /// The planes of cells [first, last) of @p planes this process stated to set_reach
+  /// (every plane before it did).
+  std::pair<int, int> held(int planes) const;
   /// The planes [first, last) of @p planes in process @p r's reach.
   std::pair<int, int> reach_of(int r, int planes) const;
   /// The largest of @p x over the processes.

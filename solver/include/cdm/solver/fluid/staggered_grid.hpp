@@ -24,9 +24,11 @@
 ///    tangential components odd about the inlet's tangential velocity (zero);
 ///  - pressure outlet: zero normal gradient of every velocity component.
 /// Cell-centred scalars get zero normal gradient at every non-periodic boundary.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/vec3.hpp"
@@ -105,6 +107,38 @@ class StaggeredGrid {
     return static_cast<int>(s) == axis && !spec_.periodic(axis) ? n_[axis] + 1 : n_[axis];
   }
 
+  /// The planes of cells [@p lo, @p hi) along z whose values are kept current: among MPI
+  /// processes sharing the gas by planes, a process's reach (plane_share.hpp); every plane
+  /// by default, and always along a periodic z or on a 2D grid. The ghost fills and the
+  /// loops that derive one array from another visit these planes only (and the ghost
+  /// planes beyond them where they reach an end of the grid); elsewhere the arrays hold
+  /// what they last held, which nothing reads.
+  void set_window(int lo, int hi);
+  /// set_window() over every plane.
+  void whole_window() { set_window(0, n_[2]); }
+  std::pair<int, int> window() const { return {window_[0], window_[1]}; }
+  bool window_whole() const { return window_[0] == 0 && window_[1] == n_[2]; }
+  /// The stored planes [first, last) along z of an array staggered as @p s within the
+  /// window (for w, the face above the window's last cell too).
+  std::pair<int, int> window_planes(Staggering s) const {
+    return {window_[0], std::min(window_[1] + (s == Staggering::w ? 1 : 0), samples(s, 2))};
+  }
+  /// The planes along z, ghost planes included, [first, last] of an array staggered as
+  /// @p s that the window's ghost fills visit: window_planes(), and the ghost planes
+  /// beyond an end of the grid it reaches.
+  std::pair<int, int> window_lines(Staggering s = Staggering::w) const {
+    return {window_[0] == 0 ? -ghosts : window_[0], window_[1] == n_[2] ? n_[2] + ghosts : window_planes(s).second - 1};
+  }
+  /// The flat range [first, last) of the stored planes window_lines() spans (the faces
+  /// along z's: every array's).
+  std::pair<std::size_t, std::size_t> window_span() const {
+    const auto [lo, hi] = window_lines();
+    return {plane_start(lo), plane_start(hi) + plane_size()};
+  }
+  /// @p to = @p from, and @p a = @p value, over window_span() (arrays of the padded shape).
+  void copy_window(const std::vector<double>& from, std::vector<double>& to) const;
+  void fill_window(std::vector<double>& a, double value) const;
+
   /// Fill the ghost layers of the three velocity components from the boundary conditions
   /// (and impose the boundary-face normal velocity on walls and inlets).
   void fill_velocity_ghosts(std::vector<double>& u, std::vector<double>& v, std::vector<double>& w) const;
@@ -125,6 +159,7 @@ class StaggeredGrid {
   std::array<int, 3> n_;
   std::array<double, 3> h_, inv_h_, lo_;
   std::array<std::size_t, 3> ext_;
+  std::array<int, 2> window_;
 };
 
 }  // namespace cdm::fluid
