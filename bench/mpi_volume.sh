@@ -4,14 +4,17 @@
 # under libmpi_volume.so (bench/mpi_volume.cpp), and the difference over the 20 gas steps
 # between, so that the start and the final checkpoint drop out. What bench/README.md's
 # "What a divided gas step receives" was measured with.
-#   bench/mpi_volume.sh NP
-# prints per rank the MB received per gas step by kind and in all. Point-to-point holds the
+#   bench/mpi_volume.sh NP [cdm run options...]
+# (the options added to the runs', e.g. --set output.log_interval=1e-4 for a log row, and so
+# the whole gas on the writing process, every gas step) prints per rank the MB received per gas step by kind and in all. Point-to-point holds the
 # particles' ghosts (every step), hypre's halos and the gas planes.
 # Environment: CDM (default build/release/app/cdm), VOLUME_LIB (default
 # build/release/bench/libmpi_volume.so).
 set -euo pipefail
-[ $# -eq 1 ] && [[ "$1" =~ ^[1-9][0-9]*$ ]] || { echo "usage: bench/mpi_volume.sh NP (a positive integer)" >&2; exit 2; }
+[ $# -ge 1 ] && [[ "$1" =~ ^[1-9][0-9]*$ ]] ||
+  { echo "usage: bench/mpi_volume.sh NP [cdm run options...] (NP a positive integer)" >&2; exit 2; }
 np=$1
+shift
 here="$(cd "$(dirname "$0")" && pwd)"
 cdm="${CDM:-$here/../build/release/app/cdm}"
 lib="${VOLUME_LIB:-$here/../build/release/bench/libmpi_volume.so}"
@@ -24,7 +27,7 @@ for steps in 640 1280; do
   mkdir -p "$tmp/$steps"
   mpirun --oversubscribe -np "$np" -x CDM_MPI_VOLUME_DIR="$tmp/$steps" -x LD_PRELOAD="$lib" \
     "$cdm" run "$here/scenes/bed_1e5.toml" -q -j 1 --max-steps "$steps" --set output.vtk=false \
-    --set 'coupling.drag_evaluation="gas_step"' -o "$tmp/$steps/out" > /dev/null
+    --set 'coupling.drag_evaluation="gas_step"' "$@" -o "$tmp/$steps/out" > /dev/null
 done
 for r in $(seq 0 $((np - 1))); do
   # kind calls bytes, the same kinds in the same order in both files

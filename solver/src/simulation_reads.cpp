@@ -13,7 +13,8 @@
 // (hold_for_checkpoint, stream_particles), a table or a VTK frame (written_rows), or each
 // process its own part (local_particles, counted_runs), with its ghosts for its
 // particles' contacts (own_with_ghosts). The gas likewise: each process the planes under
-// its own particles (gas_follows_particles), or every plane (whole_gas).
+// its own particles (gas_follows_particles), or every plane on the writing process
+// (writer_gas).
 
 namespace cdm {
 
@@ -84,8 +85,8 @@ const ParticleStore& Simulation::own_with_ghosts() const {
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
   local_particles();  // the step completed, each process its own particles
-  whole_gas();
-  whole_reaction();
+  writer_gas();
+  writer_reaction();
   // The wall contacts, held on rank 0, go with the pair contacts' guard.
   if (ranks_ && contact_) ranks_->records_to_writer(contact_->list());
   return hold_contacts();
@@ -105,13 +106,13 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() 
   return {};
 }
 
-const fluid::GasField* Simulation::whole_gas() const {
-  if (solver_) solver_->make_whole();
+const fluid::GasField* Simulation::writer_gas() const {
+  if (solver_) solver_->gather_to_writer();
   return gas_.get();
 }
 
-void Simulation::whole_reaction() const {
-  if (exchange_) exchange_->make_whole();
+void Simulation::writer_reaction() const {
+  if (exchange_) exchange_->gather_to_writer();
 }
 
 void Simulation::gas_follows_particles() {

@@ -376,11 +376,11 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   touched_ = {0, 0};
 }
 
-void TwoWayExchange::make_whole() {
+void TwoWayExchange::gather_to_writer() {
   if (reaction_whole_) return;
-  for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) planes_->gather_all(*v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
-  touched_ = {0, grid_.padded_size()};
-  reaction_whole_ = true;
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
+    planes_->gather_to_writer(*v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
+  if (planes_->rank() == 0) touched_ = {0, grid_.padded_size()};
 }
 
 void TwoWayExchange::save_state(OutArchive& a) const {

@@ -27,11 +27,11 @@ void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, 
       for (int i = 0; i < n0; ++i) f(i, j, k);
 }
 
-/// Every process gets the planes of @p a (staggered as @p s) in its reach, or with @p all
-/// every plane, each from the process that computed it.
+/// Every process gets the planes of @p a (staggered as @p s) in its reach, or with
+/// @p to_writer process 0 every plane, each from the process that computed it.
 void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a,
-                    bool all = false) {
-  if (all) share.gather_all(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
+                    bool to_writer = false) {
+  if (to_writer) share.gather_to_writer(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
   else share.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
 }
 
@@ -88,26 +88,26 @@ void GasSolver::hold_reach() {
   gas_.hold_planes(lo, hi);
 }
 
-void GasSolver::make_whole() {
+void GasSolver::gather_to_writer() {
   if (!divided() || whole_) return;
   receive_gas(true);
-  whole_ = true;
 }
 
-void GasSolver::receive_gas(bool all) {
+void GasSolver::receive_gas(bool to_writer) {
   // The velocity, pressure, gas fraction and drag force of each plane are its owner's
   // (the particles' deposit may leave each process the gas fraction and the drag on its
   // reach only: TwoWayExchange::share_planes).
   const StaggeredGrid& g = gas_.grid();
-  if (all) gas_.hold_planes(0, g.n(2));
-  else hold_reach();
   std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
   std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
   for (int c = 0; c < g.dims(); ++c) {
-    gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], all);
-    gather_samples(share_, g, static_cast<Staggering>(c), *force[c], all);  // the drag gradients read them
+    gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], to_writer);
+    gather_samples(share_, g, static_cast<Staggering>(c), *force[c], to_writer);  // the drag gradients read them
   }
-  for (auto* a : {&gas_.p, &gas_.eps_g}) gather_samples(share_, g, Staggering::centre, *a, all);
+  for (auto* a : {&gas_.p, &gas_.eps_g}) gather_samples(share_, g, Staggering::centre, *a, to_writer);
+  if (!to_writer) hold_reach();
+  else if (share_.rank() == 0) gas_.hold_planes(0, g.n(2));
+  else return;
   g.fill_scalar_ghosts(gas_.eps_g);
   // As the step left them, now on the planes received too.
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);

@@ -176,17 +176,40 @@ void PlaneShare::gather(std::vector<double>& a, std::size_t first, std::size_t p
     throw std::runtime_error("MPI: a gas plane exchange failed");
 }
 
-void PlaneShare::gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
-  if (size_ <= 1) return;
-  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(counts.size());
-  for (int r = 0; r < size_; ++r) {
-    const auto [k0, k1] = planes_of(planes, r, size_);
+namespace {
+
+/// Each process's own planes of @p planes, @p plane values each, as counts and
+/// displacements of values for MPI_Allgatherv and MPI_Gatherv.
+std::pair<std::vector<int>, std::vector<int>> own_runs(int planes, std::size_t plane, int size) {
+  std::vector<int> counts(static_cast<std::size_t>(size)), displs(counts.size());
+  for (int r = 0; r < size; ++r) {
+    const auto [k0, k1] = PlaneShare::planes_of(planes, r, size);
     counts[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k1 - k0));
     displs[static_cast<std::size_t>(r)] = static_cast<int>(plane * static_cast<std::size_t>(k0));
   }
+  return {counts, displs};
+}
+
+}  // namespace
+
+void PlaneShare::gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
+  if (size_ <= 1) return;
+  const auto [counts, displs] = own_runs(planes, plane, size_);
   if (MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, a.data() + first, counts.data(), displs.data(), MPI_DOUBLE,
                      MPI_COMM_WORLD) != MPI_SUCCESS)
     throw std::runtime_error("MPI: MPI_Allgatherv of the gas planes failed");
+}
+
+void PlaneShare::gather_to_writer(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
+  if (size_ <= 1) return;
+  const auto [counts, displs] = own_runs(planes, plane, size_);
+  double* const at = a.data() + first;
+  const auto r = static_cast<std::size_t>(rank_);
+  const int rc = rank_ == 0 ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, at, counts.data(), displs.data(),
+                                          MPI_DOUBLE, 0, MPI_COMM_WORLD)
+                            : MPI_Gatherv(at + displs[r], counts[r], MPI_DOUBLE, nullptr, nullptr, nullptr,
+                                          MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (rc != MPI_SUCCESS) throw std::runtime_error("MPI: MPI_Gatherv of the gas planes to the writer failed");
 }
 
 double PlaneShare::max(double x) const {
@@ -211,6 +234,7 @@ void PlaneShare::max(double* x, int n) const {
 PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
 void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
+void PlaneShare::gather_to_writer(std::vector<double>&, std::size_t, std::size_t, int) const {}
 bool PlaneShare::set_reach(int, int) { return false; }
 void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int) const {}
 std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {value, at}; }

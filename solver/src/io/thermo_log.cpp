@@ -83,7 +83,7 @@ ThermoSample thermo_sample(const Simulation& sim) {
     s.contacts = sim.rank_sum(contacts);
     s.max_overlap_ratio = sim.rank_max(worst);
   }
-  if (const fluid::GasField* gas = sim.whole_gas(); gas && gas->has_pressure()) {
+  if (const fluid::GasField* gas = sim.writer_gas(); gas && gas->has_pressure()) {
     s.has_gas = true;
     const int a = flow_axis(sim);
     const fluid::StaggeredGrid& g = gas->grid();

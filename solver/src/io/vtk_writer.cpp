@@ -140,7 +140,7 @@ void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Enc
 }
 
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const fluid::GasField& gas = *sim.whole_gas();
+  const fluid::GasField& gas = *sim.writer_gas();
   const fluid::StaggeredGrid& g = gas.grid();
   const int nx = g.n(0), ny = g.n(1), nz = g.n(2);
   const std::size_t nc = g.cell_count();

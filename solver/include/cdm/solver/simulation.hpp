@@ -164,13 +164,15 @@ class Simulation : private integrators::StepHost {
   ContactModule* contact() { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
-  /// The gas with every plane on every process (a divided gas step sends each process only
-  /// the planes it reads: GasSolver::make_whole), for a reader of the whole grid: a frame,
-  /// a table, a checkpoint. Collective among MPI processes.
-  const fluid::GasField* whole_gas() const;
-  /// The drag's reaction gathered so far in the gas step on every plane of every process
-  /// (TwoWayExchange::make_whole), for a checkpoint. Collective.
-  void whole_reaction() const;
+  /// The gas with every plane on process 0, which writes the files (a divided gas step
+  /// sends each process only the planes it reads: GasSolver::gather_to_writer), for a
+  /// reader of the whole grid there: a frame, a table, a checkpoint. Elsewhere it holds
+  /// the planes each process reads only, and what is read from it is not written.
+  /// Collective among MPI processes.
+  const fluid::GasField* writer_gas() const;
+  /// The drag's reaction gathered so far in the gas step on every plane of process 0
+  /// (TwoWayExchange::gather_to_writer), for a checkpoint. Collective.
+  void writer_reaction() const;
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
   fluid::GasField* gas_mutable() { return gas_.get(); }
   /// The gas solver (nullptr unless modules.gas = "solved").

@@ -88,9 +88,9 @@ class TwoWayExchange {
   /// and the gas fraction's check reads each process's own planes. The reaction and ε_g
   /// are then kept on the grid's window only (StaggeredGrid::set_window).
   void share_planes(const fluid::PlaneShare* planes) { planes_ = planes; }
-  /// The reaction gathered so far on every plane of every process (before a checkpoint).
-  /// Collective among the processes sharing the planes.
-  void make_whole();
+  /// The reaction gathered so far on every plane of process 0, which writes the
+  /// checkpoint. Collective among the processes sharing the planes.
+  void gather_to_writer();
 
   /// The reaction gathered so far in the present gas step.
   void save_state(OutArchive& a) const;

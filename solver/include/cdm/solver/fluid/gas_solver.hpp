@@ -130,9 +130,10 @@ class GasSolver {
   /// where any process's reach grew, each receives the gas on its new planes at once.
   /// Collective.
   void read_planes(int lo, int hi);
-  /// Every plane of the gas on every process, for a reader of the whole grid (a frame, a
-  /// table, a checkpoint). Collective; nothing to do where the gas is whole already.
-  void make_whole();
+  /// Every plane of the gas on process 0, which writes the files, for a reader of the
+  /// whole grid there (a frame, a table, a checkpoint); the other processes keep their
+  /// reach. Collective; nothing to do where the gas is whole already.
+  void gather_to_writer();
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {
@@ -147,8 +148,9 @@ class GasSolver {
   /// of the step just taken (force_*, and β, β V_s with the new velocities) and @p eps.
   void set_drag_gradients(const std::vector<double>& eps);
   /// The velocity, pressure, gas fraction and drag force of every plane in each
-  /// process's reach (all: every plane) from their owners, and what follows from them.
-  void receive_gas(bool all);
+  /// process's reach (@p to_writer: every plane on process 0 only) from their owners, and
+  /// what follows from them.
+  void receive_gas(bool to_writer);
   /// The field keeps this process's reach current (GasField::hold_planes); every plane
   /// where the step is not divided.
   void hold_reach();
