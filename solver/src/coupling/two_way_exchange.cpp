@@ -142,18 +142,34 @@ bool TwoWayExchange::add_up_sums(const ParticleStore& p, RankSplit* own, ExactSu
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
                                            RankSplit* ranks) const {
   RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
-  ExactSums sums;
+  ExactSums& sums = volume_sums_;
   start_volume_sums(p, own, sums);
   deposit_sums(p, own, nullptr, sums);
-  add_up_sums(p, own, nullptr, sums);
+  const bool by_planes = add_up_sums(p, own, nullptr, sums);
   finish_void_fraction(sums, eps, time);
+  clear_sums(sums, 1, by_planes);
+}
+
+void TwoWayExchange::start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound) {
+  if (s.size() == n) s.set_bounds(bound, sum_bound);
+  else s.reset(n, bound, sum_bound);
+}
+
+void TwoWayExchange::clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const {
+  if (!by_planes) return s.clear(0, s.size());
+  // This process's sums are nonzero on its reach only: its own particles deposited
+  // within it (add_up_sums) and the totals it received are of its planes.
+  const std::size_t nc = grid_.padded_size();
+  const auto [k0, k1] = planes_->reach_of(planes_->rank(), grid_.n(2));
+  for (std::size_t b = 0; b < blocks; ++b) s.clear(b * nc + grid_.plane_start(k0), b * nc + grid_.plane_start(k1));
+  s.clear(blocks * nc, s.size());
 }
 
 void TwoWayExchange::start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const {
   const double vc = grid_.cell_volume();
   const std::size_t n = p.size();
   const double vmax = max_own(own, n, [&](std::size_t i) { return p.volume(i) / vc; });
-  vol.reset(grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
+  start_sums(vol, grid_.padded_size(), vmax, static_cast<double>(n) * vmax);
 }
 
 double TwoWayExchange::largest_impulse(const ParticleStore& p, RankSplit* own, double time) {
@@ -176,10 +192,11 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   ExactSums& vol = volume_sums_;
   // The reaction per cell along x, y, z, then the particles' total: each particle's
   // weights add up to one, so a sum's terms add up to at most n jmax.
-  imp.reset(3 * nc + 3, jmax, static_cast<double>(n) * jmax);
+  start_sums(imp, 3 * nc + 3, jmax, static_cast<double>(n) * jmax);
   start_volume_sums(p, own, vol);
   deposit_sums(p, own, &imp, vol);
-  if (add_up_sums(p, own, &imp, vol)) reaction_whole_ = false;
+  const bool by_planes = add_up_sums(p, own, &imp, vol);
+  if (by_planes) reaction_whole_ = false;
   for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
   const auto [c0, c1] = held_span();
   for (std::size_t c = c0; c < c1; ++c) {
@@ -188,6 +205,8 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   touch({c0, c1});
   particle_impulse_ += Vec3{imp.value(3 * nc), imp.value(3 * nc + 1), imp.value(3 * nc + 2)};
   finish_void_fraction(vol, eps, time);
+  clear_sums(imp, 3, by_planes);
+  clear_sums(vol, 1, by_planes);
 }
 
 void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {

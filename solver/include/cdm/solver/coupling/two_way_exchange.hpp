@@ -122,9 +122,15 @@ class TwoWayExchange {
   bool held_whole() const { return !planes_ || grid_.window_whole(); }
   /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
   void touch(std::pair<std::size_t, std::size_t> span);
-  /// Reset @p vol for the volumes of @p p's particles (over the cell volume), each rank's
+  /// Start @p vol for the volumes of @p p's particles (over the cell volume), each rank's
   /// own with @p own.
   void start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const;
+  /// Start @p s as @p n sums of the bounds given: where it holds n sums, zero since their
+  /// last use (clear_sums), by setting the bounds only, without a pass over them.
+  static void start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound);
+  /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
+  /// added up @p by_planes (add_up_sums), this process's reach only, the rest being zero.
+  void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const;
   /// @p eps = 1 − the solids fraction deposited in @p vol, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
   void finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const;
@@ -135,7 +141,8 @@ class TwoWayExchange {
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
   std::pair<std::size_t, std::size_t> touched_{0, 0};  // the flat range where imp_* may be nonzero
-  ExactSums impulse_sums_, volume_sums_;  // deposit_impulses_and_void_fraction's, kept between gas steps
+  ExactSums impulse_sums_;  // deposit_impulses_and_void_fraction's, zero between gas steps
+  mutable ExactSums volume_sums_;  // and the deposits' volumes, zero between gas steps
   ExactSums step_sums_;  // deposit_impulses's: per cell x, y, z interleaved, then the total; zero between steps
   std::vector<std::uint8_t> reached_;         // deposit_impulses: 1 for a cell reached this step
   std::vector<std::uint32_t> reached_cells_;  // and those cells
