@@ -380,7 +380,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     StaggeredGrid zero_grid(zero);
     zero_grid.set_window(g.window().first, g.window().second);
     zero_grid.fill_scalar_ghosts(phi_);
-    const auto [z0, z1] = g.window_lines();
+    const auto [z0, z1] = g.window_lines(Staggering::centre);
     for (int a = 0; a < dims; ++a)
       for (int side = 0; side < 2; ++side) {
         if (gs.faces[2 * a + side].kind != BoundaryKind::pressure_outlet) continue;

@@ -117,9 +117,11 @@ class TwoWayExchange {
   /// The z plane of the padded cell index @p c.
   int plane_of(std::size_t c) const;
   /// The flat range of the cells whose reaction and ε_g are kept: the grid's window where
-  /// the planes are shared (share_planes), else every cell; and whether that is all.
+  /// the planes are shared (share_planes), else every cell.
   std::pair<std::size_t, std::size_t> held_span() const;
-  bool held_whole() const { return !planes_ || grid_.window_whole(); }
+  /// Whether every process keeps every cell: alike on every process (the reaches are),
+  /// so that the collectives it decides are (a window may be wider on the writer).
+  bool held_whole() const { return !planes_ || planes_->reach_whole(grid_.n(2)); }
   /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
   void touch(std::pair<std::size_t, std::size_t> span);
   /// Start @p vol for the volumes of @p p's particles (over the cell volume), each rank's

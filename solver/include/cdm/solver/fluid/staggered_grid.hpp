@@ -114,8 +114,6 @@ class StaggeredGrid {
   /// planes beyond them where they reach an end of the grid); elsewhere the arrays hold
   /// what they last held, which nothing reads.
   void set_window(int lo, int hi);
-  /// set_window() over every plane.
-  void whole_window() { set_window(0, n_[2]); }
   std::pair<int, int> window() const { return {window_[0], window_[1]}; }
   bool window_whole() const { return window_[0] == 0 && window_[1] == n_[2]; }
   /// The stored planes [first, last) along z of an array staggered as @p s within the
