@@ -355,8 +355,11 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   // A = −L, so L φ = rhs becomes A φ = −rhs, and b already carries the minus sign.
   // φ starts from zero, not from the previous step's φ: that warm start saved 3 % of the
   // iterations on bench/scenes/gas_scaling.toml, and it would make a run restarted from
-  // a checkpoint (which does not hold φ) differ from the uninterrupted one.
-  std::fill(phi_cells_.begin(), phi_cells_.end(), 0.0);
+  // a checkpoint (which does not hold φ) differ from the uninterrupted one. A divided
+  // solve reads its own planes' start only; the gathers below set the rest it reads.
+  const auto phi_first = static_cast<std::ptrdiff_t>(cell_plane) * (pressure_->solves_own_planes() ? own_k0 : 0);
+  const auto phi_last = static_cast<std::ptrdiff_t>(cell_plane) * (pressure_->solves_own_planes() ? own_k1 : nz);
+  std::fill(phi_cells_.begin() + phi_first, phi_cells_.begin() + phi_last, 0.0);
   last_solve_ = pressure_->solve({&d_[0], &d_[1], &d_[2]}, b_cells_, phi_cells_);
   // A divided solve leaves each process its own planes of φ: the pressure is updated on
   // the planes in its reach, or without an outlet (whose mean below reads every cell) on
