@@ -27,14 +27,6 @@ void for_each_sample(const StaggeredGrid& g, Staggering s, bool threads, F&& f, 
       for (int i = 0; i < n0; ++i) f(i, j, k);
 }
 
-/// Every process gets the planes of @p a (staggered as @p s) in its reach, or with
-/// @p to_writer process 0 every plane, each from the process that computed it.
-void gather_samples(const PlaneShare& share, const StaggeredGrid& g, Staggering s, std::vector<double>& a,
-                    bool to_writer = false) {
-  if (to_writer) share.gather_to_writer(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
-  else share.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
-}
-
 }  // namespace
 
 GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec_(spec) {
@@ -61,60 +53,6 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
 }
 
 GasSolver::~GasSolver() = default;
-
-void GasSolver::read_planes(int lo, int hi) {
-  if (!divided()) return;
-  const StaggeredGrid& g = gas_.grid();
-  const int nz = g.n(2);
-  const auto [k0, k1] = share_.mine(nz);
-  // Its own planes and two either side (the step's stencils, and the ghosts and
-  // interpolators built from them); along a periodic z the planes wrap, so all.
-  if (k0 < k1) {
-    lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
-    hi = std::max(hi, k1 + 1);
-  }
-  if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
-  lo = std::max(lo, 0);
-  hi = std::min(hi, nz - 1);
-  const bool grew = share_.set_reach(lo, hi);
-  if (whole_) return;
-  hold_reach();
-  if (grew) receive_gas(false);
-}
-
-void GasSolver::hold_reach() {
-  if (!divided()) return;
-  const auto [lo, hi] = share_.held(gas_.grid().n(2));
-  gas_.hold_planes(lo, hi);
-}
-
-void GasSolver::gather_to_writer() {
-  if (!divided() || whole_) return;
-  receive_gas(true);
-}
-
-void GasSolver::receive_gas(bool to_writer) {
-  // The velocity, pressure, gas fraction and drag force of each plane are its owner's
-  // (the particles' deposit may leave each process the gas fraction and the drag on its
-  // reach only: TwoWayExchange::share_planes).
-  const StaggeredGrid& g = gas_.grid();
-  std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
-  std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
-  for (int c = 0; c < g.dims(); ++c) {
-    gather_samples(share_, g, static_cast<Staggering>(c), *vel[c], to_writer);
-    gather_samples(share_, g, static_cast<Staggering>(c), *force[c], to_writer);  // the drag gradients read them
-  }
-  for (auto* a : {&gas_.p, &gas_.eps_g}) gather_samples(share_, g, Staggering::centre, *a, to_writer);
-  if (!to_writer) hold_reach();
-  else if (share_.rank() == 0) gas_.hold_planes(0, g.n(2));
-  else return;
-  g.fill_scalar_ghosts(gas_.eps_g);
-  // As the step left them, now on the planes received too.
-  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
-  set_drag_gradients(gas_.eps_g);
-  gas_.fill_pressure_ghosts();
-  gas_.refresh();
-}
 
 void GasSolver::clear_force() {
   const StaggeredGrid& g = gas_.grid();
@@ -277,7 +215,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   auto own_faces_of = [&](int c, auto&& f) { for_each_sample(g, static_cast<Staggering>(c), threads, f, &share_); };
   auto own_cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f, &share_); };
   auto gather_velocity = [&](std::vector<double>* const comp[3]) {
-    for (int c = 0; c < dims; ++c) gather_samples(share_, g, static_cast<Staggering>(c), *comp[c]);
+    for (int c = 0; c < dims; ++c) gather(*comp[c], static_cast<Staggering>(c));
   };
   const std::pair<int, int> mine = share_.mine(nz);  // not bindings: clang cannot share them with OpenMP
   const int own_k0 = mine.first, own_k1 = mine.second;
@@ -303,7 +241,7 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   }
   // The divergence below reads u* and v* on this process's planes of cells, all set
   // here, and w* up to the faces above them, which the next process may have set.
-  if (dims == 3) gather_samples(share_, g, Staggering::w, ws_);
+  if (dims == 3) gather(ws_, Staggering::w);
   g.fill_velocity_ghosts(us_, vs_, ws_);
 
   // The coefficient of −∇·(d ∇φ) on the faces 0..n along each axis that the pressure

@@ -151,6 +151,9 @@ class GasSolver {
   /// process's reach (@p to_writer: every plane on process 0 only) from their owners, and
   /// what follows from them.
   void receive_gas(bool to_writer);
+  /// Every process gets the planes of @p a (staggered as @p s) in its reach, or with
+  /// @p to_writer process 0 every plane, each from the process that computed it.
+  void gather(std::vector<double>& a, Staggering s, bool to_writer = false) const;
   /// The field keeps this process's reach current (GasField::hold_planes); every plane
   /// where the step is not divided.
   void hold_reach();

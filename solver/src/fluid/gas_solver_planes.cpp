@@ -1,0 +1,71 @@
+#include "cdm/solver/fluid/gas_solver.hpp"
+
+// How a gas step divided among MPI processes by planes shares them: the planes each
+// process reads (its reach) and keeps current, what it receives when they change, and
+// the whole gas on the writing process.
+
+#include <algorithm>
+
+namespace cdm::fluid {
+
+void GasSolver::gather(std::vector<double>& a, Staggering s, bool to_writer) const {
+  const StaggeredGrid& g = gas_.grid();
+  if (to_writer) share_.gather_to_writer(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
+  else share_.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
+}
+
+void GasSolver::read_planes(int lo, int hi) {
+  if (!divided()) return;
+  const StaggeredGrid& g = gas_.grid();
+  const int nz = g.n(2);
+  const auto [k0, k1] = share_.mine(nz);
+  // Its own planes and two either side (the step's stencils, and the ghosts and
+  // interpolators built from them); along a periodic z the planes wrap, so all.
+  if (k0 < k1) {
+    lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
+    hi = std::max(hi, k1 + 1);
+  }
+  if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
+  lo = std::max(lo, 0);
+  hi = std::min(hi, nz - 1);
+  const bool grew = share_.set_reach(lo, hi);
+  if (whole_) return;
+  hold_reach();
+  if (grew) receive_gas(false);
+}
+
+void GasSolver::hold_reach() {
+  if (!divided()) return;
+  const auto [lo, hi] = share_.held(gas_.grid().n(2));
+  gas_.hold_planes(lo, hi);
+}
+
+void GasSolver::gather_to_writer() {
+  if (!divided() || whole_) return;
+  receive_gas(true);
+}
+
+void GasSolver::receive_gas(bool to_writer) {
+  // The velocity, pressure, gas fraction and drag force of each plane are its owner's
+  // (the particles' deposit may leave each process the gas fraction and the drag on its
+  // reach only: TwoWayExchange::share_planes).
+  const StaggeredGrid& g = gas_.grid();
+  std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
+  std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
+  for (int c = 0; c < g.dims(); ++c) {
+    gather(*vel[c], static_cast<Staggering>(c), to_writer);
+    gather(*force[c], static_cast<Staggering>(c), to_writer);  // the drag gradients read them
+  }
+  for (auto* a : {&gas_.p, &gas_.eps_g}) gather(*a, Staggering::centre, to_writer);
+  if (!to_writer) hold_reach();
+  else if (share_.rank() == 0) gas_.hold_planes(0, g.n(2));
+  else return;
+  g.fill_scalar_ghosts(gas_.eps_g);
+  // As the step left them, now on the planes received too.
+  g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
+  set_drag_gradients(gas_.eps_g);
+  gas_.fill_pressure_ghosts();
+  gas_.refresh();
+}
+
+}  // namespace cdm::fluid
