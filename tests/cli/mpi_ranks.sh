@@ -352,6 +352,8 @@ bed=("$src/bench/scenes/bed_1e5.toml" --set 'random_particles[0].count=20000' --
      --set output.particles=true --set output.log_interval=0.0005 --set output.checkpoint_interval=0.001)
 shared "bed over the gas planes" 3 "${bed[@]}"
 shared "bed over the gas planes, drag every step" 3 "${bed[@]}" --set 'coupling.drag_evaluation="every_step"'
+# The direct pressure solve is done whole by each process: it reads every plane.
+shared "bed over the gas planes, direct solve" 3 "${bed[@]}" --set 'gas.pressure_solver="direct"'
 # Fed from above (2,000 beads inserted high in the column, which each process deals out
 # and whose planes it then reads) and drained at a floor corner (112 leave, their impulse
 # deposited where they left).

@@ -26,6 +26,9 @@ void GasSolver::read_planes(int lo, int hi) {
     hi = std::max(hi, k1 + 1);
   }
   if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
+  // A pressure solve done whole by each process (the direct factorisation) reads the gas
+  // fraction and the face coefficients of every cell: all.
+  if (!pressure_->solves_own_planes()) lo = 0, hi = nz - 1;
   lo = std::max(lo, 0);
   hi = std::min(hi, nz - 1);
   const bool grew = share_.set_reach(lo, hi);
