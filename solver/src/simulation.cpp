@@ -285,14 +285,13 @@ void Simulation::build_gas() {
     } catch (const SimulationError& e) {
       throw SceneError(spec_.file + ": the initial particles do not fit the gas cells: " + std::string(e.what()));
     }
-    if (spec_.implicit_gas_drag) implicit_drag_ = std::make_unique<coupling::ImplicitDrag>(g, *exchange_->deposition());
+    if (spec_.implicit_gas_drag) implicit_drag_ = std::make_unique<coupling::ImplicitDrag>(g, *exchange_);
   }
   gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
   solver_ = std::make_unique<fluid::GasSolver>(
       *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient,
                                        spec_.pressure_solver, spec_.gas_division});
-  // The implicit drag reads the reaction on every cell (implicit_drag.hpp).
-  if (solver_->divided() && spec_.two_way && !implicit_drag_) exchange_->share_planes(&solver_->planes());
+  if (solver_->divided() && spec_.two_way) exchange_->share_planes(&solver_->planes());
 }
 
 void Simulation::gas_step() {
@@ -306,7 +305,7 @@ void Simulation::gas_step() {
     // stencils, each rank its own particles.
     const bool together = lagged() || implicit_drag_;
     if (together) exchange_->deposit_impulses_and_void_fraction(particles_, eps_work_, time_, ranks_.get());
-    if (implicit_drag_) implicit_drag_->prepare(particles_, *exchange_, gs, ranks_.get());
+    if (implicit_drag_) implicit_drag_->prepare(particles_, gs, ranks_.get());
     exchange_->apply_reaction(gs, dtg);
     if (implicit_drag_) gs.clear_force();  // the gas takes the drag implicitly instead
     if (!together) exchange_->deposit_void_fraction(particles_, eps_work_, time_, ranks_.get());

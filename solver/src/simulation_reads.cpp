@@ -113,6 +113,7 @@ const fluid::GasField* Simulation::writer_gas() const {
 
 void Simulation::writer_reaction() const {
   if (exchange_) exchange_->gather_to_writer();
+  if (implicit_drag_) implicit_drag_->gather_to_writer();
 }
 
 void Simulation::gas_follows_particles() {

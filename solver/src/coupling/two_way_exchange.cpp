@@ -112,30 +112,36 @@ std::pair<int, int> TwoWayExchange::planes_reached(const ParticleStore& p, RankS
   return {std::max(k0, 0), std::min(k1, nz - 1)};
 }
 
-bool TwoWayExchange::add_up_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const {
+bool TwoWayExchange::add_up_cells(const ParticleStore& p, RankSplit* own, CellSums a, CellSums b) const {
   if (!own) return false;
   const int nz = grid_.n(2);
   const std::size_t nc = grid_.padded_size();
   if (planes_ && !planes_->reach_whole(nz)) {
-    // The particles' totals, and whether some process's particles reached beyond its
-    // planes (then every cell is added up: the same sums either way), in one reduction.
+    // The totals, and whether some process's particles reached beyond its planes (then
+    // every cell is added up: the same sums either way), in one reduction.
     const auto [k0, k1] = planes_reached(p, *own);
     std::vector<std::int64_t> rest;
-    if (imp) rest.assign(imp->data() + 3 * nc, imp->data() + 3 * nc + 3);
+    for (const CellSums& s : {a, b})
+      if (s.sums) rest.insert(rest.end(), s.sums->data() + s.blocks * nc, s.sums->data() + s.sums->size());
     rest.push_back(planes_->within_reach(k0, k1, nz) ? 0 : 1);
     own->add_up(rest);
     if (rest.back() == 0) {
-      std::vector<std::int64_t*> cells{vol.data()};
-      if (imp) {
-        std::copy_n(rest.begin(), 3, imp->data() + 3 * nc);
-        cells.insert(cells.end(), {imp->data(), imp->data() + nc, imp->data() + 2 * nc});
+      std::vector<std::int64_t*> cells;
+      auto total = rest.begin();
+      for (const CellSums& s : {a, b}) {
+        if (!s.sums) continue;
+        std::int64_t* const d = s.sums->data();
+        const auto totals = static_cast<std::ptrdiff_t>(s.sums->size() - s.blocks * nc);
+        std::copy(total, total + totals, d + s.blocks * nc);
+        total += totals;
+        for (std::size_t k = 0; k < s.blocks; ++k) cells.push_back(d + k * nc);
       }
       planes_->add_up(cells, grid_.plane_start(0), grid_.plane_size(), nz);
       return true;
     }
   }
-  if (imp) own->add_up(*imp, vol);
-  else own->add_up(vol);
+  if (b.sums) own->add_up(*a.sums, *b.sums);
+  else own->add_up(*a.sums);
   return false;
 }
 
@@ -145,7 +151,7 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
   ExactSums& sums = volume_sums_;
   start_volume_sums(p, own, sums);
   deposit_sums(p, own, nullptr, sums);
-  const bool by_planes = add_up_sums(p, own, nullptr, sums);
+  const bool by_planes = add_up_cells(p, own, {&sums, 1});
   finish_void_fraction(sums, eps, time);
   clear_sums(sums, 1, by_planes);
 }
@@ -158,7 +164,7 @@ void TwoWayExchange::start_sums(ExactSums& s, std::size_t n, double bound, doubl
 void TwoWayExchange::clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const {
   if (!by_planes) return s.clear(0, s.size());
   // This process's sums are nonzero on its reach only: its own particles deposited
-  // within it (add_up_sums) and the totals it received are of its planes.
+  // within it (add_up_cells) and the totals it received are of its planes.
   const std::size_t nc = grid_.padded_size();
   const auto [k0, k1] = planes_->reach_of(planes_->rank(), grid_.n(2));
   for (std::size_t b = 0; b < blocks; ++b) s.clear(b * nc + grid_.plane_start(k0), b * nc + grid_.plane_start(k1));
@@ -195,7 +201,7 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   start_sums(imp, 3 * nc + 3, jmax, static_cast<double>(n) * jmax);
   start_volume_sums(p, own, vol);
   deposit_sums(p, own, &imp, vol);
-  const bool by_planes = add_up_sums(p, own, &imp, vol);
+  const bool by_planes = add_up_cells(p, own, {&imp, 3}, {&vol, 1});
   if (by_planes) reaction_whole_ = false;
   for_own(own, n, [&](std::size_t i) { p.jx[i] = p.jy[i] = p.jz[i] = 0.0; });
   const auto [c0, c1] = held_span();
@@ -261,8 +267,7 @@ void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* 
   // read and cleared (on one process those listed as the particles reach them).
   ExactSums& s = step_sums_;
   const double count = static_cast<double>(n);
-  if (s.size() != 3 * nc + 3) s.reset(3 * nc + 3, jmax, count * jmax);
-  else s.set_bounds(jmax, count * jmax);
+  start_sums(s, 3 * nc + 3, jmax, count * jmax);
   const double sc = s.scale();
   std::size_t lo = nc, hi = 0;
   reached_.resize(nc, 0);

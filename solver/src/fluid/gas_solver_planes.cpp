@@ -49,15 +49,22 @@ void GasSolver::gather_to_writer() {
 }
 
 void GasSolver::receive_gas(bool to_writer) {
-  // The velocity, pressure, gas fraction and drag force of each plane are its owner's
-  // (the particles' deposit may leave each process the gas fraction and the drag on its
-  // reach only: TwoWayExchange::share_planes).
+  // The velocity, pressure, gas fraction and drag of each plane are its owner's (the
+  // particles' deposit may leave each process the gas fraction and the drag on its reach
+  // only: TwoWayExchange::share_planes, ImplicitDrag).
   const StaggeredGrid& g = gas_.grid();
   std::vector<double>* const vel[3] = {&gas_.u, &gas_.v, &gas_.w};
   std::vector<double>* const force[3] = {&force_u, &force_v, &force_w};
+  // The drag gradients read the drag force, and the implicit drag's β and β V_s.
+  std::vector<double>* const beta[3] = {&drag_u, &drag_v, &drag_w};
+  std::vector<double>* const target[3] = {&drag_target_u, &drag_target_v, &drag_target_w};
   for (int c = 0; c < g.dims(); ++c) {
-    gather(*vel[c], static_cast<Staggering>(c), to_writer);
-    gather(*force[c], static_cast<Staggering>(c), to_writer);  // the drag gradients read them
+    const auto s = static_cast<Staggering>(c);
+    gather(*vel[c], s, to_writer);
+    gather(*force[c], s, to_writer);
+    if (beta[c]->empty()) continue;
+    gather(*beta[c], s, to_writer);
+    gather(*target[c], s, to_writer);
   }
   for (auto* a : {&gas_.p, &gas_.eps_g}) gather(*a, Staggering::centre, to_writer);
   if (!to_writer) hold_reach();

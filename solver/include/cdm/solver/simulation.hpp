@@ -170,8 +170,9 @@ class Simulation : private integrators::StepHost {
   /// the planes each process reads only, and what is read from it is not written.
   /// Collective among MPI processes.
   const fluid::GasField* writer_gas() const;
-  /// The drag's reaction gathered so far in the gas step on every plane of process 0
-  /// (TwoWayExchange::gather_to_writer), for a checkpoint. Collective.
+  /// The drag's reaction gathered so far in the gas step, and the implicit drag's
+  /// differences kept, on every plane of process 0 (TwoWayExchange::gather_to_writer,
+  /// ImplicitDrag::gather_to_writer), for a checkpoint. Collective.
   void writer_reaction() const;
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
   fluid::GasField* gas_mutable() { return gas_.get(); }

@@ -88,6 +88,28 @@ class TwoWayExchange {
   /// and the gas fraction's check reads each process's own planes. The reaction and ε_g
   /// are then kept on the grid's window only (StaggeredGrid::set_window).
   void share_planes(const fluid::PlaneShare* planes) { planes_ = planes; }
+  /// The planes shared (share_planes; nullptr: none).
+  const fluid::PlaneShare* planes() const { return planes_; }
+  /// Whether every process keeps every cell: alike on every process (the reaches are),
+  /// so that the collectives it decides are (a window may be wider on the writer).
+  bool held_whole() const { return !planes_ || planes_->reach_whole(grid_.n(2)); }
+  /// Sums on the cells (@p blocks blocks of a sum a cell, then any totals).
+  struct CellSums {
+    ExactSums* sums;
+    std::size_t blocks;
+  };
+  /// Each process's sums of its own particles' deposits (@p a, and @p b unless empty),
+  /// added up over the processes (@p own; nothing without): on each process's reach of
+  /// planes where every process's particles deposited within its own (share_planes),
+  /// else on every cell; the totals on every process. Returns whether by planes.
+  /// Collective.
+  bool add_up_cells(const ParticleStore& p, RankSplit* own, CellSums a, CellSums b = {nullptr, 0}) const;
+  /// Start @p s as @p n sums of the bounds given: where it holds n sums, zero since their
+  /// last use (clear_sums), by setting the bounds only, without a pass over them.
+  static void start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound);
+  /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
+  /// added up @p by_planes (add_up_cells), this process's reach only, the rest being zero.
+  void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const;
   /// The reaction gathered so far on every plane of process 0, which writes the
   /// checkpoint. Collective among the processes sharing the planes.
   void gather_to_writer();
@@ -107,10 +129,6 @@ class TwoWayExchange {
   /// rank its own particles with @p own, the sums then added up over the ranks; each
   /// thread a range of them. The sums must be reset (their bounds) first.
   void deposit_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
-  /// deposit_sums's sums added up over the ranks (@p own): on each process's reach of
-  /// planes where every process's particles deposited within its own (share_planes),
-  /// else on every cell. Returns whether by planes.
-  bool add_up_sums(const ParticleStore& p, RankSplit* own, ExactSums* imp, ExactSums& vol) const;
   /// The planes of cells along z that the stencils of @p p's own particles reach (none:
   /// first > second; a position not finite: beyond the grid).
   std::pair<int, int> planes_reached(const ParticleStore& p, RankSplit& own) const;
@@ -119,20 +137,11 @@ class TwoWayExchange {
   /// The flat range of the cells whose reaction and ε_g are kept: the grid's window where
   /// the planes are shared (share_planes), else every cell.
   std::pair<std::size_t, std::size_t> held_span() const;
-  /// Whether every process keeps every cell: alike on every process (the reaches are),
-  /// so that the collectives it decides are (a window may be wider on the writer).
-  bool held_whole() const { return !planes_ || planes_->reach_whole(grid_.n(2)); }
   /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
   void touch(std::pair<std::size_t, std::size_t> span);
   /// Start @p vol for the volumes of @p p's particles (over the cell volume), each rank's
   /// own with @p own.
   void start_volume_sums(const ParticleStore& p, RankSplit* own, ExactSums& vol) const;
-  /// Start @p s as @p n sums of the bounds given: where it holds n sums, zero since their
-  /// last use (clear_sums), by setting the bounds only, without a pass over them.
-  static void start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound);
-  /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
-  /// added up @p by_planes (add_up_sums), this process's reach only, the rest being zero.
-  void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const;
   /// @p eps = 1 − the solids fraction deposited in @p vol, checked (throws
   /// SimulationError naming the cell and @p time), its ghosts filled.
   void finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const;
