@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/parallel.hpp"
 
@@ -210,7 +211,6 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     return implicit ? e * e / (e + drag_c(a, f)) : e;
   };
   auto along = [](int a, int i, int j, int k) { return a == 0 ? i : a == 1 ? j : k; };
-  auto cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f); };
   // This process's planes of the faces and cells (plane_share.hpp), and their gathers.
   auto own_faces_of = [&](int c, auto&& f) { for_each_sample(g, static_cast<Staggering>(c), threads, f, &share_); };
   auto own_cells_of = [&](auto&& f) { for_each_sample(g, Staggering::centre, threads, f, &share_); };
@@ -300,15 +300,10 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
   std::fill(phi_cells_.begin() + phi_first, phi_cells_.begin() + phi_last, 0.0);
   last_solve_ = pressure_->solve({&d_[0], &d_[1], &d_[2]}, b_cells_, phi_cells_);
   // A divided solve leaves each process its own planes of φ: the pressure is updated on
-  // the planes in its reach, or without an outlet (whose mean below reads every cell) on
-  // every plane.
-  if (pressure_->solves_own_planes()) {
-    if (has_outlet) share_.gather(phi_cells_, 0, cell_plane, nz);
-    else share_.gather_all(phi_cells_, 0, cell_plane, nz);
-  }
-  // φ is copied and the pressure updated on the grid's window, or without an outlet on
-  // every cell (the pressure's mean reads them all: it is kept whole).
-  const std::pair<int, int> updated = has_outlet ? g.window_planes(Staggering::centre) : std::pair{0, nz};
+  // the planes in its reach.
+  if (pressure_->solves_own_planes()) share_.gather(phi_cells_, 0, cell_plane, nz);
+  // φ is copied and the pressure updated on the grid's window.
+  const std::pair<int, int> updated = g.window_planes(Staggering::centre);
   const int up_k0 = updated.first, up_k1 = updated.second;  // not bindings: clang cannot share them with OpenMP
 #pragma omp parallel for schedule(static) if (threads)
   for (int k = up_k0; k < up_k1; ++k)
@@ -363,20 +358,36 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     });
   }
   gather_velocity(vel);
-  // The mean in cell order, on one thread: the sum's order fixes its bits.
   double* const PN = gas_.p.data();
-  double pmean = 0.0;
+#pragma omp parallel for schedule(static) if (threads)
   for (int k = up_k0; k < up_k1; ++k)
-    for (int j = 0; j < ny; ++j) {
-      const std::size_t r = g.at(0, j, k);
-      for (int i = 0; i < nx; ++i) {
-        PN[r + i] += PHI[r + i];
-        pmean += PN[r + i];
-      }
-    }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) PN[g.at(i, j, k)] += PHI[g.at(i, j, k)];
   if (!has_outlet) {
-    pmean /= static_cast<double>(g.cell_count());
-    cells_of([&](int i, int j, int k) { PN[g.at(i, j, k)] -= pmean; });
+    // Without an outlet the pressure is defined up to a constant: its mean over every
+    // cell is taken out. Each process adds up its own planes in exact sums (their
+    // result does not depend on the order of the terms: exact_sums.hpp), so the mean is
+    // the same to the bit on any number of processes and threads.
+    double pmax = 0.0;
+    for (int k = own_k0; k < own_k1; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) pmax = std::max(pmax, std::abs(PN[g.at(i, j, k)]));
+    pmax = share_.max(pmax);
+    // A pressure not finite is left for the step's guard to name (RunGuards::check_gas).
+    if (std::isfinite(pmax)) {
+      const auto cells = static_cast<double>(g.cell_count());
+      ExactSums sum;
+      sum.reset(1, pmax, cells * pmax);
+      for (int k = own_k0; k < own_k1; ++k)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i) sum.add(0, PN[g.at(i, j, k)]);
+      share_.sum(sum.data(), 1);
+      const double pmean = sum.value(0) / cells;
+#pragma omp parallel for schedule(static) if (threads)
+      for (int k = up_k0; k < up_k1; ++k)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i) PN[g.at(i, j, k)] -= pmean;
+    }
   }
   if (dims == 2) std::fill(gas_.w.begin(), gas_.w.end(), 0.0);
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);

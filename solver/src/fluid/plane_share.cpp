@@ -223,6 +223,12 @@ void PlaneShare::sum(double* x, int n) const {
     throw std::runtime_error("MPI: MPI_Allreduce of the coupling's balance failed");
 }
 
+void PlaneShare::sum(std::int64_t* x, int n) const {
+  if (size_ <= 1) return;
+  if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the gas's exact sums failed");
+}
+
 void PlaneShare::max(double* x, int n) const {
   if (size_ <= 1) return;
   if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS)
@@ -241,6 +247,7 @@ std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {
 double PlaneShare::max(double x) const { return x; }
 void PlaneShare::max(double*, int) const {}
 void PlaneShare::sum(double*, int) const {}
+void PlaneShare::sum(std::int64_t*, int) const {}
 
 #endif
 

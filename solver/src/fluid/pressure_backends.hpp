@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/fluid/pressure_solver.hpp"
 
 namespace cdm::fluid {
@@ -50,6 +51,10 @@ class PressureSolver::Multigrid {
   std::pair<int, int> own_planes() const;
   /// Whether @p here holds on every process dividing the solve.
   bool everywhere(bool here) const;
+  /// The largest of @p x over the processes.
+  double largest(double x) const;
+  /// @p s's sums added up over the processes.
+  void add_up(ExactSums& s) const;
   /// Whether more than one process divides the solve.
   bool divided() const;
 

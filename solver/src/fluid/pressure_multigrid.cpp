@@ -263,6 +263,18 @@ bool PressureSolver::Multigrid::everywhere(bool here) const {
   return all != 0;
 }
 
+double PressureSolver::Multigrid::largest(double x) const {
+  if (h_->size > 1 && MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, h_->comm) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the right-hand side's largest value failed");
+  return x;
+}
+
+void PressureSolver::Multigrid::add_up(ExactSums& s) const {
+  if (h_->size > 1 && MPI_Allreduce(MPI_IN_PLACE, s.data(), static_cast<int>(s.size()), MPI_INT64_T, MPI_SUM,
+                                    h_->comm) != MPI_SUCCESS)
+    throw std::runtime_error("MPI: MPI_Allreduce of the right-hand side's sum failed");
+}
+
 void PressureSolver::Multigrid::set_operator(const PressureSolver& ps, const FaceCoefficients& d) {
   destroy_solver();
   Hypre& h = *h_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cdm/solver/exact_sums.hpp"
 #include "pressure_backends.hpp"
 
 namespace cdm::fluid {
@@ -183,11 +184,34 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
     ++setups_;
   }
   if (!has_outlet_) {
-    // Compatibility: without an outlet the sources must balance; remove the round-off.
-    double mean = 0.0;
-    for (double x : b) mean += x;
-    mean /= static_cast<double>(ncell);
-    for (double& x : b) x -= mean;
+    // Compatibility: without an outlet the sources must balance; remove the round-off,
+    // their mean: in exact sums (exact_sums.hpp) of the rows this process reads, added up
+    // over the processes dividing the solve, so the same bits on any number of them.
+    std::size_t r0 = 0, r1 = ncell;
+#ifdef CDM_WITH_MPI
+    const bool own_rows = reads_own_planes();
+    if (own_rows) {
+      const auto [k0, k1] = multigrid_->own_planes();
+      const std::size_t plane = ncell / static_cast<std::size_t>(grid_.n(2));
+      r0 = plane * static_cast<std::size_t>(k0);
+      r1 = plane * static_cast<std::size_t>(k1);
+    }
+#endif
+    double bmax = 0.0;
+    for (std::size_t r = r0; r < r1; ++r) bmax = std::max(bmax, std::abs(b[r]));
+#ifdef CDM_WITH_MPI
+    if (own_rows) bmax = multigrid_->largest(bmax);
+#endif
+    if (std::isfinite(bmax)) {  // else left for the solve to report
+      ExactSums sum;
+      sum.reset(1, bmax, static_cast<double>(ncell) * bmax);
+      for (std::size_t r = r0; r < r1; ++r) sum.add(0, b[r]);
+#ifdef CDM_WITH_MPI
+      if (own_rows) multigrid_->add_up(sum);
+#endif
+      const double mean = sum.value(0) / static_cast<double>(ncell);
+      for (std::size_t r = r0; r < r1; ++r) b[r] -= mean;
+    }
     b[0] = 0.0;  // cell 0 holds φ = 0
   }
 #ifdef CDM_WITH_MPI

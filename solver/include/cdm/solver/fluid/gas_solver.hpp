@@ -35,7 +35,8 @@
 /// velocity 0, ∂φ/∂n = 0); velocity inlet (normal velocity given, ∂φ/∂n = 0); pressure
 /// outlet (p given on the boundary face, zero normal gradient of velocity; the outlet
 /// face velocity is solved for). Without an outlet the pressure is defined up to a
-/// constant: its mean is held at zero. A face whose velocity is fixed (wall or inlet) is
+/// constant: its mean is held at zero (added up in exact sums over each process's own
+/// planes, so the same bits on any number of processes). A face whose velocity is fixed (wall or inlet) is
 /// not solved for; the particles next to it feel the gradient its own steady momentum
 /// balance gives (GasField::drag_gradient): the share of the drag reaction a cell hands
 /// to such a face stays there, taken by the wall or the inlet, not by the gas.

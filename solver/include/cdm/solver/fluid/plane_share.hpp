@@ -91,6 +91,8 @@ class PlaneShare {
   std::pair<double, int> min_at(double value, int at) const;
   /// Each of @p x[0 … n) replaced by its sum over the processes.
   void sum(double* x, int n) const;
+  /// The same for integer sums (ExactSums::data()): the same bits on any number of processes.
+  void sum(std::int64_t* x, int n) const;
   /// The planes of cells [first, last) of @p planes this process stated to set_reach
   /// (every plane before it did).
   std::pair<int, int> held(int planes) const;

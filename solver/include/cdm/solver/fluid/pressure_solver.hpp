@@ -9,7 +9,8 @@
 /// (gas_solver.hpp): a periodic axis wraps; walls and velocity inlets carry no φ flux;
 /// a pressure-outlet face holds φ = 0 (ghost value −φ, so the diagonal gains 2 d/h²).
 /// Without an outlet, −∇·(d ∇φ) is singular (φ is defined up to a constant) and b must
-/// sum to zero: the solver removes the mean of b (the round-off of a balanced source) and
+/// sum to zero: the solver removes the mean of b (the round-off of a balanced source; in
+/// exact sums, added up over the processes dividing a multigrid solve) and
 /// holds cell 0 at φ = 0 (its row and column become those of the identity, b₀ = 0), for
 /// both backends. The system stays symmetric positive definite; the projection does not
 /// see the constant (it uses ∇φ, and the pressure's mean is held at zero without an
@@ -119,9 +120,9 @@ class PressureSolver {
   PressureBackend backend() const { return spec_.backend; }
   /// Whether solve() reads of b only the cells of this process's planes (its run of
   /// PlaneShare::planes_of the z axis), so that the other processes' parts need not be
-  /// sent to it: a 3D grid's multigrid solve with an outlet. A direct solve reads every
-  /// cell, and so does the removal of b's mean without an outlet.
-  bool reads_own_planes() const { return multigrid_ && grid_.dims() == 3 && has_outlet_; }
+  /// sent to it: a 3D grid's multigrid solve (without an outlet, b's mean is added up
+  /// over the processes). A direct solve reads every cell.
+  bool reads_own_planes() const { return multigrid_ && grid_.dims() == 3; }
   /// Whether solve() sets of φ only the cells of this process's planes, the caller
   /// gathering the rest (PlaneShare::gather): a 3D grid's multigrid solve divided among
   /// processes. Else it sets every cell.
