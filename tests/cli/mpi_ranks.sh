@@ -22,7 +22,7 @@
 # solve, divided among the processes, gives the same files on 2, 3 and 4. A bed over
 # the gas planes (each process reading its reach) is compared on 3, also with the direct
 # pressure solve, in a closed box and with the gas taking the drag implicitly (restarted
-# onto 2).
+# onto 2), and periodic along z on 4 (restarted onto 3).
 # The processes other than rank 0 write no file (their temporary folder does not exist). A
 # bed of 2e4 particles, whose state is gathered in rounds, is compared on 2, and the chute
 # gathered in rounds of a few particles and pairs. The chute and the Mueller bed are
@@ -365,6 +365,16 @@ shared "bed over the gas planes, implicit gas drag" 3 "${bed[@]}" "${implicit[@]
 # side's are taken out, added up over each process's own planes in exact sums.
 shared "bed over the gas planes, closed box" 3 "${bed[@]}" --set 'gas.boundaries.y_lower="no_slip"' \
   --set 'gas.boundaries.y_upper="no_slip"'
+# Periodic along z (its walls there left out): a process whose reach meets neither end
+# keeps and receives its reach only; one that meets an end reads every plane (the ghosts
+# wrap). 24 planes on 4 processes: the two middle ones keep their reach.
+periodic_z=(--set 'gas.cells=[12,48,24]' --set 'gas.boundaries.z_lower="periodic"'
+            --set 'gas.boundaries.z_upper="periodic"'
+            --set 'walls=[{name="distributor", point=[0.0,0.0,0.0], normal=[0.0,1.0,0.0], material="wall"},
+                          {name="lid", point=[0.0,0.24,0.0], normal=[0.0,-1.0,0.0], material="wall"},
+                          {name="x_lower", point=[0.0,0.0,0.0], normal=[1.0,0.0,0.0], material="wall"},
+                          {name="x_upper", point=[0.06,0.0,0.0], normal=[-1.0,0.0,0.0], material="wall"}]')
+shared "bed over periodic gas planes" 4 "${bed[@]}" "${periodic_z[@]}"
 # The direct pressure solve is done whole by each process: it reads every plane.
 shared "bed over the gas planes, direct solve" 3 "${bed[@]}" --set 'gas.pressure_solver="direct"'
 # Fed from above (2,000 beads inserted high in the column, which each process deals out
@@ -419,6 +429,7 @@ resumed "tracers" "$work/tracers-1" 2 3 9 "${tracers[@]}"
 resumed "bed over the gas planes" "$work/bed-over-the-gas-planes-1" 3 2 333 "${bed[@]}"
 resumed "bed over the gas planes, implicit gas drag" "$work/bed-over-the-gas-planes,-implicit-gas-drag-1" 3 2 480 \
   "${bed[@]}" "${implicit[@]}"
+resumed "bed over periodic gas planes" "$work/bed-over-periodic-gas-planes-1" 4 3 333 "${bed[@]}" "${periodic_z[@]}"
 resumed "mesh pile" "$work/mesh-pile-1" 3 2 1000 "$src/tests/cli/scenes/mesh_pile.toml" --set integrator.end_time=0.01 \
   --set output.interval=0.005 --set output.log_interval=0.001
 
@@ -505,4 +516,4 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
 done
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, particles without contacts shared by rows on 2-4 (fed, drained, restarted from 3 onto 2; every integrator; tracers on 3 and restarted from 2 onto 3), the multigrid pressure solve divided on 2-4, a bed over the gas planes on 3 (the drag once per gas step, at every step, implicit, with the direct solve, in a closed box; fed and drained; restarted onto 2), a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, particles without contacts shared by rows on 2-4 (fed, drained, restarted from 3 onto 2; every integrator; tracers on 3 and restarted from 2 onto 3), the multigrid pressure solve divided on 2-4, a bed over the gas planes on 3 (the drag once per gas step, at every step, implicit, with the direct solve, in a closed box; fed and drained; restarted onto 2), and periodic along z on 4 (restarted onto 3), a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"

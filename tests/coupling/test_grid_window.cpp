@@ -15,8 +15,8 @@ using namespace cdm;
 using namespace cdm::fluid;
 
 /// A 3D box of 5 × 4 × 10 cells, inflow below (y), an outlet above, no-slip walls along x
-/// and z.
-GasSpec column() {
+/// and z (or, @p periodic_z, z periodic).
+GasSpec column(bool periodic_z = false) {
   GasSpec s;
   s.grid.lo = {0, 0, 0};
   s.grid.hi = {0.5, 0.4, 1.0};
@@ -24,7 +24,7 @@ GasSpec column() {
   s.grid.faces[0].kind = s.grid.faces[1].kind = BoundaryKind::no_slip;
   s.grid.faces[2] = {BoundaryKind::velocity_inlet, 0.3, 0.0};
   s.grid.faces[3] = {BoundaryKind::pressure_outlet, 0.0, 100.0};
-  s.grid.faces[4].kind = s.grid.faces[5].kind = BoundaryKind::no_slip;
+  s.grid.faces[4].kind = s.grid.faces[5].kind = periodic_z ? BoundaryKind::periodic : BoundaryKind::no_slip;
   s.density = 1.2;
   s.viscosity = 1.8e-5;
   s.interpolation = InterpolationScheme::paper_lagrange2;
@@ -65,12 +65,28 @@ void expect_window(const StaggeredGrid& g, Staggering s, const std::vector<doubl
 
 const std::pair<int, int> windows[] = {{3, 6}, {0, 4}, {6, 10}, {0, 10}, {4, 5}};
 
+/// Each window, on the bounded column and along a periodic z (where a window that
+/// reaches an end is whole: its ghosts wrap to the planes past the other end).
+struct Case {
+  bool periodic;
+  int lo, hi;
+};
+std::vector<Case> cases() {
+  std::vector<Case> c;
+  for (const bool periodic : {false, true})
+    for (const auto& [lo, hi] : windows) c.push_back({periodic, lo, hi});
+  return c;
+}
+std::pair<int, int> expected_window(const Case& c) {
+  return c.periodic && (c.lo == 0 || c.hi == 10) ? std::pair{0, 10} : std::pair{c.lo, c.hi};
+}
+
 TEST(GridWindow, GhostFillsVisitTheWindowsPlanesOnly) {
-  for (const auto& [lo, hi] : windows) {
-    StaggeredGrid whole_grid(column().grid), g(column().grid);
-    g.set_window(lo, hi);
-    ASSERT_EQ(g.window(), (std::pair{lo, hi}));
-    EXPECT_EQ(g.window_whole(), lo == 0 && hi == 10);
+  for (const Case& cs : cases()) {
+    StaggeredGrid whole_grid(column(cs.periodic).grid), g(column(cs.periodic).grid);
+    g.set_window(cs.lo, cs.hi);
+    ASSERT_EQ(g.window(), expected_window(cs));
+    EXPECT_EQ(g.window_whole(), expected_window(cs) == (std::pair{0, 10}));
     std::uint64_t seed = 1;
     for (int kind = 0; kind < 4; ++kind) {
       const std::vector<double> before[3] = {scrambled(g.padded_size(), seed), scrambled(g.padded_size(), seed + 1),
@@ -101,19 +117,24 @@ TEST(GridWindow, CopiesAndFillsCoverTheWindowsSpan) {
   g.fill_window(filled, 0.0);
   expect_window(g, Staggering::w, from, copied, before, "copy");
   expect_window(g, Staggering::w, zero, filled, before, "fill");
-  // A window beyond the grid is clamped to it; a periodic z keeps every plane.
+  // A window beyond the grid is clamped to it; along a periodic z one that reaches an
+  // end keeps every plane.
   g.set_window(-3, 40);
   EXPECT_TRUE(g.window_whole());
-  GridSpec periodic = column().grid;
-  periodic.faces[4].kind = periodic.faces[5].kind = BoundaryKind::periodic;
-  StaggeredGrid p(periodic);
+  StaggeredGrid p(column(true).grid);
   p.set_window(2, 7);
+  EXPECT_EQ(p.window(), (std::pair{2, 7}));
+  p.set_window(0, 7);
+  EXPECT_TRUE(p.window_whole());
+  p.set_window(2, 10);
   EXPECT_TRUE(p.window_whole());
 }
 
 TEST(GridWindow, TheGasFieldsDerivedArraysAreSetOnTheWindow) {
-  for (const auto& [lo, hi] : windows) {
-    GasField whole(column(), {0, -9.81, 0}, true, true), part(column(), {0, -9.81, 0}, true, true);
+  for (const Case& cs : cases()) {
+    const auto [lo, hi] = expected_window(cs);
+    const GasSpec spec = column(cs.periodic);
+    GasField whole(spec, {0, -9.81, 0}, true, true), part(spec, {0, -9.81, 0}, true, true);
     for (GasField* f : {&whole, &part}) {
       f->enable_superficial_velocity();
       f->enable_cell_pressure_gradient();

@@ -107,6 +107,8 @@ std::pair<int, int> TwoWayExchange::planes_reached(const ParticleStore& p, RankS
   const double w = deposition_->kernel() == Kernel::gaussian ? 3.0 * deposition_->width() * grid_.inv_h(2) : 0.0;
   auto at = [&](double z) { return std::clamp((z - grid_.lo(2)) * grid_.inv_h(2) - 0.5, -2.0 * nz, 3.0 * nz); };
   int k0 = static_cast<int>(std::floor(at(lo) - w)) - 1, k1 = static_cast<int>(std::floor(at(hi) + w)) + 2;
+  // Along a periodic z a stencil past an end wraps to the planes past the other: all.
+  if (grid_.spec().periodic(2) && (k0 < 0 || k1 > nz - 1)) return {0, nz - 1};
   if (k0 < 0) k1 = std::max(k1, -1 - k0);
   if (k1 > nz - 1) k0 = std::min(k0, 2 * nz - 1 - k1);
   return {std::max(k0, 0), std::min(k1, nz - 1)};

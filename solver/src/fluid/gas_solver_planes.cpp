@@ -20,12 +20,13 @@ void GasSolver::read_planes(int lo, int hi) {
   const int nz = g.n(2);
   const auto [k0, k1] = share_.mine(nz);
   // Its own planes and two either side (the step's stencils, and the ghosts and
-  // interpolators built from them); along a periodic z the planes wrap, so all.
+  // interpolators built from them); along a periodic z the planes wrap, so a reach that
+  // reaches an end (whose ghosts read the planes past the other) is all of them.
   if (k0 < k1) {
     lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
     hi = std::max(hi, k1 + 1);
   }
-  if (g.spec().periodic(2) && lo <= hi) lo = 0, hi = nz - 1;
+  if (g.spec().periodic(2) && lo <= hi && (lo <= 0 || hi >= nz - 1)) lo = 0, hi = nz - 1;
   // A pressure solve done whole by each process (the direct factorisation) reads the gas
   // fraction and the face coefficients of every cell: all.
   if (!pressure_->solves_own_planes()) lo = 0, hi = nz - 1;

@@ -202,6 +202,9 @@ void PlaneShare::gather_all(std::vector<double>& a, std::size_t first, std::size
 
 void PlaneShare::gather_to_writer(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
   if (size_ <= 1) return;
+  // A writer whose reach is every plane (along a periodic z, the first process's) holds
+  // them all already.
+  if (reach_of(0, planes) == std::pair{0, planes}) return;
   const auto [counts, displs] = own_runs(planes, plane, size_);
   double* const at = a.data() + first;
   const auto r = static_cast<std::size_t>(rank_);

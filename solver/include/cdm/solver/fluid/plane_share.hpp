@@ -69,7 +69,7 @@ class PlaneShare {
   /// gather() of every plane to every process, whatever their reach.
   void gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
   /// gather() of every plane to process 0 (the one that writes the files) only; the others
-  /// keep what they hold. Collective.
+  /// keep what they hold. Nothing where process 0's reach is every plane. Collective.
   void gather_to_writer(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
   /// The planes of cells [@p lo, @p hi] this process reads: gather() gives it plane k of
   /// an array of n planes for k in [lo, hi + 1] (a staggered array's upper face), besides

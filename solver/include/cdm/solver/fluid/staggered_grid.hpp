@@ -109,7 +109,8 @@ class StaggeredGrid {
 
   /// The planes of cells [@p lo, @p hi) along z whose values are kept current: among MPI
   /// processes sharing the gas by planes, a process's reach (plane_share.hpp); every plane
-  /// by default, and always along a periodic z or on a 2D grid. The ghost fills and the
+  /// by default, always on a 2D grid, and along a periodic z wherever the window would
+  /// reach an end (its ghosts wrap to the planes past the other end). The ghost fills and the
   /// loops that derive one array from another visit these planes only (and the ghost
   /// planes beyond them where they reach an end of the grid); elsewhere the arrays hold
   /// what they last held, which nothing reads.
