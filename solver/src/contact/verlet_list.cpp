@@ -102,15 +102,18 @@ VerletList::Slabs VerletList::cut_of(const SlabExtent& e) const {
     return k >= 4 ? k : 0;  // 0: not cut
   };
   auto side = [&](int a) { return box_.on[a] ? box_.len[a] : g.hi[a] - g.lo[a]; };
-  // Of sides within a tenth of the longest, the preferred axis (the gas's planes, so that
-  // each MPI process's particles lie over a run of them), else the first (x, y, z): a bed
+  // The preferred axis (the gas's planes, so that each MPI process's particles lie over a
+  // run of them) where it gives min_preferred_slabs slabs or more (a bed taller than it is
+  // deep too); else of sides within a tenth of the longest the first (x, y, z): a bed
   // about as wide as it is deep keeps its axis as its sides trade places by a grain, and
   // with it the particles' order and, among MPI ranks, their owners.
   double longest = 0.0;
   for (int a = 0; a < 3; ++a)
     if (slabs_along(a) > 0) longest = std::max(longest, side(a));
   auto among_longest = [&](int a) { return slabs_along(a) > 0 && side(a) >= 0.9 * longest; };
-  int axis = preferred_axis_ >= 0 && among_longest(preferred_axis_) ? preferred_axis_ : -1;
+  const bool preferred =
+      preferred_axis_ >= 0 && (among_longest(preferred_axis_) || slabs_along(preferred_axis_) >= min_preferred_slabs);
+  int axis = preferred ? preferred_axis_ : -1;
   for (int a = 0; a < 3 && axis < 0; ++a)
     if (among_longest(a)) axis = a;
   const bool cut = axis >= 0;
