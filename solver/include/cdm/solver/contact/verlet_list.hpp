@@ -16,9 +16,8 @@
 /// near a wall pay for them, not the whole bed.
 ///
 /// Slabs: at each build the particles' bounding box is cut into slabs along its longest
-/// side (the preferred axis where it gives min_preferred_slabs slabs or more, else of the
-/// sides within a tenth of the longest the preferred axis, else the first, x before y
-/// before z; along a periodic axis the side is the period), each at least one
+/// side (the preferred axis where it gives min_preferred_slabs slabs or is within a tenth
+/// of it, else the first such side, x, y, z; along a periodic axis the period), each at least one
 /// interaction range wide; a pair belongs to the lower of its particles' slabs. Along a periodic axis the slabs tile the period, an even number of
 /// them and at least four, and wrap: the last slab's next is the first, and a pair across
 /// the periodic faces belongs to the last slab. Even slabs may run in parallel,
@@ -83,9 +82,7 @@ class VerletList {
   /// Particles interact through their nearest images along the box's periodic axes.
   void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   const PeriodicBox& periodic_box() const { return box_; }
-  /// Slabs along @p axis where it gives min_preferred_slabs slabs or more, or where its
-  /// side is within a tenth of the longest (cut_of).
-  void prefer_slab_axis(int axis) { preferred_axis_ = axis; }
+  void prefer_slab_axis(int axis) { preferred_axis_ = axis; }  ///< the slabs' axis where it may be (cut_of)
   static constexpr std::size_t min_preferred_slabs = 8;
   std::size_t builds() const { return builds_; }
   bool built() const { return built_; }
