@@ -38,14 +38,6 @@ void for_each_cell_faces(const fluid::StaggeredGrid& g, std::pair<int, int> plan
         }
 }
 
-/// @p a widened to hold @p b (an empty range: first >= second).
-std::pair<std::size_t, std::size_t> widened(std::pair<std::size_t, std::size_t> a,
-                                            std::pair<std::size_t, std::size_t> b) {
-  if (b.first >= b.second) return a;
-  if (a.first >= a.second) return b;
-  return {std::min(a.first, b.first), std::max(a.second, b.second)};
-}
-
 }  // namespace
 
 std::pair<int, int> ImplicitDrag::counted_planes() const {
@@ -94,7 +86,7 @@ void ImplicitDrag::prepare(const ParticleStore& p, fluid::GasSolver& gs, RankSpl
     const fluid::PlaneShare& s = *exchange_.planes();
     for (auto& v : pending_) s.gather(v, g.plane_start(0), g.plane_size(), g.n(2));
     const auto [r0, r1] = s.reach_of(s.rank(), g.n(2));
-    pending_span_ = widened(pending_span_, {g.plane_start(r0), g.plane_start(r1)});
+    pending_span_ = fluid::span_union(pending_span_, {g.plane_start(r0), g.plane_start(r1)});
   }
   const auto [k0, k1] = counted_planes();
   double gathered[3] = {};
@@ -190,10 +182,10 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
     dmax = exchange_.planes()->max(dmax);
   }
   pending_any_ = kept > 0.0;
+  // The exchange recorded the gathered reaction −J as the gas's: replaced by the sums above.
   CouplingBalance b;
   b.gas_cells = Vec3{cells[0], cells[1], cells[2]} - gathered_;
   b.gas_faces = Vec3{faces[0], faces[1], faces[2]} - gathered_;
-  // The exchange recorded the gathered reaction −J as the gas's: replaced by the above.
   // Each rank kicks its own particles; what they receive is summed as the deposits are,
   // each kick at most the largest K times the largest difference per unit K.
   const std::size_t n = p.size();

@@ -28,8 +28,7 @@ std::pair<std::size_t, std::size_t> TwoWayExchange::held_span() const {
 
 void TwoWayExchange::touch(std::pair<std::size_t, std::size_t> span) {
   if (span.first >= span.second) return;
-  if (touched_.first >= touched_.second) touched_ = span;
-  else touched_ = {std::min(touched_.first, span.first), std::max(touched_.second, span.second)};
+  touched_ = fluid::span_union(touched_, span);
   if (!held_whole()) reaction_whole_ = false;
 }
 

@@ -368,25 +368,19 @@ void GasSolver::project(double dt, const std::vector<double>& eps_new) {
     // cell is taken out. Each process adds up its own planes in exact sums (their
     // result does not depend on the order of the terms: exact_sums.hpp), so the mean is
     // the same to the bit on any number of processes and threads.
-    double pmax = 0.0;
-    for (int k = own_k0; k < own_k1; ++k)
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) pmax = std::max(pmax, std::abs(PN[g.at(i, j, k)]));
-    pmax = share_.max(pmax);
-    // A pressure not finite is left for the step's guard to name (RunGuards::check_gas).
-    if (std::isfinite(pmax)) {
-      const auto cells = static_cast<double>(g.cell_count());
-      ExactSums sum;
-      sum.reset(1, pmax, cells * pmax);
+    const auto own = [&](auto&& f) {
       for (int k = own_k0; k < own_k1; ++k)
         for (int j = 0; j < ny; ++j)
-          for (int i = 0; i < nx; ++i) sum.add(0, PN[g.at(i, j, k)]);
-      share_.sum(sum.data(), 1);
-      const double pmean = sum.value(0) / cells;
+          for (int i = 0; i < nx; ++i) f(PN[g.at(i, j, k)]);
+    };
+    // A pressure not finite is left for the step's guard to name (RunGuards::check_gas).
+    if (const auto pmean = exact_mean(
+            static_cast<double>(g.cell_count()), own, [&](double m) { return share_.max(m); },
+            [&](ExactSums& sum) { share_.sum(sum.data(), 1); })) {
 #pragma omp parallel for schedule(static) if (threads)
       for (int k = up_k0; k < up_k1; ++k)
         for (int j = 0; j < ny; ++j)
-          for (int i = 0; i < nx; ++i) PN[g.at(i, j, k)] -= pmean;
+          for (int i = 0; i < nx; ++i) PN[g.at(i, j, k)] -= *pmean;
     }
   }
   if (dims == 2) std::fill(gas_.w.begin(), gas_.w.end(), 0.0);

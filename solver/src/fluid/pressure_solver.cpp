@@ -197,21 +197,23 @@ PressureSolveStats PressureSolver::solve(const FaceCoefficients& d, std::vector<
       r1 = plane * static_cast<std::size_t>(k1);
     }
 #endif
-    double bmax = 0.0;
-    for (std::size_t r = r0; r < r1; ++r) bmax = std::max(bmax, std::abs(b[r]));
+    const auto own = [&](auto&& f) {
+      for (std::size_t r = r0; r < r1; ++r) f(b[r]);
+    };
+    const auto largest = [&](double m) {
 #ifdef CDM_WITH_MPI
-    if (own_rows) bmax = multigrid_->largest(bmax);
+      if (own_rows) return multigrid_->largest(m);
 #endif
-    if (std::isfinite(bmax)) {  // else left for the solve to report
-      ExactSums sum;
-      sum.reset(1, bmax, static_cast<double>(ncell) * bmax);
-      for (std::size_t r = r0; r < r1; ++r) sum.add(0, b[r]);
+      return m;
+    };
+    const auto add_up = [&]([[maybe_unused]] ExactSums& sum) {
 #ifdef CDM_WITH_MPI
       if (own_rows) multigrid_->add_up(sum);
 #endif
-      const double mean = sum.value(0) / static_cast<double>(ncell);
-      for (std::size_t r = r0; r < r1; ++r) b[r] -= mean;
-    }
+    };
+    // A source not finite is left for the solve to report.
+    if (const auto mean = exact_mean(static_cast<double>(ncell), own, largest, add_up))
+      for (std::size_t r = r0; r < r1; ++r) b[r] -= *mean;
     b[0] = 0.0;  // cell 0 holds φ = 0
   }
 #ifdef CDM_WITH_MPI

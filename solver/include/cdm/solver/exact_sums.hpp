@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace cdm {
@@ -70,5 +71,22 @@ class ExactSums {
   double scale_ = 1.0, unit_ = 1.0;
   std::vector<std::int64_t> acc_;
 };
+
+/// The mean of @p count values, the same to the bit however they are divided: each part
+/// (a process's) visits its terms (@p visit(f) calls f(x) for each), @p largest(m) turns
+/// the part's largest |x| into the largest over every part, and @p add_up(sums) adds the
+/// parts' ExactSums (one sum) up over them. Empty where a term is not finite.
+template <class Visit, class Largest, class AddUp>
+std::optional<double> exact_mean(double count, Visit&& visit, Largest&& largest, AddUp&& add_up) {
+  double m = 0.0;
+  visit([&](double x) { m = std::max(m, std::abs(x)); });
+  m = largest(m);
+  if (!std::isfinite(m)) return std::nullopt;
+  ExactSums sum;
+  sum.reset(1, m, count * m);
+  visit([&](double x) { sum.add(0, x); });
+  add_up(sum);
+  return sum.value(0) / count;
+}
 
 }  // namespace cdm

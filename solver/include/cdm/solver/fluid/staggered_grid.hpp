@@ -59,6 +59,15 @@ struct GridSpec {
 /// faces normal to that axis) or ½ (at cell centres).
 enum class Staggering { u, v, w, centre };
 
+/// The smallest flat range [first, last) holding the ranges @p a and @p b (a range with
+/// first >= second is empty).
+inline std::pair<std::size_t, std::size_t> span_union(std::pair<std::size_t, std::size_t> a,
+                                                      std::pair<std::size_t, std::size_t> b) {
+  if (b.first >= b.second) return a;
+  if (a.first >= a.second) return b;
+  return {std::min(a.first, b.first), std::max(a.second, b.second)};
+}
+
 class StaggeredGrid {
  public:
   static constexpr int ghosts = 2;
