@@ -11,7 +11,12 @@ usage: mpi_audit.py [--gas-planes] CDM SOURCE_DIR WORK_DIR [NP [STEPS [FILTER...
 
 With --gas-planes only the scenes with a solved gas run, with gas.division = "planes", so
 that their gas step is divided (each process reading the planes under its particles)
-however small their grid.
+however small their grid. Each runs as written and in the variants that take other paths
+through the divided step: on grids of at most 20000 cells (where the direct solve's
+factorisations stay quick; larger ones solve by multigrid), with each pressure solve
+named, "multigrid" and "direct"; and, where the particles' drag is updated explicitly on
+a two-way gas, with drag.update = "exponential", which makes the gas take the drag
+implicitly (coupling.gas_drag's default).
 
 A scene whose one-process run fails (a mesh the benchmarks generate first) is listed as
 skipped; a failure on NP processes, or any file that differs, fails the audit.
@@ -38,6 +43,45 @@ def scenes(root):
             yield f"{os.path.basename(d)}/{v.get('name', 'base')}", scene, v.get("set", [])
 
 
+def gas_variants(scene, sets):
+    """(suffix, overrides) of a solved-gas scene's runs with --gas-planes."""
+    with open(scene, "rb") as f:
+        spec = tomllib.load(f)
+    yield "", []
+    cells = 1
+    for n in spec.get("gas", {}).get("cells", [1]):
+        cells *= n
+    if cells <= 20000:
+        yield "+multigrid", ['gas.pressure_solver="multigrid"']
+        yield "+direct", ['gas.pressure_solver="direct"']
+    # The keys as the case's overrides leave them.
+    key = {"drag.update": spec.get("drag", {}).get("update", ""),
+           "coupling.method": spec.get("coupling", {}).get("method", "")}
+    for x in sets:
+        k, _, v = x.partition("=")
+        if k in key:
+            key[k] = v.strip('"')
+    # Not where the drag's update must stay explicit: on fixed particles, or a drag that
+    # does not read the particle's own velocity (cell averages).
+    fixed = any(m.get("fixed", False) for m in spec.get("materials", []))
+    if (spec.get("coupling", {}).get("mode") == "two_way" and key["drag.update"] == "explicit" and not fixed
+            and key["coupling.method"] != "cell_average"):
+        yield "+implicit", ['drag.update="exponential"']
+
+
+def runs(root, planes):
+    """(tag, scene file, overrides) of every run: with --gas-planes, each solved-gas scene
+    and its variants (gas_variants), divided by planes."""
+    for tag, scene, sets in scenes(root):
+        if not planes:
+            yield tag, scene, sets
+            continue
+        if 'gas = "solved"' not in open(scene).read():
+            continue
+        for suffix, more in gas_variants(scene, sets):
+            yield tag + suffix, scene, ['gas.division="planes"'] + sets + more
+
+
 def main():
     argv = sys.argv[1:]
     planes = argv[:1] == ["--gas-planes"]
@@ -54,16 +98,12 @@ def main():
     os.makedirs(f"{work}/tmp")
     env = dict(os.environ, TMPDIR=f"{work}/tmp")
     failed, skipped, same = [], [], 0
-    for tag, scene, sets in scenes(root):
+    for tag, scene, sets in runs(root, planes):
         if only and not any(o in tag for o in only):
             continue
         args = ["run", scene, "-q", "-j", "1", "--max-steps", steps,
                 "--set", "output.interval=1.0e-3", "--set", "output.log_interval=1.0e-9"]
         text = open(scene).read()
-        if planes:
-            if 'gas = "solved"' not in text:
-                continue
-            args += ["--set", 'gas.division="planes"']
         for x in sets:
             # A case's overrides of walls[...] or meshes[...] address its reference scene.
             if (x.startswith("walls[") and "[[walls]]" not in text) or (x.startswith("meshes[") and "[[meshes]]" not in text):
