@@ -107,19 +107,13 @@ void ParticleStore::permute(const std::vector<std::uint32_t>& from) {
     id.resize(n);
     for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::uint32_t>(i);
   }
-  std::vector<double> tmp;
-  for (auto* v : double_arrays(*this))
-    if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
-  std::vector<std::uint8_t> mat;
-  permute_array(material, from, mat);
-  std::vector<std::uint8_t> flags;
-  if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
+  permute_state(from);
   std::vector<std::uint32_t> ids;
   permute_array(id, from, ids);
 }
 
-void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
-  const std::size_t n = size(), m = from.size();
+void ParticleStore::permute_state(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = size();
   std::vector<double> tmp;
   for (auto* v : double_arrays(*this))
     if (v->size() == n) permute_array(*v, from, tmp);  // else a field this scene does not carry
@@ -127,6 +121,11 @@ void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
   permute_array(material, from, mat);
   std::vector<std::uint8_t> flags;
   if (!fixed_flag.empty()) permute_array(fixed_flag, from, flags);
+}
+
+void ParticleStore::keep(const std::vector<std::uint32_t>& from) {
+  const std::size_t n = size(), m = from.size();
+  permute_state(from);
   if (id.empty()) return;  // never sorted: identities are the slots, kept in order
   // Rank of each identity left among those left.
   std::vector<std::uint32_t> rank(n, 0);

@@ -164,6 +164,19 @@ void RankSplit::records_to_writer(VerletList& list) {
   if (rank_ == 0) list.hold_wall_contacts(std::move(walls));
 }
 
+void RankSplit::gather_round(const std::vector<int>& counts, std::vector<int>& displs, std::vector<std::size_t>& next) {
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    displs[r] = static_cast<int>(total);
+    next[r] = total;
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  if (rank_ == 0) recv_.resize(total);
+  mpi_check(MPI_Gatherv(send_.data(), counts[static_cast<std::size_t>(rank_)], MPI_DOUBLE, recv_.data(),
+                        counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+            "MPI_Gatherv");
+}
+
 void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
   const std::size_t n = v.size();
   if (n != owner_.size()) return a.put(v);  // not one value per particle (an empty array)
@@ -181,16 +194,7 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
       ++counts[owner_[i]];
       if (owner_[i] == me) send_.push_back(v[i]);
     }
-    std::size_t total = 0;
-    for (std::size_t r = 0; r < size; ++r) {
-      displs[r] = static_cast<int>(total);
-      next[r] = total;
-      total += static_cast<std::size_t>(counts[r]);
-    }
-    if (rank_ == 0) recv_.resize(total);
-    mpi_check(MPI_Gatherv(send_.data(), counts[me], MPI_DOUBLE, recv_.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                          0, MPI_COMM_WORLD),
-              "MPI_Gatherv");
+    gather_round(counts, displs, next);
     if (rank_ == 0) {
       round.resize(s1 - s0);
       for (std::size_t i = s0; i < s1; ++i) round[i - s0] = recv_[next[owner_[i]]++];
@@ -218,16 +222,7 @@ void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>& ar
       if (static_cast<int>(r) == rank_)
         for (const auto* a : arrays) send_.push_back((*a)[s]);
     }
-    std::size_t total = 0;
-    for (std::size_t r = 0; r < size; ++r) {
-      displs[r] = static_cast<int>(total);
-      next[r] = total;
-      total += static_cast<std::size_t>(counts[r]);
-    }
-    if (rank_ == 0) recv_.resize(total);
-    mpi_check(MPI_Gatherv(send_.data(), counts[static_cast<std::size_t>(rank_)], MPI_DOUBLE, recv_.data(),
-                          counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD),
-              "MPI_Gatherv");
+    gather_round(counts, displs, next);
     if (rank_ != 0) continue;
     for (std::size_t k = k0; k < k1; ++k) {
       const auto r = static_cast<std::size_t>(owner_[slot_of(k)]);

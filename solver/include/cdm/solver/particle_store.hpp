@@ -148,6 +148,8 @@ struct ParticleStore {
  private:
   /// Particle i's 1/I from its mass and radius; zero where fixed or without mass.
   double inverse_inertia(std::size_t i) const;
+  /// permute() and keep() of every array but the identities.
+  void permute_state(const std::vector<std::uint32_t>& from);
 
   bool rotation_enabled_ = false;
   bool drag_relaxation_enabled_ = false;
