@@ -1,14 +1,16 @@
 // Sums whose result does not depend on the order of their terms (exact_sums.hpp), and
 // the deposit built on them: the same terms in another order, or split into partial sums
 // added up afterwards (as MPI ranks do), give the same bits; each sum is within one unit
-// per term of the exact sum; and the particles' impulses and volumes deposited in
-// another order give the same cells, where plain running sums of doubles do not.
+// per term of the exact sum; a mean split among processes (exact_mean) is the whole one's,
+// and none where a term is not finite; and the particles' impulses and volumes deposited
+// in another order give the same cells, where plain running sums of doubles do not.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -67,6 +69,50 @@ TEST(ExactSums, OrderAndSplitGiveTheSameBits) {
     plain_differ += same_bits(plain_forward[k], plain_shuffled[k]) ? 0 : 1;
   }
   EXPECT_GT(plain_differ, 0) << "these terms do not test the order";
+}
+
+TEST(ExactSums, AMeanSplitIntoPartsHasTheSameBitsAndNoneWhereATermIsNotFinite) {
+  const std::size_t n = 9000;
+  std::vector<double> x;
+  for (const Term& t : terms(n, 1, 2.5e3)) x.push_back(t.v);
+  // One part, then three "processes" in reverse order: each visits its run, the largest
+  // magnitude and the sums reduced over them as MPI would.
+  const auto whole = exact_mean(
+      static_cast<double>(n), [&](auto&& f) { for (double v : x) f(v); }, [](double m) { return m; },
+      [](ExactSums&) {});
+  ASSERT_TRUE(whole.has_value());
+  const std::size_t cut[4] = {0, n / 5, n / 2, n};
+  double largest = 0.0;
+  for (double v : x) largest = std::max(largest, std::abs(v));
+  std::vector<std::int64_t> total(1, 0);
+  std::optional<double> split;
+  for (int r = 2; r >= 0; --r) {
+    std::vector<std::int64_t> others = total;
+    split = exact_mean(
+        static_cast<double>(n),
+        [&](auto&& f) {
+          for (std::size_t k = cut[r]; k < cut[r + 1]; ++k) f(x[k]);
+        },
+        [&](double) { return largest; },
+        [&](ExactSums& s) {
+          total[0] += s.data()[0];
+          s.data()[0] += others[0];
+        });
+  }
+  ASSERT_TRUE(split.has_value());
+  EXPECT_TRUE(same_bits(*whole, *split));
+  double plain = 0.0;
+  for (double v : x) plain += v;
+  EXPECT_NEAR(*whole, plain / static_cast<double>(n), 1e-12 * largest);
+  // A NaN anywhere, first or not, leaves no mean.
+  for (const std::size_t at : {std::size_t{0}, n / 3}) {
+    std::vector<double> y = x;
+    y[at] = std::nan("");
+    EXPECT_FALSE(exact_mean(
+                     static_cast<double>(n), [&](auto&& f) { for (double v : y) f(v); },
+                     [](double m) { return m; }, [](ExactSums&) {})
+                     .has_value());
+  }
 }
 
 TEST(ExactSums, EachSumWithinOneUnitPerTermOfTheExactSum) {

@@ -75,11 +75,12 @@ class ExactSums {
 /// The mean of @p count values, the same to the bit however they are divided: each part
 /// (a process's) visits its terms (@p visit(f) calls f(x) for each), @p largest(m) turns
 /// the part's largest |x| into the largest over every part, and @p add_up(sums) adds the
-/// parts' ExactSums (one sum) up over them. Empty where a term is not finite.
+/// parts' ExactSums (one sum) up over them. Empty where a term is not finite (a NaN
+/// counts as an infinite magnitude, which a reduction's maximum keeps).
 template <class Visit, class Largest, class AddUp>
 std::optional<double> exact_mean(double count, Visit&& visit, Largest&& largest, AddUp&& add_up) {
   double m = 0.0;
-  visit([&](double x) { m = std::max(m, std::abs(x)); });
+  visit([&](double x) { m = std::max(m, std::isnan(x) ? HUGE_VAL : std::abs(x)); });
   m = largest(m);
   if (!std::isfinite(m)) return std::nullopt;
   ExactSums sum;
