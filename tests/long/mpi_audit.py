@@ -54,17 +54,25 @@ def gas_variants(scene, sets):
     if cells <= 20000:
         yield "+multigrid", ['gas.pressure_solver="multigrid"']
         yield "+direct", ['gas.pressure_solver="direct"']
-    # The keys as the case's overrides leave them.
+    # The keys as the case's overrides leave them (one key, or a whole table inline).
     key = {"drag.update": spec.get("drag", {}).get("update", ""),
+           "coupling.mode": spec.get("coupling", {}).get("mode", ""),
            "coupling.method": spec.get("coupling", {}).get("method", "")}
     for x in sets:
         k, _, v = x.partition("=")
-        if k in key:
-            key[k] = v.strip('"')
+        try:
+            value = tomllib.loads(f"v = {v}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = v
+        for name in key:
+            if k == name:
+                key[name] = value
+            elif isinstance(value, dict) and name.startswith(k + ".") and name[len(k) + 1:] in value:
+                key[name] = value[name[len(k) + 1:]]
     # Not where the drag's update must stay explicit: on fixed particles, or a drag that
     # does not read the particle's own velocity (cell averages).
     fixed = any(m.get("fixed", False) for m in spec.get("materials", []))
-    if (spec.get("coupling", {}).get("mode") == "two_way" and key["drag.update"] == "explicit" and not fixed
+    if (key["coupling.mode"] == "two_way" and key["drag.update"] == "explicit" and not fixed
             and key["coupling.method"] != "cell_average"):
         yield "+implicit", ['drag.update="exponential"']
 
