@@ -75,30 +75,26 @@ TEST(ExactSums, AMeanSplitIntoPartsHasTheSameBitsAndNoneWhereATermIsNotFinite) {
   const std::size_t n = 9000;
   std::vector<double> x;
   for (const Term& t : terms(n, 1, 2.5e3)) x.push_back(t.v);
-  // One part, then three "processes" in reverse order: each visits its run, the largest
-  // magnitude and the sums reduced over them as MPI would.
+  // One part, then three "processes": each visits its run; the largest magnitude and the
+  // sums are reduced over them as MPI would (each process's partial sum first, then the
+  // mean as process 0 gets it, its sum replaced by the total).
+  const std::size_t cut[4] = {0, n / 5, n / 2, n};
+  auto run = [&](std::size_t r) {
+    return [&x, k0 = cut[r], k1 = cut[r + 1]](auto&& f) {
+      for (std::size_t k = k0; k < k1; ++k) f(x[k]);
+    };
+  };
   const auto whole = exact_mean(
       static_cast<double>(n), [&](auto&& f) { for (double v : x) f(v); }, [](double m) { return m; },
       [](ExactSums&) {});
   ASSERT_TRUE(whole.has_value());
-  const std::size_t cut[4] = {0, n / 5, n / 2, n};
   double largest = 0.0;
   for (double v : x) largest = std::max(largest, std::abs(v));
-  std::vector<std::int64_t> total(1, 0);
-  std::optional<double> split;
-  for (int r = 2; r >= 0; --r) {
-    std::vector<std::int64_t> others = total;
-    split = exact_mean(
-        static_cast<double>(n),
-        [&](auto&& f) {
-          for (std::size_t k = cut[r]; k < cut[r + 1]; ++k) f(x[k]);
-        },
-        [&](double) { return largest; },
-        [&](ExactSums& s) {
-          total[0] += s.data()[0];
-          s.data()[0] += others[0];
-        });
-  }
+  const auto to_all = [&](double) { return largest; };
+  std::int64_t total = 0;
+  for (std::size_t r = 0; r < 3; ++r)
+    exact_mean(static_cast<double>(n), run(r), to_all, [&](ExactSums& s) { total += s.data()[0]; });
+  const auto split = exact_mean(static_cast<double>(n), run(0), to_all, [&](ExactSums& s) { s.data()[0] = total; });
   ASSERT_TRUE(split.has_value());
   EXPECT_TRUE(same_bits(*whole, *split));
   double plain = 0.0;

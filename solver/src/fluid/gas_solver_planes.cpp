@@ -26,7 +26,7 @@ void GasSolver::read_planes(int lo, int hi) {
     lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
     hi = std::max(hi, k1 + 1);
   }
-  if (g.spec().periodic(2) && lo <= hi && (lo <= 0 || hi >= nz - 1)) lo = 0, hi = nz - 1;
+  if (lo <= hi && g.wraps(lo, hi + 1)) lo = 0, hi = nz - 1;
   // A pressure solve done whole by each process (the direct factorisation) reads the gas
   // fraction and the face coefficients of every cell: all.
   if (!pressure_->solves_own_planes()) lo = 0, hi = nz - 1;

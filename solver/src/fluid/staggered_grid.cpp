@@ -24,7 +24,7 @@ void StaggeredGrid::set_window(int lo, int hi) {
   if (spec_.two_d) return;
   lo = std::clamp(lo, 0, n_[2]);
   hi = std::clamp(hi, lo, n_[2]);
-  if (spec_.periodic(2) && (lo == 0 || hi == n_[2])) lo = 0, hi = n_[2];
+  if (wraps(lo, hi)) lo = 0, hi = n_[2];
   window_ = {lo, hi};
 }
 

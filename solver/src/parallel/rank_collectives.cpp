@@ -164,7 +164,8 @@ void RankSplit::records_to_writer(VerletList& list) {
   if (rank_ == 0) list.hold_wall_contacts(std::move(walls));
 }
 
-void RankSplit::gather_round(const std::vector<int>& counts, std::vector<int>& displs, std::vector<std::size_t>& next) {
+void RankSplit::gather_round(const std::vector<int>& counts, std::vector<std::size_t>& next) {
+  std::vector<int> displs(counts.size());
   std::size_t total = 0;
   for (std::size_t r = 0; r < counts.size(); ++r) {
     displs[r] = static_cast<int>(total);
@@ -183,7 +184,7 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
   a.put(static_cast<std::uint64_t>(n));
   const auto size = static_cast<std::size_t>(size_), me = static_cast<std::size_t>(rank_);
   // Each round of slots [s0, s1): each rank sends its own particles' values in slot order.
-  std::vector<int> counts(size), displs(size);
+  std::vector<int> counts(size);
   std::vector<std::size_t> next(size);
   std::vector<double> round;
   for (std::size_t s0 = 0; s0 < n; s0 += round_values()) {
@@ -194,7 +195,7 @@ void RankSplit::put_gathered(OutArchive& a, const std::vector<double>& v) {
       ++counts[owner_[i]];
       if (owner_[i] == me) send_.push_back(v[i]);
     }
-    gather_round(counts, displs, next);
+    gather_round(counts, next);
     if (rank_ == 0) {
       round.resize(s1 - s0);
       for (std::size_t i = s0; i < s1; ++i) round[i - s0] = recv_[next[owner_[i]]++];
@@ -208,7 +209,7 @@ void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>& ar
                                const std::function<void(std::size_t, const double*)>& row) {
   const std::size_t per = std::max<std::size_t>(1, arrays.size()), size = static_cast<std::size_t>(size_);
   const std::size_t batch = std::max<std::size_t>(1, round_values() / per);
-  std::vector<int> counts(size), displs(size);
+  std::vector<int> counts(size);
   std::vector<std::size_t> next(size);
   for (std::size_t k0 = 0; k0 < n; k0 += batch) {
     const std::size_t k1 = std::min(n, k0 + batch);
@@ -222,7 +223,7 @@ void RankSplit::rows_to_writer(const std::vector<const std::vector<double>*>& ar
       if (static_cast<int>(r) == rank_)
         for (const auto* a : arrays) send_.push_back((*a)[s]);
     }
-    gather_round(counts, displs, next);
+    gather_round(counts, next);
     if (rank_ != 0) continue;
     for (std::size_t k = k0; k < k1; ++k) {
       const auto r = static_cast<std::size_t>(owner_[slot_of(k)]);

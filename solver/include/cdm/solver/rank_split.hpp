@@ -477,7 +477,7 @@ class RankSplit final : public SearchShare {
   std::vector<double> send_, recv_;
   /// A round's gather: each rank's send_ (@p counts[r] values from rank r) into rank 0's
   /// recv_, in rank order; @p next[r] is where rank r's values begin in recv_.
-  void gather_round(const std::vector<int>& counts, std::vector<int>& displs, std::vector<std::size_t>& next);
+  void gather_round(const std::vector<int>& counts, std::vector<std::size_t>& next);
   /// The rows of @p list's wall history, where it keeps one for @p n particles.
   static WallRows wall_rows(VerletList& list, std::size_t n);
   LegBuffers legs_;

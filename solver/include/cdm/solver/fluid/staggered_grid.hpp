@@ -124,6 +124,9 @@ class StaggeredGrid {
   /// planes beyond them where they reach an end of the grid); elsewhere the arrays hold
   /// what they last held, which nothing reads.
   void set_window(int lo, int hi);
+  /// Whether a window of planes [@p lo, @p hi) is every plane because it wraps: along a
+  /// periodic z, one that reaches an end (set_window makes it whole).
+  bool wraps(int lo, int hi) const { return spec_.periodic(2) && (lo <= 0 || hi >= n_[2]); }
   std::pair<int, int> window() const { return {window_[0], window_[1]}; }
   bool window_whole() const { return window_[0] == 0 && window_[1] == n_[2]; }
   /// The stored planes [first, last) along z of an array staggered as @p s within the
