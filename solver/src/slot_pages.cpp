@@ -35,6 +35,11 @@ void clear_range(double* first, double* last) {
     if (std::bit_cast<std::uint64_t>(*d) != 0) *d = 0.0;
 }
 
+void clear_range(unsigned char* first, unsigned char* last) {
+  for (unsigned char* d = first; d < last; ++d)
+    if (*d != 0) *d = 0;
+}
+
 }  // namespace
 
 SlotRuns merged(SlotRuns runs) {
@@ -51,15 +56,21 @@ void zero_slots(std::vector<double>& v, const SlotRuns& runs) {
   for (const auto& [i0, i1] : runs) {
     double* first = v.data() + i0;
     double* last = v.data() + std::min(i1, v.size());
-    if (first >= last) continue;
-    const auto [pa, pb] = whole_pages(first, last);
-    // Only whole pages go back; a page that also holds slots outside the run keeps them.
-    if (pa < pb && madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED) == 0) {
-      clear_range(first, reinterpret_cast<double*>(pa));
-      clear_range(reinterpret_cast<double*>(pb), last);
-    } else {
-      clear_range(first, last);
-    }
+    if (first < last) zero_bytes(first, last);
+  }
+}
+
+void zero_bytes(void* first, void* last) {
+  auto* const a = static_cast<unsigned char*>(first);
+  auto* const b = static_cast<unsigned char*>(last);
+  if (a >= b) return;
+  const auto [pa, pb] = whole_pages(a, b);
+  // Only whole pages go back; a page that also holds bytes outside the range keeps them.
+  if (pa < pb && madvise(reinterpret_cast<void*>(pa), pb - pa, MADV_DONTNEED) == 0) {
+    clear_range(a, reinterpret_cast<unsigned char*>(pa));
+    clear_range(reinterpret_cast<unsigned char*>(pb), b);
+  } else {
+    clear_range(a, b);
   }
 }
 

@@ -136,7 +136,7 @@ TEST(PressureGradient, TwoWayParticlesTakeWhatTheFacesLeaveThem) {
   add_particles(p, g);
   for (const auto& [kernel, width] : {std::pair{Kernel::cell, 0.0}, std::pair{Kernel::trilinear, 0.0},
                                       std::pair{Kernel::gaussian, 2.5e-3}}) {
-    const TwoWayExchange exchange(g, true, kernel, width);
+    TwoWayExchange exchange(g, true, kernel, width);
     exchange.deposit_void_fraction(p, gas.eps_g, 0.0);
     gas.refresh();
     Vec3 particles, interpolated, faces;

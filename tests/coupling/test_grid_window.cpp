@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cdm/solver/fluid/gas_field.hpp"
+#include "resident.hpp"
 
 namespace {
 
@@ -181,6 +182,41 @@ TEST(GridWindow, TheGasFieldsDerivedArraysAreSetOnTheWindow) {
       EXPECT_EQ(whole.superficial_velocity_at(x).y, part.superficial_velocity_at(x).y);
     }
   }
+}
+
+TEST(GridWindow, ZeroingBeyondTheWindowKeepsItAndGivesBackTheRest) {
+  // Planes of 45 × 45 padded values (16 KB, whole pages) so that pages lie wholly beyond.
+  GasSpec spec = column();
+  spec.grid.cells = {40, 40, 40};
+  StaggeredGrid g(spec.grid);
+  // A new array commits no page.
+  std::vector<double> fresh = g.make_array();
+  EXPECT_FALSE(cdm_test::resident(fresh.data() + fresh.size() / 2));
+  const std::size_t moves = g.window_moves();
+  g.zero_outside_window(fresh);  // whole window: nothing to do
+  g.set_window(10, 20);
+  g.set_window(10, 20);
+  EXPECT_EQ(g.window_moves(), moves + 1) << "only a change counts";
+  const std::vector<double> before = scrambled(g.padded_size(), 21), zero(g.padded_size(), 0.0);
+  std::vector<double> a = before;
+  g.zero_outside_window(a);
+  EXPECT_FALSE(cdm_test::resident(a.data() + g.plane_start(2)));
+  EXPECT_FALSE(cdm_test::resident(a.data() + g.plane_start(30)));
+  EXPECT_TRUE(cdm_test::resident(a.data() + g.plane_start(15)));
+  expect_window(g, Staggering::w, before, a, zero, "zeroed beyond the window");
+  // Three values a sample, interleaved: the window's samples' three kept.
+  std::vector<double> three = scrambled(3 * g.padded_size(), 22), three_before = three;
+  g.zero_outside_window(three.data(), 3 * sizeof(double));
+  const auto [lo, hi] = g.window_span();
+  for (std::size_t c = 0; c < three.size(); ++c)
+    if (three[c] != (c >= 3 * lo && c < 3 * hi ? three_before[c] : 0.0)) {
+      ADD_FAILURE() << "interleaved value " << c << " (sample " << c / 3 << ", window [" << lo << ", " << hi << "))";
+      break;
+    }
+  // An array of another size is left alone.
+  std::vector<double> other = scrambled(100, 23), other_before = other;
+  g.zero_outside_window(other);
+  EXPECT_EQ(other, other_before);
 }
 
 }  // namespace

@@ -5,8 +5,6 @@
 // an array read through a slot window (a restart's share) commits the window's only.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <bit>
 #include <cstdio>
 #include <cstdint>
@@ -16,24 +14,17 @@
 #include <random>
 #include <vector>
 
-#include <sys/mman.h>
-
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/particle_store.hpp"
 #include "cdm/solver/slot_pages.hpp"
+#include "resident.hpp"
 
 namespace {
 
 constexpr std::size_t kSlots = std::size_t{1} << 20;  // 8 MiB of doubles
 
 // Whether the page holding v[i] is resident.
-bool resident(const std::vector<double>& v, std::size_t i) {
-  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
-  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(v.data() + i) / page * page;
-  unsigned char in = 0;
-  EXPECT_EQ(mincore(reinterpret_cast<void*>(at), page, &in), 0);
-  return (in & 1) != 0;
-}
+bool resident(const std::vector<double>& v, std::size_t i) { return cdm_test::resident(v.data() + i); }
 
 std::uint64_t bits(double a) { return std::bit_cast<std::uint64_t>(a); }
 

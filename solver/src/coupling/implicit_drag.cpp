@@ -12,8 +12,21 @@ namespace cdm::coupling {
 
 ImplicitDrag::ImplicitDrag(const fluid::StaggeredGrid& grid, const TwoWayExchange& exchange)
     : grid_(grid), exchange_(exchange), deposition_(*exchange.deposition()) {
-  k_cell_.assign(grid.padded_size(), 0.0);
-  for (int c = 0; c < 3; ++c) kv_[c] = diff_[c] = pending_[c] = k_cell_;
+  k_cell_ = grid.make_array();
+  for (int c = 0; c < 3; ++c)
+    for (auto* v : {&kv_[c], &diff_[c], &pending_[c]}) *v = grid.make_array();
+}
+
+void ImplicitDrag::zero_outside_window() {
+  if (grid_.window_moves() == zeroed_at_) return;
+  zeroed_at_ = grid_.window_moves();
+  grid_.zero_outside_window(k_cell_);
+  for (int c = 0; c < 3; ++c)
+    for (auto* v : {&kv_[c], &diff_[c], &pending_[c]}) grid_.zero_outside_window(*v);
+  // The sums are zero between gas steps.
+  const std::size_t nc = grid_.padded_size();
+  for (ExactSums* s : {&k_sums_, &kv_sums_})
+    for (std::size_t b = 0; (b + 1) * nc <= s->size(); ++b) grid_.zero_outside_window(s->data() + b * nc, 8);
 }
 
 namespace {
@@ -45,6 +58,7 @@ std::pair<int, int> ImplicitDrag::counted_planes() const {
 }
 
 void ImplicitDrag::prepare(const ParticleStore& p, fluid::GasSolver& gs, RankSplit* ranks) {
+  zero_outside_window();
   const fluid::StaggeredGrid& g = grid_;
   const std::size_t n = p.size(), nc = g.padded_size();
   // Each rank deposits its own particles (all of them before the particles are dealt
@@ -100,7 +114,7 @@ void ImplicitDrag::prepare(const ParticleStore& p, fluid::GasSolver& gs, RankSpl
   std::vector<double>* target[3] = {&gs.drag_target_u, &gs.drag_target_v, &gs.drag_target_w};
   for (int c = 0; c < 3; ++c)
     for (auto* v : {beta[c], target[c]}) {
-      if (v->size() != nc) v->assign(nc, 0.0);
+      if (v->size() != nc) *v = g.make_array();
       else g.fill_window(*v, 0.0);
     }
   const double inv_v = 1.0 / g.cell_volume();

@@ -11,6 +11,7 @@
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
 #include "cdm/solver/run_guards.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::coupling {
 
@@ -18,8 +19,19 @@ TwoWayExchange::TwoWayExchange(const fluid::StaggeredGrid& grid, bool two_way, K
     : grid_(grid) {
   if (!two_way) return;
   deposition_ = std::make_unique<Deposition>(grid, kernel, width);
-  imp_x_.assign(grid.padded_size(), 0.0);
-  imp_y_ = imp_z_ = imp_x_;
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) *v = grid.make_array();
+}
+
+void TwoWayExchange::zero_outside_window() {
+  if (grid_.window_moves() == zeroed_at_) return;
+  zeroed_at_ = grid_.window_moves();
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) grid_.zero_outside_window(*v);
+  // The sums are zero between steps (between gas steps for the deposits' blocks of cells).
+  const std::size_t nc = grid_.padded_size();
+  for (ExactSums* s : {&impulse_sums_, &volume_sums_})
+    for (std::size_t b = 0; (b + 1) * nc <= s->size(); ++b) grid_.zero_outside_window(s->data() + b * nc, 8);
+  if (step_sums_.size() >= 3 * nc) grid_.zero_outside_window(step_sums_.data(), 24);
+  grid_.zero_outside_window(reached_);
 }
 
 std::pair<std::size_t, std::size_t> TwoWayExchange::held_span() const {
@@ -147,7 +159,8 @@ bool TwoWayExchange::add_up_cells(const ParticleStore& p, RankSplit* own, CellSu
 }
 
 void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
-                                           RankSplit* ranks) const {
+                                           RankSplit* ranks) {
+  zero_outside_window();
   RankSplit* const own = ranks && ranks->partitioned() ? ranks : nullptr;
   ExactSums& sums = volume_sums_;
   start_volume_sums(p, own, sums);
@@ -190,6 +203,7 @@ double TwoWayExchange::largest_impulse(const ParticleStore& p, RankSplit* own, d
 
 void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::vector<double>& eps, double time,
                                                         RankSplit* ranks) {
+  zero_outside_window();
   const std::size_t n = p.size(), nc = grid_.padded_size();
   // Each rank deposits its own particles (all of them before the particles are dealt
   // out); the partial sums then add up to the same cells on any number of ranks.
@@ -217,9 +231,12 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
 }
 
 void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {
-  eps.resize(vol.size());
+  resize_zeroed(eps, vol.size());
   const auto [c0, c1] = held_span();
   for (std::size_t c = c0; c < c1; ++c) eps[c] = 1.0 - vol.value(c);
+  // Beyond the window nothing reads it (those planes may have been written before the
+  // window narrowed).
+  grid_.zero_outside_window(eps);
   const fluid::StaggeredGrid& g = grid_;
   // Among processes sharing the gas's planes each looks at its own, and the smallest
   // (the first in cell order of equal ones) is taken over them.
@@ -249,6 +266,7 @@ void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<doub
 }
 
 void TwoWayExchange::deposit_impulses(ParticleStore& p, double time, RankSplit* ranks) {
+  zero_outside_window();
   const std::size_t n = p.size(), nc = grid_.padded_size();
   RankSplit* own = ranks && ranks->partitioned() ? ranks : nullptr;
   // Among ranks the cells' sums are added up over the run of cells the step reaches; where

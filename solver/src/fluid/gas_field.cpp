@@ -38,6 +38,12 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
   set_time(0.0);
 }
 
+void GasField::zero_outside_window() {
+  for (auto* a : {&u, &v, &w, &p, &eps_g, &gpx, &gpy, &gpz, &cell_gpx, &cell_gpy, &cell_gpz, &flux_u_, &flux_v_, &flux_w_})
+    grid_.zero_outside_window(*a);
+  for (auto* i : {&velocity_interp_, &gradient_interp_, &flux_interp_}) i->zero_outside_window();
+}
+
 void GasField::sample_prescribed() {
   const StaggeredGrid& g = grid_;
   auto sample = [&](std::vector<double>& a, Staggering s, double Vec3::*comp) {
@@ -61,7 +67,8 @@ void GasField::refresh() {
   velocity_interp_.update(u, v, w);
   if (with_flux_ && !prescribed_ && has_void_fraction()) {
     // Face fluxes ε_f u with ε_f as the gas solver's continuity uses it.
-    if (flux_u_.size() != u.size()) flux_u_ = flux_v_ = flux_w_ = grid_.make_array();
+    if (flux_u_.size() != u.size())
+      for (auto* f : {&flux_u_, &flux_v_, &flux_w_}) *f = grid_.make_array();
     std::vector<double>* flux[3] = {&flux_u_, &flux_v_, &flux_w_};
     const std::vector<double>* vel[3] = {&u, &v, &w};
     for (int a = 0; a < g.dims(); ++a) {
@@ -121,7 +128,8 @@ void GasField::refresh() {
   if (!g.two_d()) g.fill_even_ghosts(gpz, Staggering::w);
   gradient_interp_.update(gpx, gpy, gpz);
   if (!with_cell_gradient_ || prescribed_) return;
-  if (cell_gpx.size() != gpx.size()) cell_gpx = cell_gpy = cell_gpz = g.make_array();
+  if (cell_gpx.size() != gpx.size())
+    for (auto* c : {&cell_gpx, &cell_gpy, &cell_gpz}) *c = g.make_array();
   const std::vector<double>* face[3] = {&gpx, &gpy, &gpz};
   std::vector<double>* cell[3] = {&cell_gpx, &cell_gpy, &cell_gpz};
   const auto [k0, k1] = g.window_planes(Staggering::centre);

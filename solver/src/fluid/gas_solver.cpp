@@ -8,6 +8,7 @@
 #include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/parallel.hpp"
+#include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::fluid {
 
@@ -42,8 +43,8 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
   if (!gas_.has_pressure() || !gas_.has_void_fraction())
     throw std::logic_error("GasSolver: the gas field needs its pressure and volume fraction arrays");
   for (auto& d : d_) d = g.make_array();
-  phi_cells_.assign(g.cell_count(), 0.0);
-  b_cells_.assign(g.cell_count(), 0.0);
+  assign_zeroed(phi_cells_, g.cell_count());
+  assign_zeroed(b_cells_, g.cell_count());
   share_ = PlaneShare(PlaneShare::divides(spec_.division, g, mpi_world().size));
   spec_.pressure.divided = divided();
   pressure_ = std::make_unique<PressureSolver>(g, spec_.pressure);
@@ -81,18 +82,24 @@ double GasSolver::max_cfl(double dt) const { return health(dt).courant; }
 GasSolver::Health GasSolver::health(double dt) const {
   const StaggeredGrid& g = gas_.grid();
   const std::vector<double>* comp[3] = {&gas_.u, &gas_.v, &gas_.w};
-  // This process's planes of the cells, and its share of each stored array: a maximum
-  // and a conjunction are the same over any division.
-  const auto [k0, k1] = share_.mine(g.n(2));
+  // This process's planes of the cells, and of the stored ones (ghost rows included) its
+  // own too, the ghost planes beyond an end by the process owning the plane there: each
+  // stored value is read by a process that holds it current, and a maximum and a
+  // conjunction are the same over any division.
+  const int nz = g.n(2);
+  const auto [k0, k1] = share_.mine(nz);
   double c = 0.0;
   for (int a = 0; a < g.dims(); ++a)
     for (int k = k0; k < k1; ++k)
       for (int j = 0; j < g.n(1); ++j)
         for (int i = 0; i < g.n(0); ++i) c = std::max(c, std::abs((*comp[a])[g.at(i, j, k)]) * dt / g.h(a));
   bool finite = true;
-  const auto r = static_cast<std::size_t>(share_.rank()), n = static_cast<std::size_t>(share_.processes());
-  for (const auto* v : comp)
-    for (std::size_t i = v->size() * r / n; i < v->size() * (r + 1) / n; ++i) finite = finite && std::isfinite((*v)[i]);
+  if (k0 < k1) {
+    const std::size_t first = g.plane_start(k0 == 0 ? -StaggeredGrid::ghosts : k0);
+    const std::size_t last = k1 == nz ? g.padded_size() : g.plane_start(k1);
+    for (const auto* v : comp)
+      for (std::size_t i = first; i < last; ++i) finite = finite && std::isfinite((*v)[i]);
+  }
   double worst[2] = {c, finite ? 0.0 : 1.0};
   share_.max(worst, 2);
   return {worst[0], worst[1] == 0.0};

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 
+#include "cdm/solver/slot_pages.hpp"
+
 namespace cdm::fluid {
 
 void GasSolver::gather(std::vector<double>& a, Staggering s, bool to_writer) const {
@@ -40,8 +42,22 @@ void GasSolver::read_planes(int lo, int hi) {
 
 void GasSolver::hold_reach() {
   if (!divided()) return;
-  const auto [lo, hi] = share_.held(gas_.grid().n(2));
+  const StaggeredGrid& g = gas_.grid();
+  const auto [lo, hi] = share_.held(g.n(2));
   gas_.hold_planes(lo, hi);
+  if (g.window_moves() == zeroed_at_) return;
+  // Nothing reads the planes beyond the window: they cost no memory until it moves there.
+  zeroed_at_ = g.window_moves();
+  gas_.zero_outside_window();
+  for (auto* a : {&force_u, &force_v, &force_w, &drag_u, &drag_v, &drag_w, &drag_target_u, &drag_target_v,
+                  &drag_target_w, &us_, &vs_, &ws_, &phi_, &d_[0], &d_[1], &d_[2]})
+    g.zero_outside_window(*a);
+  // φ and the right-hand side by cells: the window's planes are those the solve reads and
+  // sets (its own) and those gathered (the reach).
+  const std::size_t plane = static_cast<std::size_t>(g.n(0)) * static_cast<std::size_t>(g.n(1));
+  const auto [k0, k1] = g.window();
+  for (auto* a : {&phi_cells_, &b_cells_})
+    zero_slots(*a, {{0, plane * static_cast<std::size_t>(k0)}, {plane * static_cast<std::size_t>(k1), a->size()}});
 }
 
 void GasSolver::gather_to_writer() {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cdm/solver/slot_pages.hpp"
+
 namespace cdm::fluid {
 
 StaggeredGrid::StaggeredGrid(const GridSpec& spec) : spec_(spec) {
@@ -25,7 +27,23 @@ void StaggeredGrid::set_window(int lo, int hi) {
   lo = std::clamp(lo, 0, n_[2]);
   hi = std::clamp(hi, lo, n_[2]);
   if (wraps(lo, hi)) lo = 0, hi = n_[2];
+  if (window_[0] == lo && window_[1] == hi) return;
   window_ = {lo, hi};
+  ++window_moves_;
+}
+
+std::vector<double> StaggeredGrid::make_array() const {
+  std::vector<double> a;
+  assign_zeroed(a, padded_size());
+  return a;
+}
+
+void StaggeredGrid::zero_outside_window(void* data, std::size_t bytes) const {
+  if (window_whole()) return;
+  const auto [lo, hi] = window_span();
+  auto* const a = static_cast<unsigned char*>(data);
+  zero_bytes(a, a + lo * bytes);
+  zero_bytes(a + hi * bytes, a + padded_size() * bytes);
 }
 
 void StaggeredGrid::copy_window(const std::vector<double>& from, std::vector<double>& to) const {

@@ -40,6 +40,10 @@ SlotRuns runs_not_held(std::size_t n, Held&& held) {
 /// returned to the system; the others are written only where a value is not zero
 /// already (so that a page never written stays uncommitted).
 void zero_slots(std::vector<double>& v, const SlotRuns& runs);
+/// zero_slots() of the bytes [@p first, @p last) of any array of numbers (doubles,
+/// integer sums, flags): the whole pages inside returned to the system, the bytes of the
+/// others written only where not zero.
+void zero_bytes(void* first, void* last);
 /// zero_slots() over the whole of @p v.
 void zero_all(std::vector<double>& v);
 /// Resize @p v to @p n slots; new slots are zero, their whole pages uncommitted. Where

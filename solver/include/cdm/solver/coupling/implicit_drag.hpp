@@ -74,6 +74,9 @@ class ImplicitDrag {
   bool divided() const { return !exchange_.held_whole(); }
   /// The planes along z this process counts in the balance: its own where divided().
   std::pair<int, int> counted_planes() const;
+  /// Zero the cells beyond the grid's window, their memory returned to the system
+  /// (StaggeredGrid::zero_outside_window), where the window moved since the last time.
+  void zero_outside_window();
 
   const fluid::StaggeredGrid& grid_;
   const TwoWayExchange& exchange_;
@@ -85,6 +88,7 @@ class ImplicitDrag {
   std::vector<double> pending_[3];  // differences of cells without particles, for the next step [N s]
   std::pair<std::size_t, std::size_t> pending_span_{0, 0};  // the flat range where pending_ may be nonzero
   bool pending_any_ = false;  // some cell's pending_ is nonzero (alike on every process)
+  std::size_t zeroed_at_ = 0;  // the grid's window_moves() at the last zero_outside_window()
   Vec3 gathered_;                   // Σ −J_c of the step [N s]
   double k_max_ = 0.0;              // the largest K at prepare() [kg/s]
 };

@@ -47,7 +47,7 @@ class TwoWayExchange {
   /// @p time, if a cell is packed beyond what the gas equations can take.
   /// Among MPI ranks (@p ranks, once the particles are dealt out) each deposits its own.
   void deposit_void_fraction(const ParticleStore& p, std::vector<double>& eps, double time,
-                             RankSplit* ranks = nullptr) const;
+                             RankSplit* ranks = nullptr);
   /// Move the particles' drag impulses (emptying their accumulators) onto the cells as
   /// the reaction on the gas, at every step: each cell's share of the step in a sum
   /// whose value does not depend on the order of its terms (exact_sums.hpp), added to
@@ -132,6 +132,10 @@ class TwoWayExchange {
   /// The planes of cells along z that the stencils of @p p's own particles reach (none:
   /// first > second; a position not finite: beyond the grid).
   std::pair<int, int> planes_reached(const ParticleStore& p, RankSplit& own) const;
+  /// Zero the reaction's and the sums' cells beyond the grid's window, their memory
+  /// returned to the system (StaggeredGrid::zero_outside_window), where the window moved
+  /// since the last time.
+  void zero_outside_window();
   /// The z plane of the padded cell index @p c.
   int plane_of(std::size_t c) const;
   /// The flat range of the cells whose reaction and ε_g are kept: the grid's window where
@@ -152,6 +156,7 @@ class TwoWayExchange {
   std::unique_ptr<Deposition> deposition_;
   std::vector<double> imp_x_, imp_y_, imp_z_;  // drag reaction on the gas per cell [N s]
   std::pair<std::size_t, std::size_t> touched_{0, 0};  // the flat range where imp_* may be nonzero
+  std::size_t zeroed_at_ = 0;  // the grid's window_moves() at the last zero_outside_window()
   ExactSums impulse_sums_;  // deposit_impulses_and_void_fraction's, zero between gas steps
   mutable ExactSums volume_sums_;  // and the deposits' volumes, zero between gas steps
   ExactSums step_sums_;  // deposit_impulses's: per cell x, y, z interleaved, then the total; zero between steps

@@ -47,6 +47,9 @@ class GasField {
   }
   /// The planes of cells [@p lo, @p hi) along z kept current (StaggeredGrid::set_window).
   void hold_planes(int lo, int hi) { grid_.set_window(lo, hi); }
+  /// Zero every array's planes outside the window, their memory returned to the system
+  /// (StaggeredGrid::zero_outside_window): after hold_planes() narrowed it.
+  void zero_outside_window();
   double density() const { return spec_.density; }
   double viscosity() const { return spec_.viscosity; }
   const PrescribedField* prescribed() const { return prescribed_ ? &*prescribed_ : nullptr; }

@@ -172,6 +172,7 @@ class GasSolver {
   std::unique_ptr<PressureSolver> pressure_;
   PlaneShare share_;  // the loops' planes among MPI processes
   bool whole_ = true;  // every process holds every plane of the gas (else its reach's)
+  std::size_t zeroed_at_ = 0;  // the grid's window_moves() when hold_reach() last zeroed beyond it
   PressureSolveStats last_solve_;
   double continuity_residual_ = 0.0;
 };

@@ -46,6 +46,10 @@ class VectorInterpolator {
   /// Take the face arrays (ghosts filled). The arrays must outlive the interpolator's
   /// use; the paper scheme averages them to the corners here, once per update.
   void update(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& w);
+  /// Zero the corner values outside the grid's window (StaggeredGrid::zero_outside_window).
+  void zero_outside_window() {
+    for (auto* c : {&cu_, &cv_, &cw_}) grid_->zero_outside_window(*c);
+  }
 
   /// The field at @p x.
   Vec3 at(Vec3 x) const;

@@ -25,7 +25,9 @@
 /// only, each from the process that computed it: a slab of particles over a run of planes
 /// receives its run, not the grid. gather_all() sends every plane to every process. The
 /// gas field then keeps that run current and no other plane (held(), the grid's window:
-/// StaggeredGrid::set_window), though every process still allocates the whole grid.
+/// StaggeredGrid::set_window). Every process still allocates the whole grid's addresses,
+/// but the arrays' planes beyond its window are zero, their pages returned to the system
+/// (StaggeredGrid::zero_outside_window): a process holds the memory of its reach only.
 #include <cstddef>
 #include <cstdint>
 #include <utility>

@@ -101,8 +101,9 @@ class StaggeredGrid {
   std::ptrdiff_t stride(int axis) const {
     return axis == 0 ? 1 : static_cast<std::ptrdiff_t>(axis == 1 ? ext_[0] : ext_[0] * ext_[1]);
   }
-  /// A zero-filled array of the padded shape.
-  std::vector<double> make_array() const { return std::vector<double>(padded_size(), 0.0); }
+  /// A zero-filled array of the padded shape, its pages uncommitted until written
+  /// (slot_pages.hpp): a plane no loop writes costs no memory.
+  std::vector<double> make_array() const;
 
   /// Position of sample (i, j, k) of an array with the given staggering.
   Vec3 position(Staggering s, int i, int j, int k) const;
@@ -121,13 +122,28 @@ class StaggeredGrid {
   /// by default, always on a 2D grid, and along a periodic z wherever the window would
   /// reach an end (its ghosts wrap to the planes past the other end). The ghost fills and the
   /// loops that derive one array from another visit these planes only (and the ghost
-  /// planes beyond them where they reach an end of the grid); elsewhere the arrays hold
-  /// what they last held, which nothing reads.
+  /// planes beyond them where they reach an end of the grid); elsewhere nothing reads the
+  /// arrays, and their owners zero them there (zero_outside_window), which costs no memory.
   void set_window(int lo, int hi);
   /// Whether a window of planes [@p lo, @p hi) is every plane because it wraps: along a
   /// periodic z, one that reaches an end (set_window makes it whole).
   bool wraps(int lo, int hi) const { return spec_.periodic(2) && (lo <= 0 || hi >= n_[2]); }
   std::pair<int, int> window() const { return {window_[0], window_[1]}; }
+  /// How many times set_window() has changed the window: an array's owner that compares
+  /// it with the count at its last zero_outside_window() knows whether to call it again.
+  std::size_t window_moves() const { return window_moves_; }
+  /// Zero the samples of an array of the padded shape at @p data (@p bytes a sample: 8
+  /// for a double, 24 for three interleaved) outside window_span(), their whole pages
+  /// returned to the system (zero_bytes): planes beyond a process's reach then cost no
+  /// memory until written. Nothing where the window is whole. Only for arrays whose
+  /// values beyond the window nothing reads (set_window).
+  void zero_outside_window(void* data, std::size_t bytes) const;
+  /// The same for an array @p a of padded_size() values (nothing for one of another size,
+  /// such as one not allocated).
+  template <class T>
+  void zero_outside_window(std::vector<T>& a) const {
+    if (a.size() == padded_size()) zero_outside_window(a.data(), sizeof(T));
+  }
   bool window_whole() const { return window_[0] == 0 && window_[1] == n_[2]; }
   /// The stored planes [first, last) along z of an array staggered as @p s within the
   /// window (for w, the face above the window's last cell too).
@@ -171,6 +187,7 @@ class StaggeredGrid {
   std::array<double, 3> h_, inv_h_, lo_;
   std::array<std::size_t, 3> ext_;
   std::array<int, 2> window_;
+  std::size_t window_moves_ = 0;
 };
 
 }  // namespace cdm::fluid
