@@ -14,7 +14,7 @@
 // process its own part (local_particles, counted_runs), with its ghosts for its
 // particles' contacts (own_with_ghosts). The gas likewise: each process the planes under
 // its own particles (gas_follows_particles), or every plane on the writing process
-// (writer_gas).
+// (writer_gas), or each process its own planes for a reduction (gas_planes).
 
 namespace cdm {
 
@@ -109,6 +109,11 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() 
 const fluid::GasField* Simulation::writer_gas() const {
   if (solver_) solver_->gather_to_writer();
   return gas_.get();
+}
+
+const fluid::PlaneShare& Simulation::gas_planes() const {
+  static const fluid::PlaneShare whole(false);
+  return solver_ ? solver_->planes() : whole;
 }
 
 void Simulation::writer_reaction() const {

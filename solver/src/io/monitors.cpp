@@ -17,8 +17,8 @@ namespace {
 double coordinate(Vec3 x, int axis) { return axis == 0 ? x.x : axis == 1 ? x.y : x.z; }
 
 double plane_pressure(const Simulation& sim, int axis, double position) {
-  const fluid::GasField& gas = *sim.writer_gas();
-  return layer_mean(gas.grid(), gas.p, axis, layer_of(gas.grid(), axis, position));
+  const fluid::GasField& gas = *sim.gas();
+  return layer_mean(gas.grid(), sim.gas_planes(), gas.p, axis, layer_of(gas.grid(), axis, position));
 }
 
 double bed_height(const MonitorSpec& m, const Simulation& sim) {
@@ -96,10 +96,11 @@ std::string monitor_comment(const MonitorSpec& m, const SceneSpec& spec) {
 double monitor_value(const MonitorSpec& m, const Simulation& sim, const std::vector<double>* walls) {
   switch (m.kind) {
     case MonitorKind::pressure: {
-      const fluid::GasField& gas = *sim.writer_gas();
+      const fluid::GasField& gas = *sim.gas();
       const fluid::StaggeredGrid& g = gas.grid();
       const Vec3 x = m.point;
-      return gas.p[g.at(layer_of(g, 0, x.x), layer_of(g, 1, x.y), g.two_d() ? 0 : layer_of(g, 2, x.z))];
+      return cell_value(g, sim.gas_planes(), gas.p, layer_of(g, 0, x.x), layer_of(g, 1, x.y),
+                        g.two_d() ? 0 : layer_of(g, 2, x.z));
     }
     case MonitorKind::plane_pressure: return plane_pressure(sim, m.axis, m.position);
     case MonitorKind::pressure_drop: return plane_pressure(sim, m.axis, m.from) - plane_pressure(sim, m.axis, m.to);

@@ -83,11 +83,12 @@ ThermoSample thermo_sample(const Simulation& sim) {
     s.contacts = sim.rank_sum(contacts);
     s.max_overlap_ratio = sim.rank_max(worst);
   }
-  if (const fluid::GasField* gas = sim.writer_gas(); gas && gas->has_pressure()) {
+  if (const fluid::GasField* gas = sim.gas(); gas && gas->has_pressure()) {
     s.has_gas = true;
     const int a = flow_axis(sim);
     const fluid::StaggeredGrid& g = gas->grid();
-    s.pressure_drop = layer_mean(g, gas->p, a, 0) - layer_mean(g, gas->p, a, g.n(a) - 1);
+    const fluid::PlaneShare& share = sim.gas_planes();
+    s.pressure_drop = layer_mean(g, share, gas->p, a, 0) - layer_mean(g, share, gas->p, a, g.n(a) - 1);
     if (const fluid::GasSolver* solver = sim.gas_solver()) s.max_courant = solver->max_cfl(sim.spec().gas_dt);
   }
   return s;

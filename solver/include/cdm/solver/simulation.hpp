@@ -166,9 +166,10 @@ class Simulation : private integrators::StepHost {
   const fluid::GasField* gas() const { return gas_.get(); }
   /// The gas with every plane on process 0, which writes the files (a divided gas step
   /// sends each process only the planes it reads: GasSolver::gather_to_writer), for a
-  /// reader of the whole grid there: a frame, a table, a checkpoint. Elsewhere it holds
-  /// the planes each process reads only, and what is read from it is not written.
-  /// Collective among MPI processes.
+  /// reader of the whole grid there: a frame, a checkpoint. Elsewhere it holds the planes
+  /// each process reads only, and what is read from it is not written. (The log's and the
+  /// monitors' pressures read each process's own planes instead: layers.hpp.) Collective
+  /// among MPI processes.
   const fluid::GasField* writer_gas() const;
   /// The drag's reaction gathered so far in the gas step, and the implicit drag's
   /// differences kept, on every plane of process 0 (TwoWayExchange::gather_to_writer,
@@ -179,6 +180,9 @@ class Simulation : private integrators::StepHost {
   /// The gas solver (nullptr unless modules.gas = "solved").
   fluid::GasSolver* gas_solver() { return solver_.get(); }
   const fluid::GasSolver* gas_solver() const { return solver_.get(); }
+  /// How the processes share the gas's planes: the gas solver's (GasSolver::planes()), or
+  /// each process every plane (a prescribed gas, none, or a run of one process).
+  const fluid::PlaneShare& gas_planes() const;
   /// Particle steps per gas step (1 without a solved gas).
   std::uint64_t substeps() const { return substeps_; }
   /// Momentum exchanged through drag over the last gas step [N s]: what the particles
