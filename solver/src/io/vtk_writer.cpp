@@ -140,7 +140,7 @@ void write_contacts_vtp(const std::string& path, const Simulation& sim, vtk::Enc
 }
 
 void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding encoding) {
-  const fluid::GasField& gas = *sim.writer_gas();
+  const fluid::GasField& gas = *sim.gas();
   const fluid::StaggeredGrid& g = gas.grid();
   const int nx = g.n(0), ny = g.n(1), nz = g.n(2);
   const std::size_t nc = g.cell_count();
@@ -149,37 +149,42 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
                 nx, ny, nz, g.lo(0), g.lo(1), g.lo(2), g.h(0), g.h(1), g.h(2));
   // Each process adds its own particles to the solids velocity: every process takes part.
   const std::vector<double> solids = sim.particle_count() ? solids_velocity(sim) : std::vector<double>();
-  if (path.empty()) return;
   vtk::XmlFile f(path, encoding, "ImageData", geometry);
   field_data(f, sim.time());
   f.open("<Piece Extent=\"0 " + std::to_string(nx) + " 0 " + std::to_string(ny) + " 0 " + std::to_string(nz) + "\">");
   f.open("<CellData Vectors=\"velocity\">");
+  // Each process's own planes of cells along z, which it keeps current, streamed to the
+  // writer in rank order (the planes' order: PlaneShare::planes_of), so that the gas is
+  // never gathered whole; where each process steps the whole gas, process 0 writes it all.
   // VTK orders cells with x fastest, then y, then z.
-  auto ijk = [&](std::size_t c, int& i, int& j, int& k) {
-    i = static_cast<int>(c % static_cast<std::size_t>(nx));
-    j = static_cast<int>((c / static_cast<std::size_t>(nx)) % static_cast<std::size_t>(ny));
-    k = static_cast<int>(c / (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)));
+  const fluid::PlaneShare& share = sim.gas_planes();
+  const std::pair<int, int> planes = share.processes() > 1 ? share.mine(nz)
+                                     : sim.writes_rows()    ? std::pair{0, nz}
+                                                            : std::pair{0, 0};
+  const auto plane = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  auto by_planes = [&](const std::string& name, int components, auto&& get) {
+    const std::size_t first = plane * static_cast<std::size_t>(planes.first);
+    const std::vector<double> mine = tuples(plane * static_cast<std::size_t>(planes.second) - first, components,
+                                            [&](std::size_t c, double* v) {
+                                              const std::size_t at = first + c;
+                                              get(static_cast<int>(at % static_cast<std::size_t>(nx)),
+                                                  static_cast<int>(at / static_cast<std::size_t>(nx) % static_cast<std::size_t>(ny)),
+                                                  static_cast<int>(at / plane), v);
+                                            });
+    f.begin_array(name, vtk::XmlFile::Type::float64, components, nc);
+    sim.ordered_to_writer(mine.data(), mine.size(), sizeof(double),
+                          [&](const void* d, std::size_t m) { f.push(static_cast<const double*>(d), m); });
+    f.end_array();
   };
   const double c_t = gas.time_factor();
-  f.array("velocity", 3, tuples(nc, 3, [&](std::size_t c, double* v) {
-    int i, j, k;
-    ijk(c, i, j, k);
+  by_planes("velocity", 3, [&](int i, int j, int k, double* v) {
     v[0] = c_t * 0.5 * (gas.u[g.at(i, j, k)] + gas.u[g.at(i + 1, j, k)]);
     v[1] = c_t * 0.5 * (gas.v[g.at(i, j, k)] + gas.v[g.at(i, j + 1, k)]);
     v[2] = g.two_d() ? 0.0 : c_t * 0.5 * (gas.w[g.at(i, j, k)] + gas.w[g.at(i, j, k + 1)]);
-  }));
-  if (gas.has_pressure())
-    f.array("pressure", 1, tuples(nc, 1, [&](std::size_t c, double* v) {
-      int i, j, k;
-      ijk(c, i, j, k);
-      v[0] = gas.p[g.at(i, j, k)];
-    }));
+  });
+  if (gas.has_pressure()) by_planes("pressure", 1, [&](int i, int j, int k, double* v) { v[0] = gas.p[g.at(i, j, k)]; });
   if (gas.has_void_fraction())
-    f.array("gas_volume_fraction", 1, tuples(nc, 1, [&](std::size_t c, double* v) {
-      int i, j, k;
-      ijk(c, i, j, k);
-      v[0] = gas.eps_g[g.at(i, j, k)];
-    }));
+    by_planes("gas_volume_fraction", 1, [&](int i, int j, int k, double* v) { v[0] = gas.eps_g[g.at(i, j, k)]; });
   if (sim.particle_count()) f.array("solids_velocity", 3, solids);
   f.close("</CellData>");
   f.close("</Piece>");
