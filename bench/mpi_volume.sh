@@ -5,9 +5,9 @@
 # between, so that the start and the final checkpoint drop out. What bench/README.md's
 # "What a divided gas step receives" was measured with.
 #   bench/mpi_volume.sh NP [cdm run options...]
-# (the options added to the runs', e.g. --set output.log_interval=1e-4 for a log row, and so
-# the whole gas on the writing process, every gas step) prints per rank the MB received per gas step by kind and in all. Point-to-point holds the
-# particles' ghosts (every step), hypre's halos and the gas planes.
+# (the options added to the runs', e.g. --set output.log_interval=1e-4 for a log row every gas
+# step) prints per rank the MB received per gas step by kind and in all. Point-to-point holds
+# the particles' ghosts (every step), hypre's halos and the gas planes.
 # Environment: CDM (default build/release/app/cdm), VOLUME_LIB (default
 # build/release/bench/libmpi_volume.so).
 set -euo pipefail
