@@ -120,7 +120,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
   raw(&len, sizeof len);
   raw(&sum, sizeof sum);
   OutArchive body(out);
-  sim.stream_particles(body);
+  sim.stream_shared(body);
   body.put(origin.scene_name);
   body.put(origin.scene_text);
   body.put(static_cast<std::uint64_t>(origin.overrides.size()));
@@ -247,8 +247,8 @@ CheckpointData read_checkpoint(const std::string& path) {
 }
 
 void send_checkpoint_state(const Simulation& sim) {
-  OutArchive part;  // counts only: the writer gathers this process's particles from it
-  sim.stream_particles(part);
+  OutArchive part;  // counts only: the writer gathers this process's particles and planes from it
+  sim.stream_shared(part);
   sim.save_state(part);
 }
 

@@ -333,7 +333,7 @@ void Simulation::run(const std::function<void(const Simulation&)>& observer, con
 
 void Simulation::save_state(OutArchive& a) const {
   // A checkpoint holds the state at time(), written by process 0: among processes each
-  // per-particle array streams to it (hold_for_checkpoint, stream_particles).
+  // per-particle array and each array of the gas's planes streams to it (stream_shared).
   const ParticleStore& p = particles_;
   a.put(static_cast<std::uint64_t>(p.size()));
   a.put(steps_);
@@ -354,7 +354,7 @@ void Simulation::save_state(OutArchive& a) const {
   // the current gas step.
   a.put(static_cast<std::uint8_t>(solver_ ? 1 : 0));
   if (solver_) {
-    gas_->save_state(a);
+    gas_->save_state(a, solver_->by_planes());
     a.put(solver_->time());
     a.put(substep_);
     if (lagged()) a.put(static_cast<std::uint8_t>(gas_clock_.due));

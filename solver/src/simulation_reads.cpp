@@ -10,11 +10,12 @@
 
 // How the particles' state is read: whole on every process (complete_step), whole on
 // the writing process (written_particles), streamed to it for a checkpoint
-// (hold_for_checkpoint, stream_particles), a table or a VTK frame (written_rows), or each
+// (hold_for_checkpoint, stream_shared), a table or a VTK frame (written_rows), or each
 // process its own part (local_particles, counted_runs), with its ghosts for its
 // particles' contacts (own_with_ghosts). The gas likewise: each process the planes under
-// its own particles (gas_follows_particles), or every plane on the writing process
-// (writer_gas), or each process its own planes for a reduction (gas_planes).
+// its own particles (gas_follows_particles), its own planes streamed to the writing
+// process for a checkpoint (stream_shared), or each process its own planes for a
+// reduction (gas_planes).
 
 namespace cdm {
 
@@ -85,14 +86,17 @@ const ParticleStore& Simulation::own_with_ghosts() const {
 
 Simulation::HeldContacts Simulation::hold_for_checkpoint() const {
   local_particles();  // the step completed, each process its own particles
-  writer_gas();
-  writer_reaction();
   // The wall contacts, held on rank 0, go with the pair contacts' guard.
   if (ranks_ && contact_) ranks_->records_to_writer(contact_->list());
   return hold_contacts();
 }
 
-void Simulation::stream_particles(OutArchive& a) const {
+void Simulation::stream_shared(OutArchive& a) const {
+  if (solver_ && solver_->divided()) {
+    const fluid::PlaneShare* s = &solver_->planes();
+    a.stream_planes(
+        [s](OutArchive& o, const std::vector<double>& v, OutArchive::Planes l) { s->put_to_writer(o, v, l); });
+  }
   if (!ranks_ || ranks_->writer_holds_all()) return;
   RankSplit* r = ranks_.get();
   a.stream_particles([r](OutArchive& o, const std::vector<double>& v) { r->put_gathered(o, v); });
@@ -106,19 +110,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> Simulation::counted_runs() 
   return {};
 }
 
-const fluid::GasField* Simulation::writer_gas() const {
-  if (solver_) solver_->gather_to_writer();
-  return gas_.get();
-}
-
 const fluid::PlaneShare& Simulation::gas_planes() const {
   static const fluid::PlaneShare whole(false);
   return solver_ ? solver_->planes() : whole;
-}
-
-void Simulation::writer_reaction() const {
-  if (exchange_) exchange_->gather_to_writer();
-  if (implicit_drag_) implicit_drag_->gather_to_writer();
 }
 
 void Simulation::gas_follows_particles() {

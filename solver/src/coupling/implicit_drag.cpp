@@ -225,15 +225,12 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
   return b;
 }
 
-void ImplicitDrag::gather_to_writer() {
-  if (!pending_any_ || !divided()) return;
-  const fluid::PlaneShare& s = *exchange_.planes();
-  for (auto& v : pending_) s.gather_to_writer(v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
-  if (s.rank() == 0) pending_span_ = {0, grid_.padded_size()};
-}
-
 void ImplicitDrag::save_state(OutArchive& a) const {
-  for (const auto& v : pending_) a.put(v);
+  // Among processes each plane's differences are its owner's.
+  const OutArchive::Planes planes{grid_.plane_start(0), grid_.plane_size(), grid_.n(2)};
+  for (const auto& v : pending_)
+    if (pending_any_ && divided()) a.put_planes(v, planes);
+    else a.put(v);
 }
 
 void ImplicitDrag::load_state(InArchive& a) {

@@ -419,15 +419,12 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
   touched_ = {0, 0};
 }
 
-void TwoWayExchange::gather_to_writer() {
-  if (reaction_whole_) return;
-  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
-    planes_->gather_to_writer(*v, grid_.plane_start(0), grid_.plane_size(), grid_.n(2));
-  if (planes_->rank() == 0) touched_ = {0, grid_.padded_size()};
-}
-
 void TwoWayExchange::save_state(OutArchive& a) const {
-  a.put(imp_x_); a.put(imp_y_); a.put(imp_z_);
+  // Where each process holds the reaction on its reach only, each plane's is its owner's.
+  const OutArchive::Planes planes{grid_.plane_start(0), grid_.plane_size(), grid_.n(2)};
+  for (const auto* v : {&imp_x_, &imp_y_, &imp_z_})
+    if (reaction_whole_) a.put(*v);
+    else a.put_planes(*v, planes);
   a.put(particle_impulse_.x); a.put(particle_impulse_.y); a.put(particle_impulse_.z);
 }
 

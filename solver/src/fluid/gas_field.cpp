@@ -160,9 +160,30 @@ void GasField::fill_pressure_ghosts() {
   });
 }
 
-void GasField::save_state(OutArchive& a) const {
-  a.put(u); a.put(v); a.put(w); a.put(p); a.put(eps_g);
-  for (const auto& d : drag_gradient_) a.put(d);
+void GasField::save_state(OutArchive& a, bool by_planes) const {
+  if (!by_planes) {
+    a.put(u); a.put(v); a.put(w); a.put(p); a.put(eps_g);
+    for (const auto& d : drag_gradient_) a.put(d);
+    return;
+  }
+  const StaggeredGrid& g = grid_;
+  const auto planes = [&](Staggering s) {
+    return OutArchive::Planes{g.plane_start(0), g.plane_size(), g.samples(s, 2)};
+  };
+  a.put_planes(u, planes(Staggering::u));
+  a.put_planes(v, planes(Staggering::v));
+  a.put_planes(w, planes(Staggering::w));
+  a.put_planes(p, planes(Staggering::centre));
+  a.put_planes(eps_g, planes(Staggering::centre));
+  // A face normal to x or y holds a row of cells a plane; one normal to z has no planes,
+  // its values all before plane 0 (the lower face: the first plane's owner's) or after the
+  // last (the upper: the last plane's owner's).
+  for (int f = 0; f < 6; ++f) {
+    const std::vector<double>& d = drag_gradient_[static_cast<std::size_t>(f)];
+    const int axis = f / 2, across = axis == 0 ? 1 : 0;
+    a.put_planes(d, axis < 2 ? OutArchive::Planes{0, static_cast<std::size_t>(g.n(across)), g.n(2)}
+                             : OutArchive::Planes{f == 4 ? d.size() : 0, 0, g.n(2)});
+  }
 }
 
 void GasField::load_state(InArchive& a) {

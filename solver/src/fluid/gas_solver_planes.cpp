@@ -1,8 +1,7 @@
 #include "cdm/solver/fluid/gas_solver.hpp"
 
 // How a gas step divided among MPI processes by planes shares them: the planes each
-// process reads (its reach) and keeps current, what it receives when they change, and
-// the whole gas on the writing process.
+// process reads (its reach) and keeps current, and what it receives when they change.
 
 #include <algorithm>
 
@@ -10,10 +9,9 @@
 
 namespace cdm::fluid {
 
-void GasSolver::gather(std::vector<double>& a, Staggering s, bool to_writer) const {
+void GasSolver::gather(std::vector<double>& a, Staggering s) const {
   const StaggeredGrid& g = gas_.grid();
-  if (to_writer) share_.gather_to_writer(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
-  else share_.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
+  share_.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
 }
 
 void GasSolver::read_planes(int lo, int hi) {
@@ -37,7 +35,7 @@ void GasSolver::read_planes(int lo, int hi) {
   const bool grew = share_.set_reach(lo, hi);
   if (whole_) return;
   hold_reach();
-  if (grew) receive_gas(false);
+  if (grew) receive_gas();
 }
 
 void GasSolver::hold_reach() {
@@ -60,12 +58,7 @@ void GasSolver::hold_reach() {
     zero_slots(*a, {{0, plane * static_cast<std::size_t>(k0)}, {plane * static_cast<std::size_t>(k1), a->size()}});
 }
 
-void GasSolver::gather_to_writer() {
-  if (!divided() || whole_) return;
-  receive_gas(true);
-}
-
-void GasSolver::receive_gas(bool to_writer) {
+void GasSolver::receive_gas() {
   // The velocity, pressure, gas fraction and drag of each plane are its owner's (the
   // particles' deposit may leave each process the gas fraction and the drag on its reach
   // only: TwoWayExchange::share_planes, ImplicitDrag).
@@ -77,16 +70,14 @@ void GasSolver::receive_gas(bool to_writer) {
   std::vector<double>* const target[3] = {&drag_target_u, &drag_target_v, &drag_target_w};
   for (int c = 0; c < g.dims(); ++c) {
     const auto s = static_cast<Staggering>(c);
-    gather(*vel[c], s, to_writer);
-    gather(*force[c], s, to_writer);
+    gather(*vel[c], s);
+    gather(*force[c], s);
     if (beta[c]->empty()) continue;
-    gather(*beta[c], s, to_writer);
-    gather(*target[c], s, to_writer);
+    gather(*beta[c], s);
+    gather(*target[c], s);
   }
-  for (auto* a : {&gas_.p, &gas_.eps_g}) gather(*a, Staggering::centre, to_writer);
-  if (!to_writer) hold_reach();
-  else if (share_.rank() == 0) gas_.hold_planes(0, g.n(2));
-  else return;
+  for (auto* a : {&gas_.p, &gas_.eps_g}) gather(*a, Staggering::centre);
+  hold_reach();
   g.fill_scalar_ghosts(gas_.eps_g);
   // As the step left them, now on the planes received too.
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);

@@ -200,19 +200,44 @@ void PlaneShare::gather_all(std::vector<double>& a, std::size_t first, std::size
     throw std::runtime_error("MPI: MPI_Allgatherv of the gas planes failed");
 }
 
-void PlaneShare::gather_to_writer(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const {
-  if (size_ <= 1) return;
-  // A writer whose reach is every plane (along a periodic z, the first process's) holds
-  // them all already.
-  if (reach_of(0, planes) == std::pair{0, planes}) return;
-  const auto [counts, displs] = own_runs(planes, plane, size_);
-  double* const at = a.data() + first;
-  const auto r = static_cast<std::size_t>(rank_);
-  const int rc = rank_ == 0 ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, at, counts.data(), displs.data(),
-                                          MPI_DOUBLE, 0, MPI_COMM_WORLD)
-                            : MPI_Gatherv(at + displs[r], counts[r], MPI_DOUBLE, nullptr, nullptr, nullptr,
-                                          MPI_DOUBLE, 0, MPI_COMM_WORLD);
-  if (rc != MPI_SUCCESS) throw std::runtime_error("MPI: MPI_Gatherv of the gas planes to the writer failed");
+void PlaneShare::put_to_writer(OutArchive& out, const std::vector<double>& a, OutArchive::Planes layout) const {
+  const int planes = layout.planes;
+  // An array without those planes (empty: a face without drag gradients) holds none.
+  const bool laid_out = planes > 0 && a.size() >= layout.first + static_cast<std::size_t>(planes) * layout.plane;
+  if (size_ <= 1 || a.empty() || !laid_out || reach_of(0, planes) == std::pair{0, planes}) return out.put(a);
+  // Process r's values [b, e): its planes, with what lies before the first plane or after
+  // the last where it owns them. The processes' runs follow each other in rank order.
+  const auto part = [&](int r) -> std::pair<std::size_t, std::size_t> {
+    const auto [k0, k1] = planes_of(planes, r, size_);
+    if (k0 == k1) return {0, 0};
+    const auto at = [&](int k) { return layout.first + static_cast<std::size_t>(k) * layout.plane; };
+    return {k0 == 0 ? 0 : at(k0), k1 == planes ? a.size() : at(k1)};
+  };
+  constexpr int tag = 40;
+  constexpr std::size_t round = std::size_t{1} << 17;  // values a message
+  const auto fail = [] { throw std::runtime_error("MPI: sending the gas planes to the writer failed"); };
+  if (rank_ != 0) {
+    const auto [b, e] = part(rank_);
+    for (std::size_t x = b; x < e; x += round)
+      if (MPI_Send(a.data() + x, static_cast<int>(std::min(round, e - x)), MPI_DOUBLE, 0, tag, MPI_COMM_WORLD) !=
+          MPI_SUCCESS)
+        fail();
+    return;
+  }
+  out.put(static_cast<std::uint64_t>(a.size()));
+  const auto [b0, e0] = part(0);
+  out.put_values(a.data() + b0, e0 - b0);
+  std::vector<double> piece;
+  for (int r = 1; r < size_; ++r) {
+    const auto [b, e] = part(r);
+    for (std::size_t x = b; x < e; x += round) {
+      piece.resize(std::min(round, e - x));
+      if (MPI_Recv(piece.data(), static_cast<int>(piece.size()), MPI_DOUBLE, r, tag, MPI_COMM_WORLD,
+                   MPI_STATUS_IGNORE) != MPI_SUCCESS)
+        fail();
+      out.put_values(piece.data(), piece.size());
+    }
+  }
 }
 
 double PlaneShare::max(double x) const {
@@ -243,7 +268,7 @@ void PlaneShare::max(double* x, int n) const {
 PlaneShare::PlaneShare(bool) {}
 void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) const {}
 void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
-void PlaneShare::gather_to_writer(std::vector<double>&, std::size_t, std::size_t, int) const {}
+void PlaneShare::put_to_writer(OutArchive& out, const std::vector<double>& a, OutArchive::Planes) const { out.put(a); }
 bool PlaneShare::set_reach(int, int) { return false; }
 void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int) const {}
 std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {value, at}; }

@@ -72,6 +72,23 @@ class OutArchive {
   void stream_particles(std::function<void(OutArchive&, const std::vector<double>&)> put) {
     particles_ = std::move(put);
   }
+  /// Where an array's values lie along the gas's planes (PlaneShare): [0, first) before
+  /// plane 0, then @p planes planes of @p plane values each, then the rest.
+  struct Planes {
+    std::size_t first = 0, plane = 0;
+    int planes = 0;
+  };
+  /// An array of the gas's planes: as put(), or through stream_planes()'s function.
+  void put_planes(const std::vector<double>& v, Planes layout) {
+    if (planes_) planes_(*this, v, layout);
+    else put(v);
+  }
+  /// Where the MPI processes share the gas's planes, each holding its own current, @p put
+  /// writes each array of planes, each process sending its own to the writing process
+  /// (every process's archive takes part; the others' count only).
+  void stream_planes(std::function<void(OutArchive&, const std::vector<double>&, Planes)> put) {
+    planes_ = std::move(put);
+  }
   std::uint64_t size() const { return size_; }
   /// Whether the bytes go to a file (else they are counted only).
   bool writes() const { return out_ != nullptr; }
@@ -89,6 +106,7 @@ class OutArchive {
   }
   std::FILE* out_ = nullptr;
   std::function<void(OutArchive&, const std::vector<double>&)> particles_;  // stream_particles
+  std::function<void(OutArchive&, const std::vector<double>&, Planes)> planes_;  // stream_planes
   int error_ = 0;
   std::uint64_t size_ = 0;
   std::uint64_t hash_ = fnv1a64_basis;

@@ -145,14 +145,17 @@ class Simulation : private integrators::StepHost {
   }
   /// For a checkpoint, on every process (a collective call when several share the
   /// particles): the step completed, and gathered to process 0 until the guard goes what
-  /// it writes besides the per-particle arrays (the pair contacts, as hold_contacts(), and
-  /// the wall and mesh contacts); those arrays then stream to it as it writes them
-  /// (stream_particles()): process 0 does not gather the whole state for a checkpoint.
+  /// it writes besides the per-particle arrays and the gas (the pair contacts, as
+  /// hold_contacts(), and the wall and mesh contacts); those arrays then stream to it as
+  /// it writes them (stream_shared()): process 0 does not gather the whole state for a
+  /// checkpoint.
   [[nodiscard]] HeldContacts hold_for_checkpoint() const;
   /// Sets @p a, an archive save_state() is about to write on every process alike, to
   /// gather each per-particle array to process 0 as it is written, where the processes
-  /// share the particles and process 0 does not hold them all (RankSplit::put_gathered).
-  void stream_particles(OutArchive& a) const;
+  /// share the particles and process 0 does not hold them all (RankSplit::put_gathered),
+  /// and each array of the gas's planes from their owners, where the processes divide the
+  /// gas (PlaneShare::put_to_writer).
+  void stream_shared(OutArchive& a) const;
   double time() const { return time_; }
   double dt() const { return spec_.dt; }
   std::uint64_t steps() const { return steps_; }
@@ -164,17 +167,6 @@ class Simulation : private integrators::StepHost {
   ContactModule* contact() { return contact_; }
   /// The gas, when the scene names one (nullptr for a DEM-only scene).
   const fluid::GasField* gas() const { return gas_.get(); }
-  /// The gas with every plane on process 0, which writes the files (a divided gas step
-  /// sends each process only the planes it reads: GasSolver::gather_to_writer), for a
-  /// reader of the whole grid there: a frame, a checkpoint. Elsewhere it holds the planes
-  /// each process reads only, and what is read from it is not written. (The log's and the
-  /// monitors' pressures read each process's own planes instead: layers.hpp.) Collective
-  /// among MPI processes.
-  const fluid::GasField* writer_gas() const;
-  /// The drag's reaction gathered so far in the gas step, and the implicit drag's
-  /// differences kept, on every plane of process 0 (TwoWayExchange::gather_to_writer,
-  /// ImplicitDrag::gather_to_writer), for a checkpoint. Collective.
-  void writer_reaction() const;
   /// The gas for verification set-ups (manufactured solutions set ε, sources).
   fluid::GasField* gas_mutable() { return gas_.get(); }
   /// The gas solver (nullptr unless modules.gas = "solved").

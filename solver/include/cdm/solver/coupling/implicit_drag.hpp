@@ -61,11 +61,8 @@ class ImplicitDrag {
   CouplingBalance give_back(ParticleStore& p, const fluid::GasField& gas, const fluid::GasSolver& gs, double dtg,
                             RankSplit* ranks = nullptr);
 
-  /// The differences kept for the next gas step (cells without particles) on every plane
-  /// of process 0, which writes the checkpoint. Collective among the processes sharing
-  /// the planes.
-  void gather_to_writer();
-  /// The differences kept for the next gas step [N s].
+  /// The differences kept for the next gas step [N s] (cells without particles; among
+  /// processes each plane from its owner: OutArchive::put_planes()).
   void save_state(OutArchive& a) const;
   void load_state(InArchive& a);
 

@@ -110,11 +110,8 @@ class TwoWayExchange {
   /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
   /// added up @p by_planes (add_up_cells), this process's reach only, the rest being zero.
   void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const;
-  /// The reaction gathered so far on every plane of process 0, which writes the
-  /// checkpoint. Collective among the processes sharing the planes.
-  void gather_to_writer();
-
-  /// The reaction gathered so far in the present gas step.
+  /// The reaction gathered so far in the present gas step (where each process holds its
+  /// reach only, each plane from its owner: OutArchive::put_planes()).
   void save_state(OutArchive& a) const;
   void load_state(InArchive& a);
 

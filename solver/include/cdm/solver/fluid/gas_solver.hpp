@@ -131,10 +131,10 @@ class GasSolver {
   /// where any process's reach grew, each receives the gas on its new planes at once.
   /// Collective.
   void read_planes(int lo, int hi);
-  /// Every plane of the gas on process 0, which writes the files, for a reader of the
-  /// whole grid there (a frame, a table, a checkpoint); the other processes keep their
-  /// reach. Collective; nothing to do where the gas is whole already.
-  void gather_to_writer();
+  /// Whether each process holds its reach of the gas only (divided(), and some reach is
+  /// not every plane): a checkpoint then streams each array's planes from their owners
+  /// (GasField::save_state).
+  bool by_planes() const { return divided() && !whole_; }
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {
@@ -149,12 +149,11 @@ class GasSolver {
   /// of the step just taken (force_*, and β, β V_s with the new velocities) and @p eps.
   void set_drag_gradients(const std::vector<double>& eps);
   /// The velocity, pressure, gas fraction and drag force of every plane in each
-  /// process's reach (@p to_writer: every plane on process 0 only) from their owners, and
-  /// what follows from them.
-  void receive_gas(bool to_writer);
-  /// Every process gets the planes of @p a (staggered as @p s) in its reach, or with
-  /// @p to_writer process 0 every plane, each from the process that computed it.
-  void gather(std::vector<double>& a, Staggering s, bool to_writer = false) const;
+  /// process's reach from their owners, and what follows from them.
+  void receive_gas();
+  /// Every process gets the planes of @p a (staggered as @p s) in its reach, each from
+  /// the process that computed it.
+  void gather(std::vector<double>& a, Staggering s) const;
   /// The field keeps this process's reach current (GasField::hold_planes); every plane
   /// where the step is not divided.
   void hold_reach();

@@ -33,6 +33,7 @@
 #include <utility>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/fluid/staggered_grid.hpp"
 #include "cdm/solver/keywords.hpp"
 
@@ -70,9 +71,13 @@ class PlaneShare {
   void gather(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
   /// gather() of every plane to every process, whatever their reach.
   void gather_all(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
-  /// gather() of every plane to process 0 (the one that writes the files) only; the others
-  /// keep what they hold. Nothing where process 0's reach is every plane. Collective.
-  void gather_to_writer(std::vector<double>& a, std::size_t first, std::size_t plane, int planes) const;
+  /// Writes @p a whole into process 0's archive @p out (the one that writes the files) as
+  /// OutArchive::put() does, without gathering it: process 0 writes its own planes, then
+  /// receives each other process's in rank order, a round at a time, and writes them. What
+  /// lies before plane 0 is the first plane's owner's, what lies after the last the last
+  /// plane's owner's (the ghost planes their steps fill). Where process 0's reach is every
+  /// plane it writes its own copy. Collective.
+  void put_to_writer(OutArchive& out, const std::vector<double>& a, OutArchive::Planes layout) const;
   /// The planes of cells [@p lo, @p hi] this process reads: gather() gives it plane k of
   /// an array of n planes for k in [lo, hi + 1] (a staggered array's upper face), besides
   /// its own. Collective. Returns whether any process's reach now holds a plane its last
