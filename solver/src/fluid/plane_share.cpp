@@ -96,10 +96,11 @@ void pack(const std::vector<T*>& arrays, std::size_t first, std::size_t plane, s
 
 }  // namespace
 
-void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane,
-                        int planes) const {
+void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane, int planes,
+                        int base) const {
   if (size_ <= 1) return;
   if (reach_whole(planes)) {
+    if (base != 0) throw std::logic_error("PlaneShare::add_up: every plane is added up, the arrays hold some");
     for (std::int64_t* a : arrays)
       if (MPI_Allreduce(MPI_IN_PLACE, a + first, static_cast<int>(plane * static_cast<std::size_t>(planes)),
                         MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD) != MPI_SUCCESS)
@@ -107,6 +108,7 @@ void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t fi
     return;
   }
   const std::pair<int, int> own = mine(planes), reach = reach_of(rank_, planes);
+  const auto shift = [base](std::pair<int, int> k) { return std::pair{k.first - base, k.second - base}; };
   // First each process's partial sums to the planes' owners, then the owners' totals to
   // the processes whose reach holds them; one message each way between a pair.
   for (const bool totals : {false, true}) {
@@ -128,7 +130,7 @@ void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t fi
       }
       if (send.first < send.second) {
         out.emplace_back();
-        pack(arrays, first, plane, send, out.back());
+        pack(arrays, first, plane, shift(send), out.back());
         req.emplace_back();
         if (MPI_Isend(out.back().data(), static_cast<int>(out.back().size()), MPI_INT64_T, r, 1, MPI_COMM_WORLD,
                       &req.back()) != MPI_SUCCESS)
@@ -137,7 +139,8 @@ void PlaneShare::add_up(const std::vector<std::int64_t*>& arrays, std::size_t fi
     }
     if (MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE) != MPI_SUCCESS)
       throw std::runtime_error("MPI: a deposited sums exchange failed");
-    for (std::size_t m = 0; m < from.size(); ++m) pack(arrays, first, plane, from[m].second, in[m], true, !totals);
+    for (std::size_t m = 0; m < from.size(); ++m)
+      pack(arrays, first, plane, shift(from[m].second), in[m], true, !totals);
   }
 }
 
@@ -270,7 +273,7 @@ void PlaneShare::gather(std::vector<double>&, std::size_t, std::size_t, int) con
 void PlaneShare::gather_all(std::vector<double>&, std::size_t, std::size_t, int) const {}
 void PlaneShare::put_to_writer(OutArchive& out, const std::vector<double>& a, OutArchive::Planes) const { out.put(a); }
 bool PlaneShare::set_reach(int, int) { return false; }
-void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int) const {}
+void PlaneShare::add_up(const std::vector<std::int64_t*>&, std::size_t, std::size_t, int, int) const {}
 std::pair<double, int> PlaneShare::min_at(double value, int at) const { return {value, at}; }
 double PlaneShare::max(double x) const { return x; }
 void PlaneShare::max(double*, int) const {}

@@ -165,11 +165,11 @@ std::vector<double> wall_forces(const Simulation& sim) {
   return sums;
 }
 
-std::vector<double> solids_velocity(const Simulation& sim) {
+CellPlanes solids_velocity(const Simulation& sim, std::pair<int, int> planes) {
   const fluid::StaggeredGrid& g = sim.gas()->grid();
   const ParticleStore& p = sim.local_particles();
   const int n[3] = {g.n(0), g.n(1), g.n(2)};
-  const std::size_t nc = g.cell_count();
+  const auto plane = static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]);
   // Each process deposits its own particles (Simulation::counted_runs) into exact sums
   // (exact_sums.hpp) of one unit per quantity, from its largest term over the processes,
   // and the sums are added up: the same cells on any number of processes, without the
@@ -180,42 +180,63 @@ std::vector<double> solids_velocity(const Simulation& sim) {
       for (std::size_t s = i0; s < i1; ++s) {
         const Vec3 x = sim.gas()->wrap(p.position(s));
         const double c[3] = {x.x, x.y, x.z};
-        std::size_t cell = 0, stride = 1;
+        int q[3] = {};
         bool inside = true;
         for (int a = 0; a < 3; ++a) {
           // A 2D grid has one layer of cells whatever z is.
-          const double q = a == 2 && g.two_d() ? 0.0 : std::floor((c[a] - g.lo(a)) / g.h(a));
-          inside = inside && q >= 0.0 && q < n[a];  // false for NaN too
-          cell += stride * (inside ? static_cast<std::size_t>(q) : 0);
-          stride *= static_cast<std::size_t>(n[a]);
+          const double at = a == 2 && g.two_d() ? 0.0 : std::floor((c[a] - g.lo(a)) / g.h(a));
+          inside = inside && at >= 0.0 && at < n[a];  // false for NaN too
+          q[a] = inside ? static_cast<int>(at) : 0;
         }
         // Weights r³: the volume up to a factor common to all particles.
-        if (inside) deposit(s, cell, p.radius[s] * p.radius[s] * p.radius[s]);
+        if (inside) deposit(s, q, p.radius[s] * p.radius[s] * p.radius[s]);
       }
   };
-  std::vector<double> largest(2, 0.0);  // of the weights, of a weight times a velocity component
-  each([&](std::size_t s, std::size_t, double w) {
+  // The largest weight, weight times a velocity component, and whether some process's
+  // particles lie beyond its reach of the gas's planes.
+  const fluid::PlaneShare& share = sim.gas_planes();
+  int k_lo = n[2], k_hi = -1;
+  std::vector<double> largest(3, 0.0);
+  each([&](std::size_t s, const int* q, double w) {
     largest[0] = std::max(largest[0], w);
     largest[1] = std::max(largest[1], w * std::max({std::abs(p.vx[s]), std::abs(p.vy[s]), std::abs(p.vz[s])}));
+    k_lo = std::min(k_lo, q[2]);
+    k_hi = std::max(k_hi, q[2]);
   });
+  const bool by_planes = share.processes() > 1 && !share.reach_whole(n[2]);
+  if (by_planes) largest[2] = share.within_reach(k_lo, k_hi, n[2]) ? 0.0 : 1.0;
   sim.rank_max(largest);
+  // The planes of sums this process holds: its reach (every plane at a periodic end), or
+  // every plane where some process's particles lie beyond its reach.
+  const bool reach_only = by_planes && largest[2] == 0.0;
+  const auto [base, end] = reach_only ? share.reach_of(share.rank(), n[2]) : std::pair{0, n[2]};
+  const std::size_t nc = plane * static_cast<std::size_t>(end - base);
   const double count = static_cast<double>(std::max<std::size_t>(1, sim.particle_count()));
+  // Sums by blocks of nc: the volume, then the momentum's x, y and z.
   ExactSums vol, mom;
   vol.reset(nc, largest[0], count * largest[0]);
   mom.reset(3 * nc, largest[1], count * largest[1]);
-  each([&](std::size_t s, std::size_t cell, double w) {
+  each([&](std::size_t s, const int* q, double w) {
+    const auto at = [](int x) { return static_cast<std::size_t>(x); };
+    const std::size_t cell = at(q[0]) + at(n[0]) * at(q[1]) + plane * at(q[2] - base);
     vol.add(cell, w);
-    mom.add(3 * cell, w * p.vx[s]); mom.add(3 * cell + 1, w * p.vy[s]); mom.add(3 * cell + 2, w * p.vz[s]);
+    mom.add(cell, w * p.vx[s]); mom.add(nc + cell, w * p.vy[s]); mom.add(2 * nc + cell, w * p.vz[s]);
   });
-  sim.add_up(vol);
-  sim.add_up(mom);
-  std::vector<double> mv(3 * nc, 0.0);
-  for (std::size_t c = 0; c < nc; ++c) {
-    const double v = vol.value(c);
-    if (v > 0.0)
-      for (std::size_t a = 0; a < 3; ++a) mv[3 * c + a] = mom.value(3 * c + a) / v;
+  if (reach_only) {
+    share.add_up({vol.data(), mom.data(), mom.data() + nc, mom.data() + 2 * nc}, 0, plane, n[2], base);
+  } else {
+    sim.add_up(vol);
+    sim.add_up(mom);
   }
-  return mv;
+  CellPlanes out{planes.first, planes.second, {}};
+  const std::size_t first = plane * static_cast<std::size_t>(planes.first - base);
+  out.values.assign(3 * plane * static_cast<std::size_t>(std::max(0, planes.second - planes.first)), 0.0);
+  for (std::size_t c = 0; 3 * c < out.values.size(); ++c) {
+    const double v = vol.value(first + c);
+    if (v > 0.0)
+      for (std::size_t a = 0; a < 3; ++a) out.values[3 * c + a] = mom.value(a * nc + first + c) / v;
+  }
+  return out;
 }
 
 }  // namespace cdm

@@ -147,8 +147,6 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
   char geometry[320];
   std::snprintf(geometry, sizeof geometry, "WholeExtent=\"0 %d 0 %d 0 %d\" Origin=\"%.16e %.16e %.16e\" Spacing=\"%.16e %.16e %.16e\"",
                 nx, ny, nz, g.lo(0), g.lo(1), g.lo(2), g.h(0), g.h(1), g.h(2));
-  // Each process adds its own particles to the solids velocity: every process takes part.
-  const std::vector<double> solids = sim.particle_count() ? solids_velocity(sim) : std::vector<double>();
   vtk::XmlFile f(path, encoding, "ImageData", geometry);
   field_data(f, sim.time());
   f.open("<Piece Extent=\"0 " + std::to_string(nx) + " 0 " + std::to_string(ny) + " 0 " + std::to_string(nz) + "\">");
@@ -162,6 +160,8 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
                                      : sim.writes_rows()    ? std::pair{0, nz}
                                                             : std::pair{0, 0};
   const auto plane = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  // Each process adds its own particles to the solids velocity: every process takes part.
+  const CellPlanes solids = sim.particle_count() ? solids_velocity(sim, planes) : CellPlanes{};
   auto by_planes = [&](const std::string& name, int components, auto&& get) {
     const std::size_t first = plane * static_cast<std::size_t>(planes.first);
     const std::vector<double> mine = tuples(plane * static_cast<std::size_t>(planes.second) - first, components,
@@ -185,7 +185,12 @@ void write_gas_vti(const std::string& path, const Simulation& sim, vtk::Encoding
   if (gas.has_pressure()) by_planes("pressure", 1, [&](int i, int j, int k, double* v) { v[0] = gas.p[g.at(i, j, k)]; });
   if (gas.has_void_fraction())
     by_planes("gas_volume_fraction", 1, [&](int i, int j, int k, double* v) { v[0] = gas.eps_g[g.at(i, j, k)]; });
-  if (sim.particle_count()) f.array("solids_velocity", 3, solids);
+  if (sim.particle_count())
+    by_planes("solids_velocity", 3, [&](int i, int j, int k, double* v) {
+      const auto z = [](int x) { return static_cast<std::size_t>(x); };
+      const std::size_t at = 3 * (z(i) + z(nx) * z(j) + plane * z(k - solids.first));
+      std::copy_n(solids.values.data() + at, 3, v);
+    });
   f.close("</CellData>");
   f.close("</Piece>");
   f.write();

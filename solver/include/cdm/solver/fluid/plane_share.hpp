@@ -91,8 +91,11 @@ class PlaneShare {
   /// on the planes of its reach and zero elsewhere, added up over the processes onto the
   /// planes of each process's reach: each process's partial planes go to their owners,
   /// which add them up and send the totals to the processes whose reach holds them. The
-  /// other planes keep this process's partial sums. Collective.
-  void add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane, int planes) const;
+  /// other planes keep this process's partial sums. Arrays that hold the planes from
+  /// @p base on only (plane k from @p first + (k − @p base) @p plane) must hold this
+  /// process's reach; where every reach is every plane they hold them all. Collective.
+  void add_up(const std::vector<std::int64_t*>& arrays, std::size_t first, std::size_t plane, int planes,
+              int base = 0) const;
   /// The smallest of @p value over the processes, and its @p at (the lowest at of equal
   /// values).
   std::pair<double, int> min_at(double value, int at) const;

@@ -52,11 +52,18 @@ ContactNetwork contact_network(const Simulation& sim);
 /// contacts. A collective call when several processes share the particles.
 std::vector<double> wall_forces(const Simulation& sim);
 
-/// The solids velocity [m/s] in each gas cell: the volume-weighted mean velocity of the
-/// particles whose centres lie in the cell, x y z per cell with x fastest, then y, then
-/// z (VTK's order); zero in cells without particles. Summed exactly (exact_sums.hpp), each
-/// process its own particles: the same on any number of processes (a collective call
-/// when several share the particles).
-std::vector<double> solids_velocity(const Simulation& sim);
+/// Values on the gas cells of the planes along z [first, last): @p per values a cell,
+/// x fastest, then y, then z (VTK's order), from the first plane's first cell.
+struct CellPlanes {
+  int first = 0, last = 0;
+  std::vector<double> values;
+};
+/// The solids velocity [m/s] on the cells of @p planes (along z): the volume-weighted mean
+/// velocity of the particles whose centres lie in the cell, 3 values a cell; zero in cells
+/// without particles. Summed exactly (exact_sums.hpp), each process its own particles: the
+/// same on any number of processes. Where the processes divide the gas by planes and each
+/// one's particles lie within its reach (PlaneShare), each adds up the planes of its reach
+/// only; else every cell (a collective call when several share the particles).
+CellPlanes solids_velocity(const Simulation& sim, std::pair<int, int> planes);
 
 }  // namespace cdm
