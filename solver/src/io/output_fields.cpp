@@ -229,8 +229,9 @@ CellPlanes solids_velocity(const Simulation& sim, std::pair<int, int> planes) {
     sim.add_up(mom);
   }
   CellPlanes out{planes.first, planes.second, {}};
+  if (planes.first >= planes.second) return out;
   const std::size_t first = plane * static_cast<std::size_t>(planes.first - base);
-  out.values.assign(3 * plane * static_cast<std::size_t>(std::max(0, planes.second - planes.first)), 0.0);
+  out.values.assign(3 * plane * static_cast<std::size_t>(planes.second - planes.first), 0.0);
   for (std::size_t c = 0; 3 * c < out.values.size(); ++c) {
     const double v = vol.value(first + c);
     if (v > 0.0)
