@@ -354,7 +354,7 @@ void Simulation::save_state(OutArchive& a) const {
   // the current gas step.
   a.put(static_cast<std::uint8_t>(solver_ ? 1 : 0));
   if (solver_) {
-    gas_->save_state(a, solver_->by_planes());
+    gas_->save_state(a);
     a.put(solver_->time());
     a.put(substep_);
     if (lagged()) a.put(static_cast<std::uint8_t>(gas_clock_.due));

@@ -24,9 +24,7 @@ void ImplicitDrag::zero_outside_window() {
   for (int c = 0; c < 3; ++c)
     for (auto* v : {&kv_[c], &diff_[c], &pending_[c]}) grid_.zero_outside_window(*v);
   // The sums are zero between gas steps.
-  const std::size_t nc = grid_.padded_size();
-  for (ExactSums* s : {&k_sums_, &kv_sums_})
-    for (std::size_t b = 0; (b + 1) * nc <= s->size(); ++b) grid_.zero_outside_window(s->data() + b * nc, 8);
+  for (ExactSums* s : {&k_sums_, &kv_sums_}) grid_.zero_blocks_outside_window(*s);
 }
 
 namespace {
@@ -228,9 +226,7 @@ CouplingBalance ImplicitDrag::give_back(ParticleStore& p, const fluid::GasField&
 void ImplicitDrag::save_state(OutArchive& a) const {
   // Among processes each plane's differences are its owner's.
   const OutArchive::Planes planes{grid_.plane_start(0), grid_.plane_size(), grid_.n(2)};
-  for (const auto& v : pending_)
-    if (pending_any_ && divided()) a.put_planes(v, planes);
-    else a.put(v);
+  for (const auto& v : pending_) a.put_planes(v, planes);
 }
 
 void ImplicitDrag::load_state(InArchive& a) {

@@ -27,9 +27,8 @@ void TwoWayExchange::zero_outside_window() {
   zeroed_at_ = grid_.window_moves();
   for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) grid_.zero_outside_window(*v);
   // The sums are zero between steps (between gas steps for the deposits' blocks of cells).
+  for (ExactSums* s : {&impulse_sums_, &volume_sums_}) grid_.zero_blocks_outside_window(*s);
   const std::size_t nc = grid_.padded_size();
-  for (ExactSums* s : {&impulse_sums_, &volume_sums_})
-    for (std::size_t b = 0; (b + 1) * nc <= s->size(); ++b) grid_.zero_outside_window(s->data() + b * nc, 8);
   if (step_sums_.size() >= 3 * nc) grid_.zero_outside_window(step_sums_.data(), 24);
   grid_.zero_outside_window(reached_);
 }
@@ -420,11 +419,9 @@ void TwoWayExchange::apply_reaction(fluid::GasSolver& gs, double dtg) {
 }
 
 void TwoWayExchange::save_state(OutArchive& a) const {
-  // Where each process holds the reaction on its reach only, each plane's is its owner's.
+  // Among processes each plane's reaction is its owner's.
   const OutArchive::Planes planes{grid_.plane_start(0), grid_.plane_size(), grid_.n(2)};
-  for (const auto* v : {&imp_x_, &imp_y_, &imp_z_})
-    if (reaction_whole_) a.put(*v);
-    else a.put_planes(*v, planes);
+  for (const auto* v : {&imp_x_, &imp_y_, &imp_z_}) a.put_planes(*v, planes);
   a.put(particle_impulse_.x); a.put(particle_impulse_.y); a.put(particle_impulse_.z);
 }
 

@@ -160,12 +160,7 @@ void GasField::fill_pressure_ghosts() {
   });
 }
 
-void GasField::save_state(OutArchive& a, bool by_planes) const {
-  if (!by_planes) {
-    a.put(u); a.put(v); a.put(w); a.put(p); a.put(eps_g);
-    for (const auto& d : drag_gradient_) a.put(d);
-    return;
-  }
+void GasField::save_state(OutArchive& a) const {
   const StaggeredGrid& g = grid_;
   const auto planes = [&](Staggering s) {
     return OutArchive::Planes{g.plane_start(0), g.plane_size(), g.samples(s, 2)};

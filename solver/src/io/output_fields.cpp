@@ -228,7 +228,7 @@ CellPlanes solids_velocity(const Simulation& sim, std::pair<int, int> planes) {
     sim.add_up(vol);
     sim.add_up(mom);
   }
-  CellPlanes out{planes.first, planes.second, {}};
+  CellPlanes out{planes.first, {}};
   if (planes.first >= planes.second) return out;
   const std::size_t first = plane * static_cast<std::size_t>(planes.first - base);
   out.values.assign(3 * plane * static_cast<std::size_t>(planes.second - planes.first), 0.0);

@@ -144,10 +144,10 @@ class GasField {
 
   /// The solved gas's state in a checkpoint: u, v, w, p, ε_g and the drag gradients.
   /// load_state throws ArchiveError if an array has the wrong length; call refresh() after.
-  /// With @p by_planes each array goes through OutArchive::put_planes(), its planes
-  /// current on their owners only (the drag gradients of the faces normal to z on the
-  /// owners of the end planes).
-  void save_state(OutArchive& a, bool by_planes = false) const;
+  /// Each array goes through OutArchive::put_planes(): among processes that hold their
+  /// reach only, each plane from its owner (the drag gradients of the faces normal to z
+  /// from the owners of the end planes).
+  void save_state(OutArchive& a) const;
   void load_state(InArchive& a);
 
   /// Fill p's ghost layers (solved gas): the grid's rule (StaggeredGrid::

@@ -131,10 +131,6 @@ class GasSolver {
   /// where any process's reach grew, each receives the gas on its new planes at once.
   /// Collective.
   void read_planes(int lo, int hi);
-  /// Whether each process holds its reach of the gas only (divided(), and some reach is
-  /// not every plane): a checkpoint then streams each array's planes from their owners
-  /// (GasField::save_state).
-  bool by_planes() const { return divided() && !whole_; }
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {

@@ -144,6 +144,13 @@ class StaggeredGrid {
   void zero_outside_window(std::vector<T>& a) const {
     if (a.size() == padded_size()) zero_outside_window(a.data(), sizeof(T));
   }
+  /// The same for each whole block of padded_size() values of @p s, sums by cells block
+  /// after block (ExactSums); what follows the last whole block is left as it is.
+  template <class Sums>
+  void zero_blocks_outside_window(Sums& s) const {
+    for (std::size_t b = 0; (b + 1) * padded_size() <= s.size(); ++b)
+      zero_outside_window(s.data() + b * padded_size(), sizeof(*s.data()));
+  }
   bool window_whole() const { return window_[0] == 0 && window_[1] == n_[2]; }
   /// The stored planes [first, last) along z of an array staggered as @p s within the
   /// window (for w, the face above the window's last cell too).

@@ -52,10 +52,10 @@ ContactNetwork contact_network(const Simulation& sim);
 /// contacts. A collective call when several processes share the particles.
 std::vector<double> wall_forces(const Simulation& sim);
 
-/// Values on the gas cells of the planes along z [first, last): @p per values a cell,
-/// x fastest, then y, then z (VTK's order), from the first plane's first cell.
+/// Values on the gas cells of a run of planes along z from plane @p first: 3 values a
+/// cell, x fastest, then y, then z (VTK's order), from the first plane's first cell.
 struct CellPlanes {
-  int first = 0, last = 0;
+  int first = 0;
   std::vector<double> values;
 };
 /// The solids velocity [m/s] on the cells of @p planes (along z): the volume-weighted mean
