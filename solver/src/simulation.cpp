@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "cdm/solver/coupling/substeps.hpp"
@@ -192,7 +193,7 @@ void Simulation::compute_forces(double t, integrators::ForceStart start) {
     if (m.get() != applied) m->add_forces(particles_, spec_.dt);
     // A build deals the particles out anew: the gas under this process's, before the
     // modules after the contacts read it.
-    if (m.get() == contact_ && contact_->list().builds() != builds) gas_follows_particles();
+    if (m.get() == contact_ && (contact_->list().builds() != builds || !reach_stated_)) gas_follows_particles();
   }
   gas_clock_.due = false;  // the gas was evaluated at the particles (if lagged)
   forces_valid_ = true;
@@ -263,18 +264,29 @@ void Simulation::step() {
 void Simulation::build_gas() {
   const bool solved = spec_.gas == GasModel::solved;
   const bool grid_eps = solved || (spec_.drag && spec_.drag_void_fraction <= 0.0);
+  // Where the particles' contacts deal them out by slabs, each process reads the gas on
+  // the planes under its own (gas_follows_particles): from the start it holds its own
+  // planes only, and receives the others' once it knows its particles.
+  const std::pair<int, int> planes = solved && spec_.normal_contact
+                                         ? fluid::GasSolver::first_planes(spec_.gas_division, spec_.gas_spec.grid)
+                                         : std::pair{0, std::numeric_limits<int>::max()};
   gas_ = std::make_unique<fluid::GasField>(spec_.gas_spec, spec_.gravity ? spec_.g : Vec3{},
-                                           spec_.pressure_gradient || solved, grid_eps);
+                                           spec_.pressure_gradient || solved, grid_eps, planes);
   if (!solved) return;
   const fluid::StaggeredGrid& g = gas_->grid();
   // Initial gas velocity (the boundary conditions then impose theirs).
-  std::fill(gas_->u.begin(), gas_->u.end(), spec_.gas_initial_velocity.x);
-  std::fill(gas_->v.begin(), gas_->v.end(), spec_.gas_initial_velocity.y);
-  std::fill(gas_->w.begin(), gas_->w.end(), g.two_d() ? 0.0 : spec_.gas_initial_velocity.z);
+  g.fill_window(gas_->u, spec_.gas_initial_velocity.x);
+  g.fill_window(gas_->v, spec_.gas_initial_velocity.y);
+  g.fill_window(gas_->w, g.two_d() ? 0.0 : spec_.gas_initial_velocity.z);
   substeps_ = coupling::gas_substeps(spec_.gas_dt, spec_.dt);
   const coupling::Kernel k =
       spec_.coupling_method == coupling::CouplingMethod::cell_average ? coupling::Kernel::cell : spec_.kernel;
   exchange_ = std::make_unique<coupling::TwoWayExchange>(g, spec_.two_way, k, spec_.kernel_width);
+  gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
+  solver_ = std::make_unique<fluid::GasSolver>(
+      *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient,
+                                       spec_.pressure_solver, spec_.gas_division});
+  if (solver_->divided() && spec_.two_way) exchange_->share_planes(&solver_->planes());
   if (spec_.two_way) {
     particles_.enable_two_way();
     // At the start nothing has run yet: a gas fraction the cells cannot represent is a
@@ -285,13 +297,9 @@ void Simulation::build_gas() {
     } catch (const SimulationError& e) {
       throw SceneError(spec_.file + ": the initial particles do not fit the gas cells: " + std::string(e.what()));
     }
+    gas_->refresh();  // with the particles' ε_g
     if (spec_.implicit_gas_drag) implicit_drag_ = std::make_unique<coupling::ImplicitDrag>(g, *exchange_);
   }
-  gas_->mean_pressure_gradient = spec_.mean_pressure_gradient;
-  solver_ = std::make_unique<fluid::GasSolver>(
-      *gas_, fluid::GasSolverSpec{spec_.advection, spec_.gravity ? spec_.g : Vec3{}, spec_.mean_pressure_gradient,
-                                       spec_.pressure_solver, spec_.gas_division});
-  if (solver_->divided() && spec_.two_way) exchange_->share_planes(&solver_->planes());
 }
 
 void Simulation::gas_step() {
@@ -452,7 +460,7 @@ void Simulation::load_state(InArchive& a) {
     }
     exchange_->load_state(a);
     if (implicit_drag_) implicit_drag_->load_state(a);
-    solver_->set_time(gt);
+    solver_->restored(gt);
     gas_->refresh();
   }
   if (!a.done()) throw ArchiveError("it has data after the last module");

@@ -116,9 +116,12 @@ const fluid::PlaneShare& Simulation::gas_planes() const {
 }
 
 void Simulation::gas_follows_particles() {
-  if (!solver_ || !solver_->divided() || !contact_ || !ranks_ || !ranks_->partitioned()) return;
+  reach_stated_ = true;
+  if (!solver_ || !solver_->divided() || !contact_ || !ranks_) return;
   const fluid::StaggeredGrid& g = gas_->grid();
   if (g.two_d()) return;
+  // Before the particles are dealt out every process moves every particle: every plane.
+  if (!ranks_->partitioned()) return solver_->read_planes(0, g.n(2) - 1);
   // The own particles' extent along z. Until the next build each stays within half a skin
   // of its build position, as it is now: within a skin of where it is. What is read at a
   // particle reaches its kernel's width (3σ for the gaussian) and two planes of stencils

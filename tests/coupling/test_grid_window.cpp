@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
+#include "cdm/solver/exact_sums.hpp"
 #include "cdm/solver/fluid/gas_field.hpp"
 #include "resident.hpp"
 
@@ -217,6 +220,61 @@ TEST(GridWindow, ZeroingBeyondTheWindowKeepsItAndGivesBackTheRest) {
   std::vector<double> other = scrambled(100, 23), other_before = other;
   g.zero_outside_window(other);
   EXPECT_EQ(other, other_before);
+}
+
+TEST(GridWindow, AFieldStartedOnPlanesAndARestartReadTouchOnlyThem) {
+  GasSpec spec = column();
+  spec.grid.cells = {40, 40, 40};
+  // A field that holds planes 10 to 20 from the start: the gas fraction is one there, and
+  // nothing beyond them is committed.
+  GasField f(spec, {0, -9.81, 0}, true, true, {10, 20});
+  const StaggeredGrid& g = f.grid();
+  EXPECT_EQ(g.window(), (std::pair{10, 20}));
+  EXPECT_EQ(f.eps_g[g.at(3, 3, 15)], 1.0);
+  for (const std::vector<double>* a : {&f.u, &f.v, &f.w, &f.p, &f.eps_g})
+    for (const int k : {2, 30}) {
+      EXPECT_FALSE(cdm_test::resident(a->data() + g.plane_start(k))) << "plane " << k;
+      EXPECT_EQ((*a)[g.at(3, 3, k)], 0.0);
+    }
+  // A restart reads an array's window and reads past the rest, which stays uncommitted;
+  // what follows the array is read as written.
+  const std::vector<double> saved = scrambled(g.padded_size(), 31);
+  const double after = 0.375;
+  std::vector<char> bytes(sizeof(std::uint64_t) + saved.size() * sizeof(double) + sizeof after);
+  const std::uint64_t n = saved.size();
+  std::memcpy(bytes.data(), &n, sizeof n);
+  std::memcpy(bytes.data() + sizeof n, saved.data(), saved.size() * sizeof(double));
+  std::memcpy(bytes.data() + bytes.size() - sizeof after, &after, sizeof after);
+  InArchive in(bytes.data(), bytes.size());
+  std::vector<double> a = g.make_array();
+  g.get_window(in, a);
+  double next = 0.0;
+  in.get(next);
+  EXPECT_EQ(next, after);
+  EXPECT_TRUE(in.done());
+  // (Before a pass reads them: a read maps the zero page, which mincore counts.)
+  EXPECT_FALSE(cdm_test::resident(a.data() + g.plane_start(2)));
+  EXPECT_FALSE(cdm_test::resident(a.data() + g.plane_start(30)));
+  expect_window(g, Staggering::w, saved, a, std::vector<double>(g.padded_size(), 0.0), "read");
+  // An array of another length is refused.
+  InArchive shorter(bytes.data(), bytes.size());
+  const std::uint64_t fewer = n - 1;
+  std::memcpy(bytes.data(), &fewer, sizeof fewer);
+  EXPECT_THROW(g.get_window(shorter, a), ArchiveError);
+}
+
+TEST(GridWindow, SumsByCellsCommitOnlyThePagesAddedTo) {
+  // Integer sums by cells (TwoWayExchange's deposits), of which a process adds to its
+  // planes only: a new set costs nothing until a term is added.
+  const std::size_t n = 1u << 20;
+  ExactSums s;
+  s.reset(n, 1.0, 1.0);
+  EXPECT_FALSE(cdm_test::resident(s.data() + n / 2));
+  s.add(n / 4, 0.5);
+  EXPECT_TRUE(cdm_test::resident(s.data() + n / 4));
+  EXPECT_FALSE(cdm_test::resident(s.data() + n / 2));
+  EXPECT_EQ(s.value(n / 4), 0.5);
+  EXPECT_EQ(s.value(n / 2), 0.0);
 }
 
 }  // namespace

@@ -91,8 +91,8 @@ void ImplicitDrag::prepare(const ParticleStore& p, fluid::GasSolver& gs, RankSpl
     k_cell_[c] = ks.value(c);
     for (std::size_t a = 0; a < 3; ++a) kv_[a][c] = kvs.value(a * nc + c);
   }
-  exchange_.clear_sums(ks, 1, by_planes);
-  exchange_.clear_sums(kvs, 3, by_planes);
+  exchange_.clear_sums(ks, 1, by_planes, own);
+  exchange_.clear_sums(kvs, 3, by_planes, own);
   if (pending_any_ && divided()) {
     // The differences kept are their cells' owners' (give_back).
     const fluid::PlaneShare& s = *exchange_.planes();

@@ -34,7 +34,7 @@ void TwoWayExchange::zero_outside_window() {
 }
 
 std::pair<std::size_t, std::size_t> TwoWayExchange::held_span() const {
-  return planes_ ? grid_.window_span() : std::pair<std::size_t, std::size_t>{0, grid_.padded_size()};
+  return grid_.window_span();
 }
 
 void TwoWayExchange::touch(std::pair<std::size_t, std::size_t> span) {
@@ -68,6 +68,9 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     partial_[2 * t - 1].reset_like(vol);
   }
   const double si = imp ? imp->scale() : 0.0, sv = vol.scale();
+  // Without own particles every process deposits every particle: each keeps the cells of
+  // its window, whose sums are then whole (add_up_cells adds nothing up).
+  const auto [lo, hi] = own ? std::pair<std::size_t, std::size_t>{0, nc} : held_span();
   auto range = [&](std::size_t i0, std::size_t i1) {
     const std::size_t t = thread_id().first;
     ExactSums* const ti = t == 0 ? imp : imp ? &partial_[2 * t - 2] : nullptr;
@@ -75,12 +78,15 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     for (std::size_t i = i0; i < i1; ++i) {
       const double v = p.volume(i) / vc * sv;
       if (!ti) {
-        deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) { tv.add_scaled(c, w * v); });
+        deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+          if (c >= lo && c < hi) tv.add_scaled(c, w * v);
+        });
         continue;
       }
       const double jx = p.jx[i], jy = p.jy[i], jz = p.jz[i];
       const double rx = -jx * si, ry = -jy * si, rz = -jz * si;
       deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
+        if (c < lo || c >= hi) return;
         ti->add_scaled(c, w * rx); ti->add_scaled(nc + c, w * ry); ti->add_scaled(2 * nc + c, w * rz);
         tv.add_scaled(c, w * v);
       });
@@ -166,7 +172,7 @@ void TwoWayExchange::deposit_void_fraction(const ParticleStore& p, std::vector<d
   deposit_sums(p, own, nullptr, sums);
   const bool by_planes = add_up_cells(p, own, {&sums, 1});
   finish_void_fraction(sums, eps, time);
-  clear_sums(sums, 1, by_planes);
+  clear_sums(sums, 1, by_planes, own);
 }
 
 void TwoWayExchange::start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound) {
@@ -174,13 +180,18 @@ void TwoWayExchange::start_sums(ExactSums& s, std::size_t n, double bound, doubl
   else s.reset(n, bound, sum_bound);
 }
 
-void TwoWayExchange::clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const {
-  if (!by_planes) return s.clear(0, s.size());
+void TwoWayExchange::clear_sums(ExactSums& s, std::size_t blocks, bool by_planes, const RankSplit* own) const {
+  if (!by_planes && own) return s.clear(0, s.size());
   // This process's sums are nonzero on its reach only: its own particles deposited
-  // within it (add_up_cells) and the totals it received are of its planes.
+  // within it (add_up_cells) and the totals it received are of its planes. Without own
+  // particles, on its window only.
   const std::size_t nc = grid_.padded_size();
-  const auto [k0, k1] = planes_->reach_of(planes_->rank(), grid_.n(2));
-  for (std::size_t b = 0; b < blocks; ++b) s.clear(b * nc + grid_.plane_start(k0), b * nc + grid_.plane_start(k1));
+  std::pair<std::size_t, std::size_t> cells = held_span();
+  if (by_planes) {
+    const auto [k0, k1] = planes_->reach_of(planes_->rank(), grid_.n(2));
+    cells = {grid_.plane_start(k0), grid_.plane_start(k1)};
+  }
+  for (std::size_t b = 0; b < blocks; ++b) s.clear(b * nc + cells.first, b * nc + cells.second);
   s.clear(blocks * nc, s.size());
 }
 
@@ -225,8 +236,8 @@ void TwoWayExchange::deposit_impulses_and_void_fraction(ParticleStore& p, std::v
   touch({c0, c1});
   particle_impulse_ += Vec3{imp.value(3 * nc), imp.value(3 * nc + 1), imp.value(3 * nc + 2)};
   finish_void_fraction(vol, eps, time);
-  clear_sums(imp, 3, by_planes);
-  clear_sums(vol, 1, by_planes);
+  clear_sums(imp, 3, by_planes, own);
+  clear_sums(vol, 1, by_planes, own);
 }
 
 void TwoWayExchange::finish_void_fraction(const ExactSums& vol, std::vector<double>& eps, double time) const {
@@ -427,12 +438,17 @@ void TwoWayExchange::save_state(OutArchive& a) const {
 
 void TwoWayExchange::load_state(InArchive& a) {
   const std::size_t want = two_way() ? grid_.padded_size() : 0;
+  // The reaction on the planes held: the step reads no other (apply_reaction).
   for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) {
+    if (want) {
+      grid_.get_window(a, *v);
+      continue;
+    }
     a.get(*v, want);
-    if (v->size() != want) throw ArchiveError("a particle array has the wrong length");
+    if (!v->empty()) throw ArchiveError("a gas array has the wrong length");
   }
   a.get(particle_impulse_.x); a.get(particle_impulse_.y); a.get(particle_impulse_.z);
-  touched_ = {0, want};
+  touched_ = want ? held_span() : std::pair<std::size_t, std::size_t>{0, 0};
 }
 
 }  // namespace cdm::coupling

@@ -4,13 +4,15 @@
 
 namespace cdm::fluid {
 
-GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction)
+GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction,
+                   std::pair<int, int> planes)
     : spec_(spec),
       grid_(spec.grid),
       velocity_interp_(grid_, spec.interpolation),
       gradient_interp_(grid_, spec.interpolation),
       flux_interp_(grid_, spec.interpolation == InterpolationScheme::analytic ? InterpolationScheme::trilinear
                                                                              : spec.interpolation) {
+  grid_.set_window(planes.first, planes.second);
   u = grid_.make_array();
   v = grid_.make_array();
   w = grid_.make_array();
@@ -20,7 +22,10 @@ GasField::GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool w
     gpy = grid_.make_array();
     gpz = grid_.make_array();
   }
-  if (with_void_fraction) eps_g.assign(grid_.padded_size(), 1.0);
+  if (with_void_fraction) {
+    eps_g = grid_.make_array();
+    grid_.fill_window(eps_g, 1.0);
+  }
   if (with_pressure && !spec.prescribed)
     for (int a = 0; a < grid_.dims(); ++a)
       for (int side = 0; side < 2; ++side) {
@@ -186,7 +191,9 @@ void GasField::load_state(InArchive& a) {
     a.get(x, want);
     if (x.size() != want) throw ArchiveError("a gas array has the wrong length");
   };
-  for (auto* x : {&u, &v, &w, &p, &eps_g}) arr(*x, grid_.padded_size());
+  // Each process keeps the planes it holds (hold_planes); it receives the others' it
+  // reads from their owners (GasSolver::read_planes).
+  for (auto* x : {&u, &v, &w, &p, &eps_g}) grid_.get_window(a, *x);
   for (auto& d : drag_gradient_) arr(d, d.size());
 }
 

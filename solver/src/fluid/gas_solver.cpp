@@ -46,6 +46,13 @@ GasSolver::GasSolver(GasField& gas, const GasSolverSpec& spec) : gas_(gas), spec
   assign_zeroed(phi_cells_, g.cell_count());
   assign_zeroed(b_cells_, g.cell_count());
   share_ = PlaneShare(PlaneShare::divides(spec_.division, g, mpi_world().size));
+  if (divided()) {
+    // The planes the field holds from the start (first_planes(), or every plane) are this
+    // process's reach until read_planes() states another.
+    const auto [k0, k1] = g.window();
+    share_.set_reach(k0, k1 - 1);
+    whole_ = share_.reach_whole(g.n(2));
+  }
   spec_.pressure.divided = divided();
   pressure_ = std::make_unique<PressureSolver>(g, spec_.pressure);
   g.fill_scalar_ghosts(gas_.eps_g);
@@ -427,6 +434,7 @@ void GasSolver::step(double dt, const std::vector<double>& eps_new) {
   else g.copy_window(eps_new, gas_.eps_g);
   g.fill_scalar_ghosts(gas_.eps_g);
   set_drag_gradients(gas_.eps_g);
+  gradients_restored_ = false;
   gas_.fill_pressure_ghosts();
   time_ += dt;
   gas_.set_time(time_);

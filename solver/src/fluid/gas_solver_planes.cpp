@@ -4,7 +4,9 @@
 // process reads (its reach) and keeps current, and what it receives when they change.
 
 #include <algorithm>
+#include <tuple>
 
+#include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::fluid {
@@ -14,19 +16,42 @@ void GasSolver::gather(std::vector<double>& a, Staggering s) const {
   share_.gather(a, g.plane_start(0), g.plane_size(), g.samples(s, 2));
 }
 
-void GasSolver::read_planes(int lo, int hi) {
-  if (!divided()) return;
-  const StaggeredGrid& g = gas_.grid();
-  const int nz = g.n(2);
-  const auto [k0, k1] = share_.mine(nz);
-  // Its own planes and two either side (the step's stencils, and the ghosts and
-  // interpolators built from them); along a periodic z the planes wrap, so a reach that
-  // reaches an end (whose ghosts read the planes past the other) is all of them.
+namespace {
+
+/// The planes of cells [@p lo, @p hi] with a process's own planes @p own and two either
+/// side of them (the step's stencils, and the ghosts and interpolators built from them);
+/// along a periodic z the planes wrap, so a reach that reaches an end (whose ghosts read
+/// the planes past the other) is all of them. Not clamped to the grid.
+std::pair<int, int> with_own_planes(const StaggeredGrid& g, std::pair<int, int> own, int lo, int hi) {
+  const auto [k0, k1] = own;
   if (k0 < k1) {
     lo = lo <= hi ? std::min(lo, k0 - 2) : k0 - 2;
     hi = std::max(hi, k1 + 1);
   }
-  if (lo <= hi && g.wraps(lo, hi + 1)) lo = 0, hi = nz - 1;
+  if (lo <= hi && g.wraps(lo, hi + 1)) lo = 0, hi = g.n(2) - 1;
+  return {lo, hi};
+}
+
+}  // namespace
+
+std::pair<int, int> GasSolver::first_planes(GasDivision division, const GridSpec& grid) {
+  const StaggeredGrid g(grid);
+  const int nz = g.n(2);
+  const WorldPlace w = mpi_world();
+  if (g.two_d() || !PlaneShare::divides(division, g, w.size)) return {0, nz};
+  const auto own = PlaneShare::planes_of(nz, w.rank, w.size);
+  // A process that owns no plane reads the planes of its particles only: until it knows
+  // them, every plane.
+  if (own.first == own.second) return {0, nz};
+  const auto [lo, hi] = with_own_planes(g, own, 1, 0);
+  return {std::max(lo, 0), std::min(hi, nz - 1) + 1};
+}
+
+void GasSolver::read_planes(int lo, int hi) {
+  if (!divided()) return;
+  const StaggeredGrid& g = gas_.grid();
+  const int nz = g.n(2);
+  std::tie(lo, hi) = with_own_planes(g, share_.mine(nz), lo, hi);
   // A pressure solve done whole by each process (the direct factorisation) reads the gas
   // fraction and the face coefficients of every cell: all.
   if (!pressure_->solves_own_planes()) lo = 0, hi = nz - 1;
@@ -81,7 +106,7 @@ void GasSolver::receive_gas() {
   g.fill_scalar_ghosts(gas_.eps_g);
   // As the step left them, now on the planes received too.
   g.fill_velocity_ghosts(gas_.u, gas_.v, gas_.w);
-  set_drag_gradients(gas_.eps_g);
+  if (!gradients_restored_) set_drag_gradients(gas_.eps_g);
   gas_.fill_pressure_ghosts();
   gas_.refresh();
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/slot_pages.hpp"
 
 namespace cdm::fluid {
@@ -50,6 +51,17 @@ void StaggeredGrid::copy_window(const std::vector<double>& from, std::vector<dou
   const auto [lo, hi] = window_span();
   std::copy(from.begin() + static_cast<std::ptrdiff_t>(lo), from.begin() + static_cast<std::ptrdiff_t>(hi),
             to.begin() + static_cast<std::ptrdiff_t>(lo));
+}
+
+void StaggeredGrid::get_window(InArchive& in, std::vector<double>& a) const {
+  const std::size_t n = padded_size();
+  if (in.get_length(n, sizeof(double)) != n) throw ArchiveError("a gas array has the wrong length");
+  if (a.size() != n) a = make_array();
+  else zero_outside_window(a);
+  const auto [lo, hi] = window_span();
+  in.skip(lo * sizeof(double));
+  in.get_values(a.data() + lo, hi - lo);
+  in.skip((n - hi) * sizeof(double));
 }
 
 void StaggeredGrid::fill_window(std::vector<double>& a, double value) const {

@@ -17,16 +17,21 @@
 #include <optional>
 #include <vector>
 
+#include "cdm/solver/slot_pages.hpp"
+
 namespace cdm {
 
 class ExactSums {
  public:
   /// Start @p n sums, all zero, of terms of magnitude at most @p bound, the magnitudes of
-  /// any one sum's terms adding up to at most @p sum_bound (both finite, ≥ 0).
+  /// any one sum's terms adding up to at most @p sum_bound (both finite, ≥ 0). Their
+  /// whole pages are returned to the system: a sum costs memory once a term is added
+  /// (sums by cells of which a process adds to its planes only).
   void reset(std::size_t n, double bound, double sum_bound) {
     unit_ = unit_for(bound, sum_bound);
     scale_ = 1.0 / unit_;  // a power of two: exact
     acc_.assign(n, 0);
+    zero_bytes(acc_.data(), acc_.data() + n);
   }
   /// New bounds for sums that are all zero (cleared since their last use), without
   /// touching them.

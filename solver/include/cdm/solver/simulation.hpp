@@ -324,6 +324,7 @@ class Simulation : private integrators::StepHost {
   std::uint64_t steps_ = 0, total_steps_ = 0;
   std::uint64_t last_sort_ = 0;  // step of the last spatial sort
   bool forces_valid_ = false;
+  bool reach_stated_ = false;  // gas_follows_particles() has run (a restart's first listing builds nothing)
   bool restarted_ = false;
   bool motion_pending_ = false;  // fill_motion() still to come
 };

@@ -108,8 +108,10 @@ class TwoWayExchange {
   /// last use (clear_sums), by setting the bounds only, without a pass over them.
   static void start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound);
   /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
-  /// added up @p by_planes (add_up_cells), this process's reach only, the rest being zero.
-  void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes) const;
+  /// added up @p by_planes (add_up_cells), this process's reach only, the rest being zero;
+  /// where deposited without @p own particles (every process every particle, each within
+  /// the grid's window: deposit_sums), the window only.
+  void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes, const RankSplit* own) const;
   /// The reaction gathered so far in the present gas step (where each process holds its
   /// reach only, each plane from its owner: OutArchive::put_planes()).
   void save_state(OutArchive& a) const;
@@ -135,8 +137,8 @@ class TwoWayExchange {
   void zero_outside_window();
   /// The z plane of the padded cell index @p c.
   int plane_of(std::size_t c) const;
-  /// The flat range of the cells whose reaction and ε_g are kept: the grid's window where
-  /// the planes are shared (share_planes), else every cell.
+  /// The flat range of the cells whose reaction and ε_g are kept: the grid's window
+  /// (every cell unless the planes are shared, or are to be: GasSolver::first_planes).
   std::pair<std::size_t, std::size_t> held_span() const;
   /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
   void touch(std::pair<std::size_t, std::size_t> span);

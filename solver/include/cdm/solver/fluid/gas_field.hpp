@@ -10,9 +10,11 @@
 /// the shape is sampled once and the time factor c(t) applied on interpolation, which
 /// is exactly the grid sample of u(·, t) at each step (interpolation is linear).
 #include <array>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "cdm/solver/archive.hpp"
@@ -34,8 +36,11 @@ class GasField {
  public:
   /// @p gravity: the scene's g (zero without gravity), for the hydrostatic pressure.
   /// Only what the scene uses is allocated: the pressure and its face gradient when
-  /// @p with_pressure, the gas volume fraction when @p with_void_fraction.
-  GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction);
+  /// @p with_pressure, the gas volume fraction when @p with_void_fraction. It holds the
+  /// planes of cells [@p planes.first, @p planes.second) along z from the start
+  /// (hold_planes(); every plane by default): no other plane's memory is touched.
+  GasField(const GasSpec& spec, Vec3 gravity, bool with_pressure, bool with_void_fraction,
+           std::pair<int, int> planes = {0, std::numeric_limits<int>::max()});
 
   const GasSpec& spec() const { return spec_; }
   const StaggeredGrid& grid() const { return grid_; }

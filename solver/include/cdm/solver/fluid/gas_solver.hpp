@@ -131,11 +131,24 @@ class GasSolver {
   /// where any process's reach grew, each receives the gas on its new planes at once.
   /// Collective.
   void read_planes(int lo, int hi);
+  /// The planes of cells [first, last) along z a gas field stepped by a GasSolver of
+  /// @p division on a grid of @p grid should hold from the start (GasField's planes)
+  /// where each process will state the planes it reads (read_planes): where the step is
+  /// divided, this process's own planes and those its step reads, else every plane. The
+  /// solver takes the field's window for its reach until read_planes() states another.
+  static std::pair<int, int> first_planes(GasDivision division, const GridSpec& grid);
   /// The solver's clock (for checkpoints).
   double time() const { return time_; }
   void set_time(double t) {
     time_ = t;
     gas_.set_time(t);
+  }
+  /// The field was just restored from a checkpoint (GasField::load_state) at time @p t:
+  /// its drag gradients, saved whole, stand until the next step (the drag they came from
+  /// is not saved: planes received before it keep them).
+  void restored(double t) {
+    set_time(t);
+    gradients_restored_ = true;
   }
 
  private:
@@ -167,6 +180,7 @@ class GasSolver {
   std::unique_ptr<PressureSolver> pressure_;
   PlaneShare share_;  // the loops' planes among MPI processes
   bool whole_ = true;  // every process holds every plane of the gas (else its reach's)
+  bool gradients_restored_ = false;  // restored(), and no step since
   std::size_t zeroed_at_ = 0;  // the grid's window_moves() when hold_reach() last zeroed beyond it
   PressureSolveStats last_solve_;
   double continuity_residual_ = 0.0;

@@ -34,6 +34,10 @@
 #include "cdm/solver/vec3.hpp"
 #include "cdm/solver/keywords.hpp"
 
+namespace cdm {
+class InArchive;
+}
+
 namespace cdm::fluid {
 
 enum class BoundaryKind { periodic, no_slip, free_slip, velocity_inlet, pressure_outlet };
@@ -172,6 +176,10 @@ class StaggeredGrid {
   /// @p to = @p from, and @p a = @p value, over window_span() (arrays of the padded shape).
   void copy_window(const std::vector<double>& from, std::vector<double>& to) const;
   void fill_window(std::vector<double>& a, double value) const;
+  /// Read an array of the padded shape from @p in (as OutArchive::put() wrote it) into
+  /// @p a, keeping window_span() only: the values outside are read past, and @p a's
+  /// planes there left zero, their memory uncommitted (a restart among processes).
+  void get_window(InArchive& in, std::vector<double>& a) const;
 
   /// Fill the ghost layers of the three velocity components from the boundary conditions
   /// (and impose the boundary-face normal velocity on walls and inlets).
