@@ -275,6 +275,17 @@ TEST(GridWindow, SumsByCellsCommitOnlyThePagesAddedTo) {
   EXPECT_FALSE(cdm_test::resident(s.data() + n / 2));
   EXPECT_EQ(s.value(n / 4), 0.5);
   EXPECT_EQ(s.value(n / 2), 0.0);
+  // A thread's partial sums (reset_like) likewise; what they add to is a run of cells.
+  ExactSums t;
+  t.reset_like(s);
+  EXPECT_FALSE(cdm_test::resident(t.data() + n / 2));
+  t.add(n / 8, 0.25);
+  s.add(t, n / 8, n / 8 + 1);
+  EXPECT_EQ(s.value(n / 8), 0.25);
+  t.clear(n / 8, n / 8 + 1);
+  t.reset_like(s);  // as many, zero: not touched
+  EXPECT_FALSE(cdm_test::resident(t.data() + n / 2));
+  EXPECT_EQ(t.value(n / 8), 0.0);
 }
 
 }  // namespace

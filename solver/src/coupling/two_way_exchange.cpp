@@ -7,6 +7,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include "cdm/solver/own_particles.hpp"
 #include "cdm/solver/parallel.hpp"
@@ -62,11 +63,14 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
 #ifdef _OPENMP
   threads = static_cast<std::size_t>(omp_get_max_threads());
 #endif
+  // The other threads' sums are zero between deposits: each adds up and clears the cells
+  // its particles reached (spans), not the grid.
   partial_.resize(2 * (threads - 1));
   for (std::size_t t = 1; t < threads; ++t) {
     if (imp) partial_[2 * t - 2].reset_like(*imp);
     partial_[2 * t - 1].reset_like(vol);
   }
+  std::vector<std::pair<std::size_t, std::size_t>> spans(threads, {nc, 0});
   const double si = imp ? imp->scale() : 0.0, sv = vol.scale();
   // Without own particles every process deposits every particle: each keeps the cells of
   // its window, whose sums are then whole (add_up_cells adds nothing up).
@@ -75,11 +79,14 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     const std::size_t t = thread_id().first;
     ExactSums* const ti = t == 0 ? imp : imp ? &partial_[2 * t - 2] : nullptr;
     ExactSums& tv = t == 0 ? vol : partial_[2 * t - 1];
+    std::size_t &c0 = spans[t].first, &c1 = spans[t].second;  // not bindings: clang cannot capture them
     for (std::size_t i = i0; i < i1; ++i) {
       const double v = p.volume(i) / vc * sv;
       if (!ti) {
         deposition_->for_each_weight(p.position(i), [&](std::size_t c, double w) {
-          if (c >= lo && c < hi) tv.add_scaled(c, w * v);
+          if (c < lo || c >= hi) return;
+          tv.add_scaled(c, w * v);
+          c0 = std::min(c0, c), c1 = std::max(c1, c + 1);
         });
         continue;
       }
@@ -89,6 +96,7 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
         if (c < lo || c >= hi) return;
         ti->add_scaled(c, w * rx); ti->add_scaled(nc + c, w * ry); ti->add_scaled(2 * nc + c, w * rz);
         tv.add_scaled(c, w * v);
+        c0 = std::min(c0, c), c1 = std::max(c1, c + 1);
       });
       ti->add(3 * nc, jx); ti->add(3 * nc + 1, jy); ti->add(3 * nc + 2, jz);
     }
@@ -103,8 +111,17 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
     parallel_max_ranges(p.size(), range);
   }
   for (std::size_t t = 1; t < threads; ++t) {
-    if (imp) imp->add(partial_[2 * t - 2]);
-    vol.add(partial_[2 * t - 1]);
+    const std::size_t c0 = spans[t].first, c1 = spans[t].second;
+    auto take = [&](ExactSums& to, ExactSums& from, std::size_t blocks) {
+      for (std::size_t b = 0; b < blocks && c0 < c1; ++b) {
+        to.add(from, b * nc + c0, b * nc + c1);
+        from.clear(b * nc + c0, b * nc + c1);
+      }
+      to.add(from, blocks * nc, from.size());  // the totals
+      from.clear(blocks * nc, from.size());
+    };
+    if (imp) take(*imp, partial_[2 * t - 2], 3);
+    take(vol, partial_[2 * t - 1], 1);
   }
 }
 

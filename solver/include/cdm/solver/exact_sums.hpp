@@ -57,16 +57,22 @@ class ExactSums {
   /// the bound holds: one product per term where several weights share v).
   void add_scaled(std::size_t k, double sv) { acc_[k] += static_cast<std::int64_t>(sv); }
   double scale() const { return scale_; }
-  /// Start sums as many, of the same bounds, as @p other's.
+  /// Start sums as many, of the same bounds, as @p other's: where these are as many, they
+  /// must be zero (cleared since their last use), and are not touched; else new zero
+  /// sums, their pages uncommitted (as reset()).
   void reset_like(const ExactSums& other) {
     scale_ = other.scale_;
     unit_ = other.unit_;
+    if (acc_.size() == other.acc_.size()) return;
     acc_.assign(other.acc_.size(), 0);
+    zero_bytes(acc_.data(), acc_.data() + acc_.size());
   }
-  /// Add @p other's sums (of the same bounds) to these.
-  void add(const ExactSums& other) {
-    for (std::size_t k = 0; k < acc_.size(); ++k) acc_[k] += other.acc_[k];
+  /// Add @p other's sums [@p k0, @p k1) (of the same bounds) to these.
+  void add(const ExactSums& other, std::size_t k0, std::size_t k1) {
+    for (std::size_t k = k0; k < k1; ++k) acc_[k] += other.acc_[k];
   }
+  /// Add all of @p other's sums (of the same bounds) to these.
+  void add(const ExactSums& other) { add(other, 0, acc_.size()); }
   double value(std::size_t k) const { return static_cast<double>(acc_[k]) * unit_; }
   std::size_t size() const { return acc_.size(); }
   /// The integer sums, for adding up partial sums (RankSplit::add_up).
