@@ -38,6 +38,12 @@ std::pair<std::size_t, std::size_t> TwoWayExchange::held_span() const {
   return grid_.window_span();
 }
 
+std::pair<std::size_t, std::size_t> TwoWayExchange::deposited_span(const RankSplit* own) const {
+  // Without own particles every process deposits every particle: each keeps the cells of
+  // its window, whose sums are then whole (add_up_cells adds nothing up).
+  return own ? std::pair<std::size_t, std::size_t>{0, grid_.padded_size()} : held_span();
+}
+
 void TwoWayExchange::touch(std::pair<std::size_t, std::size_t> span) {
   if (span.first >= span.second) return;
   touched_ = fluid::span_union(touched_, span);
@@ -72,9 +78,7 @@ void TwoWayExchange::deposit_sums(const ParticleStore& p, RankSplit* own, ExactS
   }
   std::vector<std::pair<std::size_t, std::size_t>> spans(threads, {nc, 0});
   const double si = imp ? imp->scale() : 0.0, sv = vol.scale();
-  // Without own particles every process deposits every particle: each keeps the cells of
-  // its window, whose sums are then whole (add_up_cells adds nothing up).
-  const auto [lo, hi] = own ? std::pair<std::size_t, std::size_t>{0, nc} : held_span();
+  const auto [lo, hi] = deposited_span(own);
   auto range = [&](std::size_t i0, std::size_t i1) {
     const std::size_t t = thread_id().first;
     ExactSums* const ti = t == 0 ? imp : imp ? &partial_[2 * t - 2] : nullptr;
@@ -198,12 +202,11 @@ void TwoWayExchange::start_sums(ExactSums& s, std::size_t n, double bound, doubl
 }
 
 void TwoWayExchange::clear_sums(ExactSums& s, std::size_t blocks, bool by_planes, const RankSplit* own) const {
-  if (!by_planes && own) return s.clear(0, s.size());
-  // This process's sums are nonzero on its reach only: its own particles deposited
-  // within it (add_up_cells) and the totals it received are of its planes. Without own
-  // particles, on its window only.
+  // Added up by planes, this process's sums are nonzero on its reach only: its own
+  // particles deposited within it (add_up_cells) and the totals it received are of its
+  // planes. Else on the cells deposited to.
   const std::size_t nc = grid_.padded_size();
-  std::pair<std::size_t, std::size_t> cells = held_span();
+  std::pair<std::size_t, std::size_t> cells = deposited_span(own);
   if (by_planes) {
     const auto [k0, k1] = planes_->reach_of(planes_->rank(), grid_.n(2));
     cells = {grid_.plane_start(k0), grid_.plane_start(k1)};
@@ -454,18 +457,13 @@ void TwoWayExchange::save_state(OutArchive& a) const {
 }
 
 void TwoWayExchange::load_state(InArchive& a) {
-  const std::size_t want = two_way() ? grid_.padded_size() : 0;
-  // The reaction on the planes held: the step reads no other (apply_reaction).
-  for (auto* v : {&imp_x_, &imp_y_, &imp_z_}) {
-    if (want) {
-      grid_.get_window(a, *v);
-      continue;
-    }
-    a.get(*v, want);
-    if (!v->empty()) throw ArchiveError("a gas array has the wrong length");
-  }
+  // The reaction on the planes held: the step reads no other (apply_reaction). Without a
+  // two-way coupling, empty arrays (get() refuses any other).
+  for (auto* v : {&imp_x_, &imp_y_, &imp_z_})
+    if (two_way()) grid_.get_window(a, *v);
+    else a.get(*v, 0);
   a.get(particle_impulse_.x); a.get(particle_impulse_.y); a.get(particle_impulse_.z);
-  touched_ = want ? held_span() : std::pair<std::size_t, std::size_t>{0, 0};
+  touched_ = two_way() ? held_span() : std::pair<std::size_t, std::size_t>{0, 0};
 }
 
 }  // namespace cdm::coupling

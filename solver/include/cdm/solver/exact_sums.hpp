@@ -30,8 +30,7 @@ class ExactSums {
   void reset(std::size_t n, double bound, double sum_bound) {
     unit_ = unit_for(bound, sum_bound);
     scale_ = 1.0 / unit_;  // a power of two: exact
-    acc_.assign(n, 0);
-    zero_bytes(acc_.data(), acc_.data() + n);
+    assign_zeros(n);
   }
   /// New bounds for sums that are all zero (cleared since their last use), without
   /// touching them.
@@ -63,9 +62,7 @@ class ExactSums {
   void reset_like(const ExactSums& other) {
     scale_ = other.scale_;
     unit_ = other.unit_;
-    if (acc_.size() == other.acc_.size()) return;
-    acc_.assign(other.acc_.size(), 0);
-    zero_bytes(acc_.data(), acc_.data() + acc_.size());
+    if (acc_.size() != other.acc_.size()) assign_zeros(other.acc_.size());
   }
   /// Add @p other's sums [@p k0, @p k1) (of the same bounds) to these.
   void add(const ExactSums& other, std::size_t k0, std::size_t k1) {
@@ -79,6 +76,12 @@ class ExactSums {
   std::int64_t* data() { return acc_.data(); }
 
  private:
+  /// @p n zero sums, their whole pages returned to the system.
+  void assign_zeros(std::size_t n) {
+    acc_.assign(n, 0);
+    zero_bytes(acc_.data(), acc_.data() + n);
+  }
+
   double scale_ = 1.0, unit_ = 1.0;
   std::vector<std::int64_t> acc_;
 };

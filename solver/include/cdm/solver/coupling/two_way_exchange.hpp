@@ -109,8 +109,7 @@ class TwoWayExchange {
   static void start_sums(ExactSums& s, std::size_t n, double bound, double sum_bound);
   /// Zero @p s (@p blocks blocks of a sum a cell, then any totals) after its use: where
   /// added up @p by_planes (add_up_cells), this process's reach only, the rest being zero;
-  /// where deposited without @p own particles (every process every particle, each within
-  /// the grid's window: deposit_sums), the window only.
+  /// else deposited_span(@p own).
   void clear_sums(ExactSums& s, std::size_t blocks, bool by_planes, const RankSplit* own) const;
   /// The reaction gathered so far in the present gas step (where each process holds its
   /// reach only, each plane from its owner: OutArchive::put_planes()).
@@ -140,6 +139,9 @@ class TwoWayExchange {
   /// The flat range of the cells whose reaction and ε_g are kept: the grid's window
   /// (every cell unless the planes are shared, or are to be: GasSolver::first_planes).
   std::pair<std::size_t, std::size_t> held_span() const;
+  /// The flat range of the cells deposit_sums() adds to: every cell with @p own
+  /// particles, else held_span().
+  std::pair<std::size_t, std::size_t> deposited_span(const RankSplit* own) const;
   /// The reaction written (possibly nonzero) over @p span too: apply_reaction clears it.
   void touch(std::pair<std::size_t, std::size_t> span);
   /// Start @p vol for the volumes of @p p's particles (over the cell volume), each rank's
