@@ -136,8 +136,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
     throw CheckpointError(path + ": the state changed size while it was written (" + std::to_string(counter.size()) +
                           " then " + std::to_string(body.size() - before) + " bytes)");
   if (body.failed()) throw_output_error(tmp.path, "write", body.error());
+  // The blocks' checksums follow the body; the header holds the checksum of theirs.
+  const std::vector<std::uint64_t> sums = body.block_sums();
+  raw(sums.data(), sums.size() * sizeof(std::uint64_t));
   len = body.size();
-  sum = body.checksum();
+  sum = fnv1a64(reinterpret_cast<const char*>(sums.data()), sums.size() * sizeof(std::uint64_t));
   if (std::fseek(out, header_at, SEEK_SET) != 0) throw_output_error(tmp.path, "seek in", errno);
   raw(&len, sizeof len);
   raw(&sum, sizeof sum);
@@ -159,8 +162,8 @@ CheckpointError unusable(const std::string& path, const std::string& why) {
   return CheckpointError(path + ": not a usable checkpoint: " + why);
 }
 
-/// The header's checks; its body's length and checksum, from @p head (the file's first
-/// min(header_bytes, its size) bytes) and the file's @p size.
+/// The header's checks; its body's length and the checksum of its blocks' checksums,
+/// from @p head (the file's first min(header_bytes, its size) bytes) and the file's @p size.
 std::pair<std::uint64_t, std::uint64_t> check_header(const char* head, std::uint64_t size, const std::string& path) {
   if (size < sizeof magic || std::memcmp(head, magic, sizeof magic) != 0)
     throw unusable(path, "it does not start with the cdm checkpoint marker");
@@ -174,10 +177,27 @@ std::pair<std::uint64_t, std::uint64_t> check_header(const char* head, std::uint
     throw unusable(path, "format version " + std::to_string(version) + ", this cdm reads version " +
                              std::to_string(checkpoint_format_version));
   const std::uint64_t have = size - header_bytes;
-  if (len != have)
-    throw unusable(path, "its header announces " + std::to_string(len) + " bytes of data and the file holds " +
-                             std::to_string(have) + " (truncated or corrupted)");
+  if (len > have || have - len != BlockSums::blocks(len) * sizeof(std::uint64_t))
+    throw unusable(path, "its header announces " + std::to_string(len) + " bytes of data and " +
+                             std::to_string(BlockSums::blocks(std::min(len, have))) +
+                             " block checksums, and the file holds " + std::to_string(have) +
+                             " bytes after the header (truncated or corrupted)");
   return {len, sum};
+}
+
+/// The checksums of the body's blocks from @p table (the bytes after the body), checked
+/// against the header's @p sum.
+BlockSums block_sums(const char* table, std::uint64_t len, std::uint64_t sum, const std::string& path) {
+  BlockSums b{header_bytes, len, std::vector<std::uint64_t>(BlockSums::blocks(len))};
+  const std::size_t bytes = b.sums.size() * sizeof(std::uint64_t);
+  if (bytes) std::memcpy(b.sums.data(), table, bytes);
+  if (fnv1a64(table, bytes) != sum) throw unusable(path, "its checksum does not match (corrupted): its blocks' table");
+  return b;
+}
+
+/// A block that does not match its checksum, found while reading @p path.
+CheckpointError corrupt(const std::string& path, const ArchiveCorrupt& e) {
+  return unusable(path, std::string("its checksum does not match (corrupted): ") + e.what());
 }
 
 /// Reads the body's origin and output marks into @p d, then the state's length, which
@@ -206,8 +226,9 @@ void read_head(InArchive& a, CheckpointData& d) {
 
 CheckpointData read_checkpoint(const std::string& path) {
   if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
-  // The file is read twice, the state never held whole: once for the checksum, then
-  // (restore_checkpoint) into the simulation's arrays, through the handle kept here.
+  // The file stays open and the state is read from it into the simulation's arrays
+  // (restore_checkpoint), never held whole: each process reads, and checks, the blocks
+  // that hold what it keeps.
   std::shared_ptr<std::FILE> file(std::fopen(path.c_str(), "rb"), [](std::FILE* f) {
     if (f) std::fclose(f);
   });
@@ -223,25 +244,22 @@ CheckpointData read_checkpoint(const std::string& path) {
   const auto head_size = static_cast<std::size_t>(std::min<std::uint64_t>(size, header_bytes));
   if (std::fread(head, 1, head_size, f) != head_size) throw failed();
   const auto [len, sum] = check_header(head, size, path);
-  std::vector<char> chunk(std::size_t{1} << 20);
-  std::uint64_t h = fnv1a64_basis;
-  for (std::uint64_t left = len; left > 0;) {
-    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
-    if (std::fread(chunk.data(), 1, k, f) != k) throw failed();
-    h = fnv1a64(chunk.data(), k, h);
-    left -= k;
-  }
-  if (h != sum) throw unusable(path, "its checksum does not match (corrupted)");
+  std::vector<char> table(static_cast<std::size_t>(size - header_bytes - len));
+  if (fseeko(f, static_cast<off_t>(header_bytes + len), SEEK_SET) != 0 ||
+      std::fread(table.data(), 1, table.size(), f) != table.size())
+    throw failed();
   CheckpointData d;
-  if (fseeko(f, static_cast<off_t>(header_bytes), SEEK_SET) != 0) throw failed();
+  d.blocks = block_sums(table.data(), len, sum, path);
   try {
-    InArchive a(f, len);
+    InArchive a(f, d.blocks, 0, len);
     read_head(a, d);
     d.state_size = a.remaining();
+  } catch (const ArchiveCorrupt& e) {
+    throw corrupt(path, e);
   } catch (const ArchiveError& e) {
     throw unusable(path, e.what());
   }
-  d.state_at = size - d.state_size;
+  d.state_at = len - d.state_size;
   d.file = std::move(file);
   return d;
 }
@@ -255,7 +273,13 @@ void send_checkpoint_state(const Simulation& sim) {
 CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& path) {
   const auto [len, sum] = check_header(bytes.data(), bytes.size(), path);
   const char* body = bytes.data() + header_bytes;
-  if (fnv1a64(body, len) != sum) throw unusable(path, "its checksum does not match (corrupted)");
+  const BlockSums blocks = block_sums(body + len, len, sum, path);
+  for (std::uint64_t b = 0; b < blocks.sums.size(); ++b) {
+    const std::uint64_t start = b * checksum_block, n = std::min(checksum_block, len - start);
+    if (fnv1a64(body + start, static_cast<std::size_t>(n)) != blocks.sums[b])
+      throw corrupt(path, ArchiveCorrupt("block " + std::to_string(b + 1) + " of " +
+                                         std::to_string(blocks.sums.size()) + " does not match its checksum"));
+  }
   CheckpointData d;
   try {
     InArchive a(body, len);
@@ -314,9 +338,7 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
         InArchive a(data.state.data(), data.state.size());
         return use(a);
       }
-      if (fseeko(data.file.get(), static_cast<off_t>(data.state_at), SEEK_SET) != 0)
-        throw ArchiveError("reading the file failed");
-      InArchive a(data.file.get(), data.state_size);
+      InArchive a(data.file.get(), data.blocks, data.state_at, data.state_size);
       return use(a);
     };
     std::uint64_t n = 0, steps = 0;
@@ -333,6 +355,8 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
       throw unusable(path, "its time t = " + number(t) + " s is not what its " + std::to_string(steps) +
                                " steps of dt = " + number(sim.dt()) + " s give (" + number(expected) + " s)");
     state([&](InArchive& a) { sim.load_state(a); });
+  } catch (const ArchiveCorrupt& e) {
+    throw corrupt(path, e);
   } catch (const ArchiveError& e) {
     throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());
   }

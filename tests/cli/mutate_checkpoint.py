@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Write a copy of a cdm checkpoint (format 12) with one value of its state changed and
-its checksum recomputed, as a corrupted or hand-edited checkpoint would be.
+"""Write a copy of a cdm checkpoint (format 13) with one value of its state changed and
+its checksums recomputed (each block's, then the header's over the blocks' table), as a
+corrupted or hand-edited checkpoint would be.
 Usage: mutate_checkpoint.py IN OUT FIELD VALUE
 FIELD: time, steps, x0 (particle 0's x, in the stored order) or vx0."""
 import math
@@ -18,8 +19,10 @@ def fnv1a64(data):
 src, dst, field, value = sys.argv[1:5]
 raw = bytearray(open(src, "rb").read())
 header = 8 + 4 + 8 + 8
-assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 12, "not a format 12 checkpoint"
-body = raw[header:]
+assert raw[:8] == b"CDMCKPT\n" and struct.unpack_from("<I", raw, 8)[0] == 13, "not a format 13 checkpoint"
+length = struct.unpack_from("<Q", raw, 12)[0]
+body = raw[header:header + length]
+BLOCK = 1 << 16
 at = 0
 
 
@@ -65,6 +68,8 @@ if field == "steps":
     struct.pack_into("<Q", body, where[field], int(value))
 else:
     struct.pack_into("<d", body, where[field], float(value))
-struct.pack_into("<Q", raw, 20, fnv1a64(body))
-raw[header:] = body
+table = b"".join(struct.pack("<Q", fnv1a64(body[b:b + BLOCK])) for b in range(0, len(body), BLOCK))
+assert len(raw) == header + length + len(table), "the file is not one body and its blocks' table"
+struct.pack_into("<Q", raw, 20, fnv1a64(table))
+raw[header:] = body + table
 open(dst, "wb").write(raw)

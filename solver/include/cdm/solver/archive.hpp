@@ -2,8 +2,9 @@
 /// @file archive.hpp
 /// @brief Byte archive for checkpoints: plain values and vectors of plain values,
 /// written in the machine's byte order (a checkpoint restarts on the machine kind
-/// that wrote it). Reading checks every length against what is left, so a truncated
-/// or corrupted archive is refused, never half-read.
+/// that wrote it), under a checksum per block. Reading checks every length against what
+/// is left and every block against its checksum before using any of its bytes, so a
+/// truncated or corrupted archive is refused, never half-read.
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
@@ -22,6 +23,12 @@ class ArchiveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A block whose bytes do not match their checksum.
+class ArchiveCorrupt : public ArchiveError {
+ public:
+  using ArchiveError::ArchiveError;
+};
+
 /// FNV-1a 64 of p[0..n), continued from @p h: the checkpoints' checksum.
 inline constexpr std::uint64_t fnv1a64_basis = 14695981039346656037ull;
 inline std::uint64_t fnv1a64(const char* p, std::size_t n, std::uint64_t h = fnv1a64_basis) {
@@ -32,9 +39,23 @@ inline std::uint64_t fnv1a64(const char* p, std::size_t n, std::uint64_t h = fnv
   return h;
 }
 
+/// An archive is checked by blocks of this many bytes (the last one shorter), each under
+/// its own fnv1a64: a process that reads part of a checkpoint reads and checks the blocks
+/// that hold that part, and no others.
+inline constexpr std::uint64_t checksum_block = std::uint64_t{1} << 16;
+
+/// The checksums of an archive's blocks, and where the archive lies in its file.
+struct BlockSums {
+  std::uint64_t at = 0;             ///< the archive's first byte in its file [bytes]
+  std::uint64_t bytes = 0;          ///< the archive's length [bytes]
+  std::vector<std::uint64_t> sums;  ///< fnv1a64 of each block
+  /// How many blocks @p bytes bytes make.
+  static std::uint64_t blocks(std::uint64_t bytes) { return (bytes + checksum_block - 1) / checksum_block; }
+};
+
 /// Writes straight into a file (checkpoints: the state is never held twice in
-/// memory), counting the bytes and keeping their checksum; without a file it only
-/// counts (to learn a size before writing). A failed write is remembered (failed(),
+/// memory), counting the bytes and keeping their blocks' checksums; without a file it
+/// only counts (to learn a size before writing). A failed write is remembered (failed(),
 /// error() is its errno) and the bytes after it are counted only.
 class OutArchive {
  public:
@@ -92,32 +113,56 @@ class OutArchive {
   std::uint64_t size() const { return size_; }
   /// Whether the bytes go to a file (else they are counted only).
   bool writes() const { return out_ != nullptr; }
-  /// fnv1a64 of every byte written (a counting archive keeps none).
-  std::uint64_t checksum() const { return hash_; }
+  /// fnv1a64 of each block of checksum_block bytes written, the last one partial (a
+  /// counting archive keeps none).
+  std::vector<std::uint64_t> block_sums() const {
+    std::vector<std::uint64_t> s = sums_;
+    if (out_ && size_ % checksum_block != 0) s.push_back(hash_);
+    return s;
+  }
   bool failed() const { return error_ != 0; }
   int error() const { return error_; }
 
  private:
   void write(const char* b, std::size_t n) {
-    size_ += n;
-    if (!out_ || n == 0) return;
-    hash_ = fnv1a64(b, n, hash_);
+    if (!out_ || n == 0) {
+      size_ += n;
+      return;
+    }
     if (error_ == 0 && std::fwrite(b, 1, n, out_) != n) error_ = errno ? errno : EIO;
+    while (n > 0) {
+      const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(n, checksum_block - size_ % checksum_block));
+      hash_ = fnv1a64(b, k, hash_);
+      b += k;
+      n -= k;
+      size_ += k;
+      if (size_ % checksum_block == 0) {
+        sums_.push_back(hash_);
+        hash_ = fnv1a64_basis;
+      }
+    }
   }
   std::FILE* out_ = nullptr;
   std::function<void(OutArchive&, const std::vector<double>&)> particles_;  // stream_particles
   std::function<void(OutArchive&, const std::vector<double>&, Planes)> planes_;  // stream_planes
   int error_ = 0;
   std::uint64_t size_ = 0;
-  std::uint64_t hash_ = fnv1a64_basis;
+  std::uint64_t hash_ = fnv1a64_basis;  // of the block being written
+  std::vector<std::uint64_t> sums_;     // of the blocks written whole
 };
 
 class InArchive {
  public:
   InArchive(const char* data, std::size_t size) : p_(data), end_(data + size) {}
-  /// The next @p size bytes of @p in, read as they are asked for (a checkpoint's state
-  /// goes from the file into the arrays it restores, never held whole in memory).
-  InArchive(std::FILE* in, std::uint64_t size) : in_(in), unread_(size) {}
+  /// Bytes [@p from, @p from + @p size) of the archive in @p in that @p sums describes
+  /// (kept by the caller while this reads), read as they are asked for: a checkpoint's
+  /// state goes from the file into the arrays it restores, never held whole in memory.
+  /// Each block is read whole and checked against its sum before any of its bytes is
+  /// used (ArchiveCorrupt otherwise); skip() passes over blocks without reading them.
+  InArchive(std::FILE* in, const BlockSums& sums, std::uint64_t from, std::uint64_t size)
+      : in_(in), sums_(&sums), next_(from), unread_(size) {
+    if (from > sums.bytes || size > sums.bytes - from) throw ArchiveError("the data ends early");
+  }
   InArchive(const InArchive&) = delete;
   InArchive& operator=(const InArchive&) = delete;
   template <class T>
@@ -146,14 +191,14 @@ class InArchive {
     static_assert(std::is_trivially_copyable_v<T>);
     if (n) read(to, n * sizeof(T));
   }
-  /// Read past the next @p bytes.
+  /// Pass over the next @p bytes (from a file, without reading them).
   void skip(std::uint64_t bytes) {
-    char b[4096];
-    while (bytes > 0) {
-      const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(bytes, sizeof b));
-      read(b, k);
-      bytes -= k;
-    }
+    if (remaining() < bytes) throw ArchiveError("the data ends early");
+    const std::size_t held = std::min<std::size_t>(bytes, static_cast<std::size_t>(end_ - p_));
+    p_ += held;
+    bytes -= held;
+    next_ += bytes;
+    unread_ -= bytes;
   }
   /// Of the per-particle arrays of @p n values, this process keeps the slots
   /// [@p first, @p last) only (a restart among MPI processes: each reads its share,
@@ -179,34 +224,45 @@ class InArchive {
   void read(void* to, std::size_t n) {
     if (remaining() < n) throw ArchiveError("the data ends early");
     char* d = static_cast<char*>(to);
-    const std::size_t held = std::min<std::size_t>(n, static_cast<std::size_t>(end_ - p_));
-    if (held) std::memcpy(d, p_, held);
-    p_ += held;
-    d += held;
-    n -= held;
-    if (n == 0) return;
-    // From the file: a large read straight into place, a small one through the buffer.
-    if (n >= kBuffer) {
-      fill(d, n);
-      return;
+    while (n > 0) {
+      if (p_ == end_) load();
+      const std::size_t k = std::min<std::size_t>(n, static_cast<std::size_t>(end_ - p_));
+      std::memcpy(d, p_, k);
+      p_ += k;
+      d += k;
+      n -= k;
     }
-    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(kBuffer, unread_));
-    buffer_.resize(k);
-    fill(buffer_.data(), k);
-    p_ = buffer_.data();
+  }
+  /// Makes [p_, end_) the next bytes of the file's block that holds them, reading and
+  /// checking the block unless it is the one read last.
+  void load() {
+    const std::uint64_t b = next_ / checksum_block, start = b * checksum_block;
+    const auto length = static_cast<std::size_t>(std::min(checksum_block, sums_->bytes - start));
+    if (b != block_) {
+      buffer_.resize(length);
+      block_ = UINT64_MAX;
+      if (fseeko(in_, static_cast<off_t>(sums_->at + start), SEEK_SET) != 0 ||
+          std::fread(buffer_.data(), 1, length, in_) != length)
+        throw ArchiveError("reading the file failed");
+      if (b >= sums_->sums.size() || fnv1a64(buffer_.data(), length) != sums_->sums[b])
+        throw ArchiveCorrupt("block " + std::to_string(b + 1) + " of " + std::to_string(sums_->sums.size()) +
+                             " (bytes " + std::to_string(start) + " to " + std::to_string(start + length) +
+                             " of its data) does not match its checksum");
+      block_ = b;
+    }
+    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(start + length - next_, unread_));
+    p_ = buffer_.data() + (next_ - start);
     end_ = p_ + k;
-    std::memcpy(d, p_, n);
-    p_ += n;
+    next_ += k;
+    unread_ -= k;
   }
-  void fill(char* d, std::size_t n) {
-    if (std::fread(d, 1, n, in_) != n) throw ArchiveError("reading the file failed");
-    unread_ -= n;
-  }
-  static constexpr std::size_t kBuffer = std::size_t{1} << 16;
   const char* p_ = nullptr;
   const char* end_ = nullptr;
   std::FILE* in_ = nullptr;
-  std::uint64_t unread_ = 0;  // bytes of the file not read yet
+  const BlockSums* sums_ = nullptr;
+  std::uint64_t next_ = 0;              // the archive's next byte not in [p_, end_)
+  std::uint64_t unread_ = 0;            // bytes from next_ on still to be read or skipped
+  std::uint64_t block_ = UINT64_MAX;    // the block in buffer_
   std::vector<char> buffer_;
   SlotWindow window_;
 };

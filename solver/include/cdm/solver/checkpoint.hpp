@@ -3,7 +3,7 @@
 /// @brief Checkpoints that restart bit for bit: every particle's full state, the
 /// contact history and Verlet list, the integrator state (forces of the current step,
 /// step counter), and the scene the run came from, under a format version and an
-/// FNV-1a 64-bit checksum, and where each output file of the run stood when it was
+/// FNV-1a 64-bit checksum per block, and where each output file of the run stood when it was
 /// taken. Written to a temporary file, fsync'ed and renamed into place (and the
 /// directory fsync'ed), so a crash mid-write leaves the previous checkpoint intact.
 #include <cstdint>
@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "cdm/solver/archive.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
 #include "cdm/solver/scene_loader.hpp"
 
@@ -52,8 +53,10 @@ struct OutputMarks {
 /// 10: the pair contacts, not the listed pairs; 11: the slabs the pairs were listed in,
 /// which a list kept after removals no longer derives from its build positions; 12: each
 /// pair contact (i, j) as its build listed it, i the particle of the lower key
-/// (VerletList::key_order), not the lower slot, its history seen from i.
-constexpr std::uint32_t checkpoint_format_version = 12;
+/// (VerletList::key_order), not the lower slot, its history seen from i; 13: a checksum
+/// for each block of checksum_block bytes of the body, in a table after it, and in the
+/// header the checksum of that table, not of the body.
+constexpr std::uint32_t checkpoint_format_version = 13;
 
 /// Write atomically (temporary file, fsync, rename, fsync of the directory). Throws
 /// OutputError naming the path and the system's reason when it cannot; no temporary
@@ -65,17 +68,19 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const RunO
 /// state is written as it is gathered, each process sending its own particles' values.
 void send_checkpoint_state(const Simulation& sim);
 
-/// Read and verify a checkpoint (magic, version, length, checksum) and return its origin,
-/// output marks and where its state is: read_checkpoint keeps the file open and notes
-/// where in it the state lies (so that a restart never holds the state twice in memory),
-/// read_checkpoint_bytes copies the state's bytes. Throws CheckpointError naming the
-/// file and what is wrong.
+/// Read and verify a checkpoint (magic, version, length, its blocks' checksums) and return
+/// its origin, output marks and where its state is: read_checkpoint keeps the file open
+/// and notes where in it the state lies (so that a restart never holds the state twice in
+/// memory, and each process reads and checks only the blocks that hold what it keeps),
+/// read_checkpoint_bytes checks every block and copies the state's bytes. Throws
+/// CheckpointError naming the file and what is wrong.
 struct CheckpointData {
   RunOrigin origin;
   OutputMarks outputs;
   std::vector<char> state;            // read_checkpoint_bytes
-  std::shared_ptr<std::FILE> file;    // read_checkpoint: the verified file, open
-  std::uint64_t state_at = 0;         // where its state starts [bytes]
+  std::shared_ptr<std::FILE> file;    // read_checkpoint: the file, open
+  BlockSums blocks;                   // read_checkpoint: its body's blocks' checksums
+  std::uint64_t state_at = 0;         // where its state starts in the body [bytes]
   std::uint64_t state_size = 0;       // [bytes]
   /// Frees the state (its bytes, or the file) once it has been restored.
   void release_state() {
