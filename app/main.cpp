@@ -155,7 +155,7 @@ int run_scene(const std::string& scene, std::string out_dir, const std::vector<s
   const cdm::SceneSpec& spec = sim.spec();
   std::optional<cdm::CheckpointData> ck;
   if (!restart.empty()) {
-    ck = cdm::read_checkpoint(restart);
+    ck = cdm::read_checkpoint(restart, g_world);
     cdm::check_restart_origin(ck->origin, origin, restart);
     cdm::restore_checkpoint(*ck, sim, restart);
     ck->release_state();  // only its output marks are read from here on

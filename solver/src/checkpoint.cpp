@@ -10,6 +10,7 @@
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/io/durable_file.hpp"
+#include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/simulation.hpp"
 
 namespace cdm {
@@ -224,7 +225,7 @@ void read_head(InArchive& a, CheckpointData& d) {
 
 }  // namespace
 
-CheckpointData read_checkpoint(const std::string& path) {
+CheckpointData read_checkpoint(const std::string& path, WorldPlace world) {
   if (std::filesystem::is_directory(path)) throw CheckpointError(path + ": is a directory: expected a checkpoint file");
   // The file stays open and the state is read from it into the simulation's arrays
   // (restore_checkpoint), never held whole: each process reads, and checks, the blocks
@@ -260,6 +261,32 @@ CheckpointData read_checkpoint(const std::string& path) {
     throw unusable(path, e.what());
   }
   d.state_at = len - d.state_size;
+  // Each process reads, and checks, the blocks that hold its share as it restores it.
+  // Among several, every block is checked first, each process a share of them, so that a
+  // corrupted block refuses the checkpoint on every process before any restores (and then
+  // writes) anything.
+  if (world.size > 1) {
+    const std::uint64_t blocks = d.blocks.sums.size(), rank = static_cast<std::uint64_t>(world.rank),
+                        size = static_cast<std::uint64_t>(world.size);
+    const std::uint64_t first = std::min(len, blocks * rank / size * checksum_block),
+                        last = std::min(len, blocks * (rank + 1) / size * checksum_block);
+    std::string failure;
+    try {
+      InArchive a(f, d.blocks, first, last - first);
+      std::vector<char> scratch(checksum_block);
+      for (std::uint64_t left = last - first; left > 0;) {
+        const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(left, scratch.size()));
+        a.get_values(scratch.data(), k);
+        left -= k;
+      }
+    } catch (const ArchiveCorrupt& e) {
+      failure = corrupt(path, e).what();
+    } catch (const ArchiveError& e) {
+      failure = unusable(path, e.what()).what();
+    }
+    failure = first_failure(failure);
+    if (!failure.empty()) throw CheckpointError(failure);
+  }
   d.file = std::move(file);
   return d;
 }

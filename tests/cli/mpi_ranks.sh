@@ -32,7 +32,8 @@
 # stopped by SIGTERM to mpirun writes its checkpoint and continues on 3 to the same table;
 # a run on 3 that loses a process (SIGKILL) exits non-zero and continues on 2 from its last
 # checkpoint to the same files; rank 0's write failing on a full device stops both of 2
-# processes with exit 4.
+# processes with exit 4. A checkpoint changed where only rank 1 of 2 restores from is
+# refused by both before either restores or writes anything.
 set -u
 cdm="$1" src="$2" work="$3"
 rm -rf "$work"; mkdir -p "$work"
@@ -135,6 +136,22 @@ cp "$work/split/checkpoint.cdmck" "$work/half.cdmck"
 for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/settle-1/$f" "$work/split/$f" || fail "restart on 3 processes: $f differs from the uninterrupted run"
 done
+
+# A checkpoint changed in its last gas planes, which rank 0 of 2 neither keeps nor reads
+# as it restores: every block is checked first, each process a share of them, so both
+# refuse it (exit 2, the checksum named) before either restores, and nothing is written.
+bed=("$src/bench/scenes/bed_1e5.toml" --set 'gas.cells=[24,96,24]' --set 'random_particles[0].count=20000'
+     --set output.particles=false --set output.vtk=false -q -j 1)
+"${launch[@]}" -np 2 "$cdm" run "${bed[@]}" --max-steps 4 -o "$work/bed" > /dev/null 2>&1 || fail "bed: 2 processes"
+body=$(od -An -t u8 -j 12 -N 8 "$work/bed/checkpoint.cdmck")
+cp "$work/bed/checkpoint.cdmck" "$work/changed.cdmck"
+printf '\x55' | dd of="$work/changed.cdmck" bs=1 seek=$((28 + body - 100000)) conv=notrunc 2> /dev/null
+"${launch[@]}" -np 2 "$cdm" run "${bed[@]}" --max-steps 5 -o "$work/refused" --restart "$work/changed.cdmck" \
+  > /dev/null 2> "$work/refused.err"
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "checksum does not match" "$work/refused.err" ||
+  fail "a changed checkpoint on 2 processes: exit $rc, $(head -3 "$work/refused.err")"
+[ ! -e "$work/refused" ] || fail "a changed checkpoint on 2 processes: the refused restart wrote $work/refused"
 
 # A restart with no step left writes its checkpoint before any build, each process then
 # holding the pair contacts of its run of the checkpoint's rows (gathered to rank 0 as they
@@ -516,4 +533,4 @@ for f in particles.dat log.dat checkpoint.cdmck; do
   cmp -s "$work/lost-1/$f" "$work/lost/$f" || fail "a lost process: $f after the restart differs from the uninterrupted run's"
 done
 
-echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, particles without contacts shared by rows on 2-4 (fed, drained, restarted from 3 onto 2; every integrator; tracers on 3 and restarted from 2 onto 3), the multigrid pressure solve divided on 2-4, a bed over the gas planes on 3 (the drag once per gas step, at every step, implicit, with the direct solve, in a closed box; fed and drained; restarted onto 2), and periodic along z on 4 (restarted onto 3), a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"
+echo "mpi_ranks: settle, chute and the fluidisation bed bit-identical on 1-4 processes and 2x2 threads, restart from 2 onto 3 and a restart with no step left on 3, a changed checkpoint refused by both of 2, rolling resistance and the Euler step on 3 (and on the chute on 2), four wrapping slabs on 3 and 4, a fed bed on 2 and 3, a fed and drained settle on 3, an insertion above a layer on 3, outlets in a gas on 3, restarts onto another count with a gas, insertions and meshes, the silo, the mesh pile and a chute logged often and one gathered often on 2, the implicit gas drag on 3, Mueller on 2 (also once per gas step), the drag once per gas step on 3, cell-averaged on 2 and deposited from gathered impulses on 2, particles without contacts shared by rows on 2-4 (fed, drained, restarted from 3 onto 2; every integrator; tracers on 3 and restarted from 2 onto 3), the multigrid pressure solve divided on 2-4, a bed over the gas planes on 3 (the drag once per gas step, at every step, implicit, with the direct solve, in a closed box; fed and drained; restarted onto 2), and periodic along z on 4 (restarted onto 3), a lattice thrown at the floor stopped at 20 steps in turn and continued on 2 or 3, a run stopped by SIGTERM on 2 and continued on 3, one with a process killed on 3 continued on 2, a full device on 2"

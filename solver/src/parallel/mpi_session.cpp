@@ -95,6 +95,23 @@ void mpi_check(int rc, const char* what) {
   if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
+std::string first_failure(const std::string& mine) {
+  int initialised = 0, size = 1, rank = 0;
+  MPI_Initialized(&initialised);
+  if (!initialised) return mine;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (size == 1) return mine;
+  int failed = mine.empty() ? size : rank, first = size;
+  mpi_check(MPI_Allreduce(&failed, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce");
+  if (first == size) return {};
+  unsigned long long length = rank == first ? mine.size() : 0;
+  mpi_check(MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, first, MPI_COMM_WORLD), "MPI_Bcast");
+  std::string message = rank == first ? mine : std::string(static_cast<std::size_t>(length), ' ');
+  mpi_check(MPI_Bcast(message.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD), "MPI_Bcast");
+  return message;
+}
+
 #else
 
 bool built_with_mpi() { return false; }
@@ -118,6 +135,8 @@ WorldPlace mpi_world() {
 void abort_world(int) {}
 
 void mpi_check(int, const char*) {}
+
+std::string first_failure(const std::string& mine) { return mine; }
 
 #endif
 

@@ -16,6 +16,7 @@
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/io/vtk_writer.hpp"
+#include "cdm/solver/mpi_session.hpp"
 #include "cdm/solver/scene_loader.hpp"
 
 namespace cdm {
@@ -88,7 +89,9 @@ struct CheckpointData {
     file.reset();
   }
 };
-CheckpointData read_checkpoint(const std::string& path);
+/// Among the processes of @p world, every one calls read_checkpoint: each checks a share
+/// of the blocks, and all refuse the checkpoint where any block does not match.
+CheckpointData read_checkpoint(const std::string& path, WorldPlace world = {});
 /// The same, from bytes already in memory (@p name is used in messages).
 CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::string& name);
 

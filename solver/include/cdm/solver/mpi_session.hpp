@@ -17,6 +17,8 @@
 /// In a build without MPI (CMake option CDM_WITH_MPI off, or MPI or hypre not found),
 /// ensure_mpi() throws and mpi_world() reads the launcher's variables instead.
 
+#include <string>
+
 namespace cdm {
 
 /// Whether this build has MPI and hypre (CDM_WITH_MPI).
@@ -40,6 +42,11 @@ WorldPlace mpi_world();
 /// Stop every process of a run of several with exit code @p rc (MPI_Abort); returns
 /// when there is only one (or no MPI).
 void abort_world(int rc);
+
+/// Among a run's processes (every one calls it), the failure @p mine of the lowest rank
+/// that had one, or empty where none had: a check each process makes on its own share
+/// then ends the same way on every process. One process (or no MPI): @p mine.
+std::string first_failure(const std::string& mine);
 
 /// Throws std::runtime_error naming @p what where an MPI call's result @p rc is not
 /// MPI_SUCCESS (with MPI; without, never called).
