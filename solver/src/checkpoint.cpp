@@ -196,9 +196,12 @@ BlockSums block_sums(const char* table, std::uint64_t len, std::uint64_t sum, co
   return b;
 }
 
-/// A block that does not match its checksum, found while reading @p path.
-CheckpointError corrupt(const std::string& path, const ArchiveCorrupt& e) {
-  return unusable(path, std::string("its checksum does not match (corrupted): ") + e.what());
+/// Why @p path is refused, from its archive's error @p e (a block that does not match its
+/// checksum, or data that does not hold together).
+CheckpointError refusal(const std::string& path, const ArchiveError& e) {
+  if (dynamic_cast<const ArchiveCorrupt*>(&e))
+    return unusable(path, std::string("its checksum does not match (corrupted): ") + e.what());
+  return unusable(path, e.what());
 }
 
 /// Reads the body's origin and output marks into @p d, then the state's length, which
@@ -255,10 +258,8 @@ CheckpointData read_checkpoint(const std::string& path, WorldPlace world) {
     InArchive a(f, d.blocks, 0, len);
     read_head(a, d);
     d.state_size = a.remaining();
-  } catch (const ArchiveCorrupt& e) {
-    throw corrupt(path, e);
   } catch (const ArchiveError& e) {
-    throw unusable(path, e.what());
+    throw refusal(path, e);
   }
   d.state_at = len - d.state_size;
   // Each process reads, and checks, the blocks that hold its share as it restores it.
@@ -279,10 +280,8 @@ CheckpointData read_checkpoint(const std::string& path, WorldPlace world) {
         a.get_values(scratch.data(), k);
         left -= k;
       }
-    } catch (const ArchiveCorrupt& e) {
-      failure = corrupt(path, e).what();
     } catch (const ArchiveError& e) {
-      failure = unusable(path, e.what()).what();
+      failure = refusal(path, e).what();
     }
     failure = first_failure(failure);
     if (!failure.empty()) throw CheckpointError(failure);
@@ -301,19 +300,14 @@ CheckpointData read_checkpoint_bytes(const std::vector<char>& bytes, const std::
   const auto [len, sum] = check_header(bytes.data(), bytes.size(), path);
   const char* body = bytes.data() + header_bytes;
   const BlockSums blocks = block_sums(body + len, len, sum, path);
-  for (std::uint64_t b = 0; b < blocks.sums.size(); ++b) {
-    const std::uint64_t start = b * checksum_block, n = std::min(checksum_block, len - start);
-    if (fnv1a64(body + start, static_cast<std::size_t>(n)) != blocks.sums[b])
-      throw corrupt(path, ArchiveCorrupt("block " + std::to_string(b + 1) + " of " +
-                                         std::to_string(blocks.sums.size()) + " does not match its checksum"));
-  }
   CheckpointData d;
   try {
+    for (std::uint64_t b = 0; b < blocks.sums.size(); ++b) blocks.check(b, body + b * checksum_block);
     InArchive a(body, len);
     read_head(a, d);
     d.state.assign(body + (len - a.remaining()), body + len);
   } catch (const ArchiveError& e) {
-    throw unusable(path, e.what());
+    throw refusal(path, e);
   }
   return d;
 }
@@ -383,7 +377,7 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
                                " steps of dt = " + number(sim.dt()) + " s give (" + number(expected) + " s)");
     state([&](InArchive& a) { sim.load_state(a); });
   } catch (const ArchiveCorrupt& e) {
-    throw corrupt(path, e);
+    throw refusal(path, e);
   } catch (const ArchiveError& e) {
     throw CheckpointError(path + ": the checkpoint does not fit its scene: " + e.what());
   }

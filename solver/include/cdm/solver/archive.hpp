@@ -51,6 +51,17 @@ struct BlockSums {
   std::vector<std::uint64_t> sums;  ///< fnv1a64 of each block
   /// How many blocks @p bytes bytes make.
   static std::uint64_t blocks(std::uint64_t bytes) { return (bytes + checksum_block - 1) / checksum_block; }
+  /// The length of block @p b (< blocks(bytes)) [bytes].
+  std::size_t length(std::uint64_t b) const {
+    return static_cast<std::size_t>(std::min(checksum_block, bytes - b * checksum_block));
+  }
+  /// Throws ArchiveCorrupt unless @p data, block @p b's bytes, match its sum.
+  void check(std::uint64_t b, const char* data) const {
+    if (b < sums.size() && fnv1a64(data, length(b)) == sums[b]) return;
+    const std::uint64_t start = b * checksum_block;
+    throw ArchiveCorrupt("block " + std::to_string(b + 1) + " of " + std::to_string(sums.size()) + " (bytes " +
+                         std::to_string(start) + " to " + std::to_string(start + length(b)) + " of its data)");
+  }
 };
 
 /// Writes straight into a file (checkpoints: the state is never held twice in
@@ -237,17 +248,14 @@ class InArchive {
   /// checking the block unless it is the one read last.
   void load() {
     const std::uint64_t b = next_ / checksum_block, start = b * checksum_block;
-    const auto length = static_cast<std::size_t>(std::min(checksum_block, sums_->bytes - start));
+    const std::size_t length = sums_->length(b);
     if (b != block_) {
       buffer_.resize(length);
       block_ = UINT64_MAX;
       if (fseeko(in_, static_cast<off_t>(sums_->at + start), SEEK_SET) != 0 ||
           std::fread(buffer_.data(), 1, length, in_) != length)
         throw ArchiveError("reading the file failed");
-      if (b >= sums_->sums.size() || fnv1a64(buffer_.data(), length) != sums_->sums[b])
-        throw ArchiveCorrupt("block " + std::to_string(b + 1) + " of " + std::to_string(sums_->sums.size()) +
-                             " (bytes " + std::to_string(start) + " to " + std::to_string(start + length) +
-                             " of its data) does not match its checksum");
+      sums_->check(b, buffer_.data());
       block_ = b;
     }
     const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(start + length - next_, unread_));
