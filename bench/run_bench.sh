@@ -136,9 +136,15 @@ prepare_chute() {  # the flowing states the timed chute runs start from (once pe
     (cd "$here/peers" && lmp -in in.chute_prep.lammps -log "$out/prep/log.lammps_prep" -screen none \
       -var out "$out/prep/chute32k.data" > /dev/null)
   fi
+  # A state prepared by another cdm (another commit) may be in a checkpoint format this one
+  # does not read, or come from other physics: prepared again.
+  local made_by
+  made_by=$("$cdm" --version)
+  if [ "$(cat "$out/prep/cdm/made_by.txt" 2> /dev/null)" != "$made_by" ]; then rm -f "$out/prep/cdm/checkpoint.cdmck"; fi
   if [ ! -s "$out/prep/cdm/checkpoint.cdmck" ]; then
     OMP_NUM_THREADS=2 "$cdm" run "$here/scenes/chute32k.toml" -o "$out/prep/cdm" -q --set integrator.end_time=1.0 \
       --max-steps 155440 > "$out/prep/cdm/log.txt"
+    echo "$made_by" > "$out/prep/cdm/made_by.txt"
   fi
 }
 
