@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cdm/solver/archive.hpp"
 #include "cdm/solver/io/durable_file.hpp"
@@ -354,28 +355,22 @@ void restore_checkpoint(const CheckpointData& data, Simulation& sim, const std::
     // The state opens with the particle count, the step count and the time: the time
     // must be the one the run reaches after that many steps (it advances as steps * dt).
     // The state's bytes, in memory or in the checkpoint's file from where they start.
-    const auto state = [&](auto&& use) {
-      if (!data.file) {
-        InArchive a(data.state.data(), data.state.size());
-        return use(a);
-      }
-      InArchive a(data.file.get(), data.blocks, data.state_at, data.state_size);
-      return use(a);
-    };
+    std::optional<InArchive> a;
+    if (data.file) a.emplace(data.file.get(), data.blocks, data.state_at, data.state_size);
+    else a.emplace(data.state.data(), data.state.size());
     std::uint64_t n = 0, steps = 0;
     double t = 0.0;
-    state([&](InArchive& head) {
-      head.get(n);
-      head.get(steps);
-      head.get(t);
-    });
+    a->get(n);
+    a->get(steps);
+    a->get(t);
     if (!std::isfinite(t))
       throw unusable(path, "its time is " + number(t) + ", not a finite number");
     const double expected = static_cast<double>(steps) * sim.dt();
     if (t != expected)
       throw unusable(path, "its time t = " + number(t) + " s is not what its " + std::to_string(steps) +
                                " steps of dt = " + number(sim.dt()) + " s give (" + number(expected) + " s)");
-    state([&](InArchive& a) { sim.load_state(a); });
+    a->rewind();
+    sim.load_state(*a);
   } catch (const ArchiveCorrupt& e) {
     throw refusal(path, e);
   } catch (const ArchiveError& e) {

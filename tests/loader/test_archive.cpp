@@ -176,4 +176,40 @@ TEST(Archive, BlocksReadAreCheckedAndBlocksSkippedAreNotRead) {
   EXPECT_THROW(one.get(x), ArchiveCorrupt);
 }
 
+TEST(Archive, RewindReadsTheSameValuesWithoutReadingTheKeptBlockAgain) {
+  File file;
+  OutArchive out(file.f.get());
+  const std::vector<double> values{1.5, -2.25, 3.0};
+  out.put(values);
+  ASSERT_FALSE(out.failed());
+  const BlockSums blocks{0, out.size(), out.block_sums()};
+  InArchive a(file.f.get(), blocks, 0, blocks.bytes);
+  double first = 0.0;
+  ASSERT_EQ(a.get_length(UINT64_MAX, sizeof(double)), values.size());
+  a.get(first);
+  EXPECT_EQ(first, values[0]);
+  // The file's only block changed after it was read: read again, it would not match.
+  std::fseek(file.f.get(), 9, SEEK_SET);
+  std::fputc(0x5a, file.f.get());
+  std::fflush(file.f.get());
+  a.rewind();
+  std::vector<double> got;
+  a.get(got);
+  EXPECT_EQ(got, values);
+  EXPECT_TRUE(a.done());
+  InArchive fresh(file.f.get(), blocks, 0, blocks.bytes);
+  EXPECT_THROW(fresh.get(got), ArchiveCorrupt);
+  // In memory likewise, from its first byte.
+  std::vector<char> bytes(static_cast<std::size_t>(blocks.bytes));
+  std::fseek(file.f.get(), 0, SEEK_SET);
+  ASSERT_EQ(std::fread(bytes.data(), 1, bytes.size(), file.f.get()), bytes.size());
+  InArchive m(bytes.data(), bytes.size());
+  std::uint64_t length = 0;
+  m.get(length);
+  m.rewind();
+  m.get(got);
+  EXPECT_EQ(got.size(), values.size());
+  EXPECT_TRUE(m.done());
+}
+
 }  // namespace

@@ -164,14 +164,14 @@ class OutArchive {
 
 class InArchive {
  public:
-  InArchive(const char* data, std::size_t size) : p_(data), end_(data + size) {}
+  InArchive(const char* data, std::size_t size) : begin_(data), p_(data), end_(data + size) {}
   /// Bytes [@p from, @p from + @p size) of the archive in @p in that @p sums describes
   /// (kept by the caller while this reads), read as they are asked for: a checkpoint's
   /// state goes from the file into the arrays it restores, never held whole in memory.
   /// Each block is read whole and checked against its sum before any of its bytes is
   /// used (ArchiveCorrupt otherwise); skip() passes over blocks without reading them.
   InArchive(std::FILE* in, const BlockSums& sums, std::uint64_t from, std::uint64_t size)
-      : in_(in), sums_(&sums), next_(from), unread_(size) {
+      : in_(in), sums_(&sums), from_(from), size_(size), next_(from), unread_(size) {
     if (from > sums.bytes || size > sums.bytes - from) throw ArchiveError("the data ends early");
   }
   InArchive(const InArchive&) = delete;
@@ -227,6 +227,17 @@ class InArchive {
     get(c);
     s.assign(c.begin(), c.end());
   }
+  /// Back to the archive's first byte. From a file, the block read last is kept, so what
+  /// was read of it is not read again.
+  void rewind() {
+    if (!in_) {
+      p_ = begin_;
+      return;
+    }
+    p_ = end_ = nullptr;
+    next_ = from_;
+    unread_ = size_;
+  }
   /// The bytes not read yet.
   std::uint64_t remaining() const { return static_cast<std::uint64_t>(end_ - p_) + unread_; }
   bool done() const { return remaining() == 0; }
@@ -264,10 +275,12 @@ class InArchive {
     next_ += k;
     unread_ -= k;
   }
+  const char* begin_ = nullptr;  // an archive in memory: its first byte
   const char* p_ = nullptr;
   const char* end_ = nullptr;
   std::FILE* in_ = nullptr;
   const BlockSums* sums_ = nullptr;
+  std::uint64_t from_ = 0, size_ = 0;   // from a file: the archive's bytes
   std::uint64_t next_ = 0;              // the archive's next byte not in [p_, end_)
   std::uint64_t unread_ = 0;            // bytes from next_ on still to be read or skipped
   std::uint64_t block_ = UINT64_MAX;    // the block in buffer_
